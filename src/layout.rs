@@ -1,0 +1,116 @@
+//! The layout: what the user changed about each organ (visibility, opacity, colour and the model
+//! transform from organ space to world space). Both spaces are millimetres, RAS.
+
+use crate::mesh::Bounds;
+use crate::organ_set::OrganSet;
+use glam::{EulerRot, Mat4, Quat, Vec3};
+
+/// A model transform: scale and rotate about `pivot` (the organ's centre in organ space), then
+/// translate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform {
+    pub translation: Vec3,
+    /// Rotation as Euler angles in degrees about x, y, z (applied in that order).
+    pub rotation_deg: Vec3,
+    pub scale: f32,
+    pub pivot: Vec3,
+}
+
+impl Transform {
+    pub fn identity(pivot: Vec3) -> Self {
+        Transform { translation: Vec3::ZERO, rotation_deg: Vec3::ZERO, scale: 1.0, pivot }
+    }
+
+    pub fn is_identity(&self) -> bool {
+        self.translation == Vec3::ZERO && self.rotation_deg == Vec3::ZERO && self.scale == 1.0
+    }
+
+    pub fn rotation(&self) -> Quat {
+        let r = self.rotation_deg * (std::f32::consts::PI / 180.0);
+        Quat::from_euler(EulerRot::XYZ, r.x, r.y, r.z)
+    }
+
+    /// Organ space to world space.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::from_translation(self.translation + self.pivot)
+            * Mat4::from_quat(self.rotation())
+            * Mat4::from_scale(Vec3::splat(self.scale))
+            * Mat4::from_translation(-self.pivot)
+    }
+}
+
+/// The state of one organ that the user may change.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrganState {
+    pub visible: bool,
+    pub opacity: f32,
+    /// sRGB components in 0..=1.
+    pub colour: [f32; 3],
+    pub transform: Transform,
+}
+
+impl OrganState {
+    /// Drawn at all: visible and not fully faded.
+    pub fn is_drawn(&self) -> bool {
+        self.visible && self.opacity > 0.0
+    }
+
+    /// Drawn and fully opaque: the only organs that may hide others.
+    pub fn is_opaque(&self) -> bool {
+        self.visible && self.opacity >= 1.0
+    }
+}
+
+/// Per-organ state, index-aligned with the set's organs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    pub organs: Vec<OrganState>,
+}
+
+impl Layout {
+    /// The set's defaults: its visibility, opacity and colours, no transform.
+    pub fn new(set: &OrganSet) -> Layout {
+        Layout {
+            organs: set
+                .organs
+                .iter()
+                .map(|o| OrganState {
+                    visible: o.visible,
+                    opacity: o.opacity,
+                    colour: o.colour,
+                    transform: Transform::identity(o.mesh.bounds().center()),
+                })
+                .collect(),
+        }
+    }
+
+    /// World-space bounds of the drawn organs (all organs if none is drawn).
+    pub fn bounds(&self, set: &OrganSet) -> Bounds {
+        let drawn = |all: bool| {
+            set.organs
+                .iter()
+                .zip(&self.organs)
+                .filter(|(_, s)| all || s.is_drawn())
+                .fold(Bounds::EMPTY, |b, (o, s)| b.union(o.mesh.bounds().transformed(&s.transform.matrix())))
+        };
+        let b = drawn(false);
+        if b.is_empty() { drawn(true) } else { b }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transform_pivots_about_the_centre() {
+        let mut t = Transform::identity(Vec3::new(10.0, 0.0, 0.0));
+        t.rotation_deg = Vec3::new(0.0, 0.0, 90.0);
+        t.scale = 2.0;
+        // The pivot stays put; a point 1 mm right of it goes 2 mm anterior.
+        assert!(t.matrix().transform_point3(Vec3::new(10.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 0.0, 0.0), 1e-5));
+        assert!(t.matrix().transform_point3(Vec3::new(11.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 2.0, 0.0), 1e-5));
+        t.translation = Vec3::Z;
+        assert!(t.matrix().transform_point3(Vec3::new(10.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 0.0, 1.0), 1e-5));
+    }
+}

@@ -1,0 +1,27 @@
+//! vbrain's headless core: organ sets, their meshes, and the offscreen renderer.
+//!
+//! A frame flows like this:
+//!
+//! 1. [`organ_set::open`] reads an organ set (a folder with `organset.json` and `.vbo`/`.obj`
+//!    meshes, a folder of meshes, or one mesh file) into an [`organ_set::OrganSet`]: meshes in organ
+//!    space, millimetres RAS. [`organ_set::import`] makes sets from label volumes;
+//!    [`organ_set::scale`] makes denser copies for benchmarks.
+//! 2. The user's changes live in a [`layout::Layout`]: per organ visibility, opacity, colour and a
+//!    model transform (organ space -> world space, also millimetres RAS).
+//! 3. A [`camera::Camera`] maps world space to clip space.
+//! 4. [`render::Renderer`] draws camera + layout into a [`render::Target`] (screen pixels): opaque
+//!    organs with depth and 4x MSAA, translucent ones blended, and on demand an organ-ID buffer for
+//!    picking. The viewer paints the target; headless commands read it back into a PNG.
+//!
+//! Nothing here panics on bad input: every file error names its file (and line).
+
+pub mod atomic;
+pub mod camera;
+pub mod error;
+pub mod layout;
+pub mod mesh;
+pub mod organ_set;
+pub mod render;
+pub mod surface;
+
+pub use error::{Error, Result};

@@ -1,0 +1,161 @@
+//! Triangle meshes in organ space (millimetres, RAS: +x right, +y anterior, +z superior).
+//!
+//! A [`Mesh`] is an indexed triangle list with one normal per vertex. Normals are always present:
+//! loaders that find none call [`Mesh::compute_normals`] (smooth, area-weighted).
+
+use glam::Vec3;
+
+/// An indexed triangle mesh. Invariants: `normals.len() == positions.len()`, `indices.len() % 3 == 0`,
+/// every index `< positions.len()`, every coordinate finite.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    pub positions: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub indices: Vec<u32>,
+}
+
+/// An axis-aligned box; `min > max` on some axis means empty.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Bounds {
+    pub min: [f32; 3],
+    pub max: [f32; 3],
+}
+
+impl Bounds {
+    pub const EMPTY: Bounds = Bounds { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] };
+
+    pub fn is_empty(&self) -> bool {
+        (0..3).any(|i| self.min[i] > self.max[i])
+    }
+
+    pub fn include(&mut self, p: [f32; 3]) {
+        for i in 0..3 {
+            self.min[i] = self.min[i].min(p[i]);
+            self.max[i] = self.max[i].max(p[i]);
+        }
+    }
+
+    pub fn union(mut self, other: Bounds) -> Bounds {
+        if !other.is_empty() {
+            self.include(other.min);
+            self.include(other.max);
+        }
+        self
+    }
+
+    pub fn center(&self) -> Vec3 {
+        (Vec3::from(self.min) + Vec3::from(self.max)) * 0.5
+    }
+
+    pub fn size(&self) -> Vec3 {
+        Vec3::from(self.max) - Vec3::from(self.min)
+    }
+
+    /// The eight corners, for transforming the box.
+    pub fn corners(&self) -> [Vec3; 8] {
+        let (a, b) = (self.min, self.max);
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { a[0] } else { b[0] },
+                if i & 2 == 0 { a[1] } else { b[1] },
+                if i & 4 == 0 { a[2] } else { b[2] },
+            )
+        })
+    }
+
+    /// Bounds of this box after an affine transform.
+    pub fn transformed(&self, m: &glam::Mat4) -> Bounds {
+        let mut out = Bounds::EMPTY;
+        if !self.is_empty() {
+            for c in self.corners() {
+                out.include(m.transform_point3(c).to_array());
+            }
+        }
+        out
+    }
+}
+
+impl Mesh {
+    pub fn triangle_count(&self) -> usize {
+        self.indices.len() / 3
+    }
+
+    pub fn bounds(&self) -> Bounds {
+        let mut b = Bounds::EMPTY;
+        for &p in &self.positions {
+            b.include(p);
+        }
+        b
+    }
+
+    /// Replaces the normals by smooth, area-weighted vertex normals: each triangle adds its
+    /// unnormalised face normal (length = twice its area) to its three vertices.
+    pub fn compute_normals(&mut self) {
+        let mut acc = vec![Vec3::ZERO; self.positions.len()];
+        for t in self.indices.chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(self.positions[i as usize]));
+            let n = (b - a).cross(c - a);
+            for &i in t {
+                acc[i as usize] += n;
+            }
+        }
+        self.normals = acc
+            .into_iter()
+            .map(|n| n.try_normalize().unwrap_or(Vec3::Z).to_array())
+            .collect();
+    }
+
+    /// Appends another mesh (indices shifted).
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        self.normals.extend_from_slice(&other.normals);
+        self.indices.extend(other.indices.iter().map(|i| i + base));
+    }
+
+    /// Checks the invariants stated on [`Mesh`]; returns a description of the first violation.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.normals.len() != self.positions.len() {
+            return Err(format!("{} normals for {} vertices", self.normals.len(), self.positions.len()));
+        }
+        if self.indices.len() % 3 != 0 {
+            return Err(format!("{} indices is not a multiple of 3", self.indices.len()));
+        }
+        if let Some(i) = self.indices.iter().find(|&&i| i as usize >= self.positions.len()) {
+            return Err(format!("index {i} out of range ({} vertices)", self.positions.len()));
+        }
+        if self.positions.iter().chain(&self.normals).flatten().any(|v| !v.is_finite()) {
+            return Err("non-finite coordinate".into());
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn area_weighted_normals() {
+        // Two triangles sharing vertex 0: a large one in the xy-plane, a small one in the xz-plane.
+        let mut m = Mesh {
+            positions: vec![[0., 0., 0.], [10., 0., 0.], [0., 10., 0.], [0., 0., 1.], [1., 0., 0.]],
+            normals: vec![],
+            indices: vec![0, 1, 2, 0, 3, 4],
+        };
+        m.compute_normals();
+        let n0 = Vec3::from(m.normals[0]);
+        // Area 50 along +z, area 0.5 along +y: the shared normal leans to +z by 100:1.
+        assert!((n0 - Vec3::new(0.0, 1.0, 100.0).normalize()).length() < 1e-5, "{n0}");
+        assert_eq!(m.normals[1], [0., 0., 1.]);
+        assert!(m.validate().is_ok());
+    }
+
+    #[test]
+    fn bounds_transform() {
+        let b = Bounds { min: [-1., -2., -3.], max: [1., 2., 3.] };
+        let t = b.transformed(&glam::Mat4::from_translation(Vec3::new(10., 0., 0.)));
+        assert_eq!(t.min, [9., -2., -3.]);
+        assert!(Bounds::EMPTY.is_empty());
+    }
+}

@@ -1,0 +1,170 @@
+//! `organset.json`: the manifest of an organ set (serde). Coordinates of every mesh are millimetres, RAS.
+//!
+//! The format is documented for users in `organs/README.md`; [`Manifest::validate`] enforces it.
+
+use serde::{Deserialize, Serialize};
+
+/// The format tag written into every manifest.
+pub const FORMAT: &str = "vbrain-organ-set/1";
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Manifest {
+    /// Always [`FORMAT`].
+    pub format: String,
+    pub title: String,
+    /// Units of the mesh coordinates; only "mm" is accepted.
+    #[serde(default = "default_units")]
+    pub units: String,
+    /// Coordinate convention; only "RAS" (+x right, +y anterior, +z superior) is accepted.
+    #[serde(default = "default_coordinates")]
+    pub coordinates: String,
+    #[serde(default)]
+    pub description: String,
+    #[serde(default)]
+    pub sources: Vec<Source>,
+    pub organs: Vec<OrganEntry>,
+}
+
+/// Where data came from, under which licence, and whom to credit.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Source {
+    pub name: String,
+    #[serde(default)]
+    pub url: String,
+    pub licence: String,
+    pub attribution: String,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct OrganEntry {
+    /// Unique within the set: letters, digits, `_` and `-`.
+    pub id: String,
+    pub name: String,
+    /// Path of the `.vbo`/`.obj` file relative to the manifest's folder; must stay inside it.
+    pub mesh: String,
+    /// `#rrggbb` (sRGB).
+    pub colour: String,
+    #[serde(default = "one")]
+    pub opacity: f32,
+    #[serde(default = "yes")]
+    pub visible: bool,
+    /// Group path in the organ tree, `/`-separated, e.g. `Cerebrum/Left hemisphere/Frontal lobe`.
+    #[serde(default)]
+    pub group: String,
+    /// A short text for students.
+    #[serde(default)]
+    pub info: String,
+}
+
+fn default_units() -> String {
+    "mm".into()
+}
+fn default_coordinates() -> String {
+    "RAS".into()
+}
+fn one() -> f32 {
+    1.0
+}
+fn yes() -> bool {
+    true
+}
+
+/// Parses `#rrggbb` into sRGB components in 0..=1.
+pub fn parse_colour(s: &str) -> Option<[f32; 3]> {
+    let hex = s.strip_prefix('#')?;
+    if hex.len() != 6 || !hex.is_ascii() {
+        return None;
+    }
+    let c = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok().map(|v| v as f32 / 255.0);
+    Some([c(0)?, c(2)?, c(4)?])
+}
+
+/// Formats sRGB components in 0..=1 as `#rrggbb`.
+pub fn format_colour(c: [f32; 3]) -> String {
+    let b = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+    format!("#{:02x}{:02x}{:02x}", b[0], b[1], b[2])
+}
+
+impl Manifest {
+    /// Checks the set-wide fields; returns one message per problem.
+    pub fn validate(&self) -> Vec<String> {
+        let mut problems = Vec::new();
+        if self.format != FORMAT {
+            problems.push(format!("format is \"{}\", expected \"{FORMAT}\"", self.format));
+        }
+        if self.units != "mm" {
+            problems.push(format!("units \"{}\" not supported (only \"mm\")", self.units));
+        }
+        if self.coordinates != "RAS" {
+            problems.push(format!("coordinates \"{}\" not supported (only \"RAS\")", self.coordinates));
+        }
+        problems
+    }
+}
+
+impl OrganEntry {
+    /// Checks one organ's fields (not its mesh file); returns the first problem.
+    pub fn validate(&self) -> Result<(), String> {
+        let id_ok = !self.id.is_empty() && self.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        if !id_ok {
+            return Err(format!("organ id \"{}\" must be non-empty letters, digits, _ or -", self.id));
+        }
+        if !(0.0..=1.0).contains(&self.opacity) {
+            return Err(format!("organ \"{}\": opacity {} outside 0..1", self.id, self.opacity));
+        }
+        if parse_colour(&self.colour).is_none() {
+            return Err(format!("organ \"{}\": colour \"{}\" is not #rrggbb", self.id, self.colour));
+        }
+        mesh_path_ok(&self.mesh).map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))
+    }
+}
+
+/// A mesh path must be relative and must not climb out of the set's folder.
+fn mesh_path_ok(p: &str) -> Result<(), &'static str> {
+    use std::path::Component;
+    let path = std::path::Path::new(p);
+    if p.is_empty() {
+        return Err("is empty");
+    }
+    let mut depth = 0i32;
+    for c in path.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir => {
+                depth -= 1;
+                if depth < 0 {
+                    return Err("escapes the set's folder");
+                }
+            }
+            Component::RootDir | Component::Prefix(_) => return Err("must be a relative path inside the set's folder"),
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colours_round_trip() {
+        assert_eq!(parse_colour("#ff8000"), Some([1.0, 128.0 / 255.0, 0.0]));
+        assert_eq!(format_colour([1.0, 128.0 / 255.0, 0.0]), "#ff8000");
+        assert_eq!(parse_colour("ff8000"), None);
+        assert_eq!(parse_colour("#ff80"), None);
+        assert_eq!(parse_colour("#ééé"), None);
+    }
+
+    #[test]
+    fn mesh_paths() {
+        assert!(mesh_path_ok("meshes/a.vbo").is_ok());
+        assert!(mesh_path_ok("a/../b.vbo").is_ok());
+        assert!(mesh_path_ok("../a.vbo").is_err());
+        assert!(mesh_path_ok("a/../../b.vbo").is_err());
+        assert!(mesh_path_ok("/etc/passwd").is_err());
+    }
+}

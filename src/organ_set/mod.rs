@@ -1,0 +1,278 @@
+//! Organ sets: the organs of one scene with their meshes (organ space = millimetres, RAS) and metadata.
+//!
+//! [`open`] reads any of: a folder with `organset.json` (see [`manifest`]), a folder of `.obj`/`.vbo`
+//! files without a manifest, or a single `.obj`/`.vbo` file. Without a manifest every object (`o`/`g`)
+//! of every file is one organ, named after the object or file, with distinct colours. A broken organ
+//! does not stop the rest: it is reported in [`Loaded::errors`] and left out.
+
+pub mod import;
+pub mod manifest;
+pub mod obj;
+pub mod scale;
+
+use crate::error::{Error, Result};
+use crate::mesh::{Bounds, Mesh};
+use manifest::{Manifest, OrganEntry, Source};
+use std::path::{Path, PathBuf};
+
+pub const MANIFEST_FILE: &str = "organset.json";
+
+#[derive(Clone, Debug)]
+pub struct Organ {
+    pub id: String,
+    pub name: String,
+    /// `/`-separated group path for the organ tree; empty for the top level.
+    pub group: String,
+    /// sRGB components in 0..=1.
+    pub colour: [f32; 3],
+    pub opacity: f32,
+    pub visible: bool,
+    pub info: String,
+    pub mesh: Mesh,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct OrganSet {
+    pub title: String,
+    pub description: String,
+    pub sources: Vec<Source>,
+    pub organs: Vec<Organ>,
+}
+
+/// An opened set with what went wrong on the way.
+#[derive(Debug, Default)]
+pub struct Loaded {
+    pub set: OrganSet,
+    /// Organs (files) that failed to load; the set holds the others.
+    pub errors: Vec<Error>,
+    pub warnings: Vec<String>,
+}
+
+impl OrganSet {
+    pub fn triangle_count(&self) -> usize {
+        self.organs.iter().map(|o| o.mesh.triangle_count()).sum()
+    }
+
+    /// Bounds of all organs in their default positions.
+    pub fn bounds(&self) -> Bounds {
+        self.organs.iter().fold(Bounds::EMPTY, |b, o| b.union(o.mesh.bounds()))
+    }
+
+    pub fn find(&self, id: &str) -> Option<usize> {
+        self.organs.iter().position(|o| o.id == id)
+    }
+
+    /// The manifest that describes this set with meshes at `meshes/<id>.vbo`.
+    pub fn manifest(&self) -> Manifest {
+        Manifest {
+            format: manifest::FORMAT.into(),
+            title: self.title.clone(),
+            units: "mm".into(),
+            coordinates: "RAS".into(),
+            description: self.description.clone(),
+            sources: self.sources.clone(),
+            organs: self
+                .organs
+                .iter()
+                .map(|o| OrganEntry {
+                    id: o.id.clone(),
+                    name: o.name.clone(),
+                    mesh: format!("meshes/{}.vbo", o.id),
+                    colour: manifest::format_colour(o.colour),
+                    opacity: o.opacity,
+                    visible: o.visible,
+                    group: o.group.clone(),
+                    info: o.info.clone(),
+                })
+                .collect(),
+        }
+    }
+
+    /// Writes the set as a folder: `organset.json` and `meshes/<id>.vbo`, each file atomically.
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        let meshes = dir.join("meshes");
+        std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
+        for o in &self.organs {
+            crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
+        }
+        let json = serde_json::to_string_pretty(&self.manifest()).map_err(|e| Error::Other(e.to_string()))?;
+        crate::atomic::write(&dir.join(MANIFEST_FILE), |w| w.write_all(json.as_bytes()))
+    }
+}
+
+/// Opens an organ set folder, a folder of mesh files, or one mesh file.
+pub fn open(path: &Path) -> Result<Loaded> {
+    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if meta.is_dir() {
+        let manifest = path.join(MANIFEST_FILE);
+        if manifest.is_file() {
+            open_manifest(&manifest)
+        } else {
+            open_files(&mesh_files_in(path)?, &title_of(path))
+        }
+    } else if path.file_name().is_some_and(|n| n == MANIFEST_FILE) {
+        open_manifest(path)
+    } else {
+        open_files(&[path.to_path_buf()], &title_of(path))
+    }
+}
+
+fn title_of(path: &Path) -> String {
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "organs".into())
+}
+
+/// Is this a mesh file vbrain reads (by extension)?
+pub fn is_mesh_file(p: &Path) -> bool {
+    p.extension().and_then(|e| e.to_str()).is_some_and(|e| e.eq_ignore_ascii_case("obj") || e.eq_ignore_ascii_case("vbo"))
+}
+
+fn mesh_files_in(dir: &Path) -> Result<Vec<PathBuf>> {
+    let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    let mut files: Vec<PathBuf> = entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file() && is_mesh_file(p)).collect();
+    files.sort();
+    if files.is_empty() {
+        return Err(Error::parse(dir, None, format!("no {MANIFEST_FILE} and no .obj or .vbo files in this folder")));
+    }
+    Ok(files)
+}
+
+/// Reads the manifest; a problem with the manifest itself is fatal, a problem with one organ is not.
+pub fn open_manifest(path: &Path) -> Result<Loaded> {
+    let text = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let manifest: Manifest = serde_json::from_slice(&text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
+    let problems = manifest.validate();
+    if !problems.is_empty() {
+        return Err(Error::parse(path, None, problems.join("; ")));
+    }
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let mut loaded = Loaded::default();
+    let mut seen = std::collections::HashSet::new();
+    let results: Vec<Result<(Organ, Vec<String>)>> = std::thread::scope(|s| {
+        let handles: Vec<_> = manifest.organs.iter().map(|entry| s.spawn(|| load_entry(entry, dir, path))).collect();
+        handles.into_iter().map(|h| h.join().unwrap_or_else(|_| Err(Error::Other("organ loader panicked".into())))).collect()
+    });
+    for (entry, result) in manifest.organs.iter().zip(results) {
+        match result {
+            Ok((organ, warnings)) if seen.insert(organ.id.clone()) => {
+                loaded.warnings.extend(warnings);
+                loaded.set.organs.push(organ);
+            }
+            Ok(_) => loaded.errors.push(Error::parse(path, None, format!("organ id \"{}\" appears twice", entry.id))),
+            Err(e) => loaded.errors.push(e),
+        }
+    }
+    loaded.set.title = manifest.title;
+    loaded.set.description = manifest.description;
+    loaded.set.sources = manifest.sources;
+    Ok(loaded)
+}
+
+fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {
+    entry.validate().map_err(|m| Error::parse(manifest_path, None, m))?;
+    let file = obj::read(&dir.join(&entry.mesh))?;
+    let mut mesh = Mesh::default();
+    for o in &file.objects {
+        mesh.append(&o.mesh);
+    }
+    let organ = Organ {
+        id: entry.id.clone(),
+        name: entry.name.clone(),
+        group: entry.group.clone(),
+        colour: manifest::parse_colour(&entry.colour).unwrap_or([0.8; 3]),
+        opacity: entry.opacity,
+        visible: entry.visible,
+        info: entry.info.clone(),
+        mesh,
+    };
+    Ok((organ, file.warnings))
+}
+
+/// One organ per object of each file; a broken file is reported and skipped.
+pub fn open_files(files: &[PathBuf], title: &str) -> Result<Loaded> {
+    let mut loaded = Loaded { set: OrganSet { title: title.into(), ..Default::default() }, ..Default::default() };
+    let mut ids = std::collections::HashSet::new();
+    for f in files {
+        match obj::read(f) {
+            Ok(file) => {
+                loaded.warnings.extend(file.warnings);
+                let group = if files.len() > 1 { title_of(f) } else { String::new() };
+                for o in file.objects {
+                    let id = unique_id(&slug(&o.name), &mut ids);
+                    let colour = distinct_colour(loaded.set.organs.len());
+                    loaded.set.organs.push(Organ {
+                        id,
+                        name: o.name,
+                        group: group.clone(),
+                        colour,
+                        opacity: 1.0,
+                        visible: true,
+                        info: String::new(),
+                        mesh: o.mesh,
+                    });
+                }
+            }
+            Err(e) => loaded.errors.push(e),
+        }
+    }
+    Ok(loaded)
+}
+
+/// An id from a name: lowercase ASCII letters and digits, other runs become `_`.
+pub fn slug(name: &str) -> String {
+    let mut s = String::new();
+    for c in name.chars() {
+        if c.is_ascii_alphanumeric() {
+            s.push(c.to_ascii_lowercase());
+        } else if !s.ends_with('_') {
+            s.push('_');
+        }
+    }
+    let s = s.trim_matches('_').to_string();
+    if s.is_empty() { "organ".into() } else { s }
+}
+
+fn unique_id(base: &str, taken: &mut std::collections::HashSet<String>) -> String {
+    let mut id = base.to_string();
+    let mut n = 2;
+    while !taken.insert(id.clone()) {
+        id = format!("{base}_{n}");
+        n += 1;
+    }
+    id
+}
+
+/// The `i`-th of a sequence of well-separated colours (golden-angle hues, sRGB).
+pub fn distinct_colour(i: usize) -> [f32; 3] {
+    let h = (i as f32 * 0.381_966) % 1.0;
+    let (s, v) = (0.55, 0.9);
+    let f = |n: f32| {
+        let k = (n + h * 6.0) % 6.0;
+        v - v * s * k.min(4.0 - k).clamp(0.0, 1.0)
+    };
+    [f(5.0), f(3.0), f(1.0)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn slugs_and_ids() {
+        assert_eq!(slug("Left Thalamus (proper)"), "left_thalamus_proper");
+        assert_eq!(slug("***"), "organ");
+        let mut taken = Default::default();
+        assert_eq!(unique_id("a", &mut taken), "a");
+        assert_eq!(unique_id("a", &mut taken), "a_2");
+    }
+
+    #[test]
+    fn colours_differ() {
+        let c: Vec<_> = (0..12).map(distinct_colour).collect();
+        for i in 0..c.len() {
+            for j in 0..i {
+                let d: f32 = (0..3).map(|k| (c[i][k] - c[j][k]).abs()).sum();
+                assert!(d > 0.05, "{i} and {j} too close: {:?} {:?}", c[i], c[j]);
+            }
+        }
+    }
+}

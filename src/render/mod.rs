@@ -1,0 +1,17 @@
+//! The offscreen renderer (wgpu). One renderer serves the viewer's viewport and every headless
+//! command, so a screenshot is exactly what the viewer shows.
+//!
+//! Spaces: meshes are uploaded in organ space; the vertex shader applies each organ's model matrix
+//! (organ -> world, millimetres RAS) and the camera's view-projection (world -> wgpu clip space,
+//! depth 0..1). Targets are in screen pixels, origin top left.
+
+mod context;
+mod renderer;
+mod target;
+
+pub use context::{GpuContext, NO_ADAPTER_HELP};
+pub use renderer::{FrameInput, Renderer, RenderStats, SAMPLE_COUNT};
+pub use target::{Target, COLOR_FORMAT};
+
+/// The WGSL sources, by file name, for validation and pipeline creation.
+pub const SHADERS: &[(&str, &str)] = &[("organ.wgsl", include_str!("../../shaders/organ.wgsl"))];

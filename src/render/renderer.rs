@@ -1,0 +1,331 @@
+//! Pipelines and per-organ GPU meshes, created once per device and organ set; [`Renderer::render`]
+//! draws one frame from plain per-frame data (camera, layout) into a [`Target`].
+
+use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
+use crate::camera::Camera;
+use crate::error::{Error, Result};
+use crate::layout::Layout;
+use crate::organ_set::OrganSet;
+use glam::{Mat3, Mat4, Vec3, Vec4};
+use wgpu::util::DeviceExt;
+
+/// Samples per pixel of the colour target (4x MSAA, supported everywhere, lavapipe included).
+pub const SAMPLE_COUNT: u32 = 4;
+
+/// Keep in sync with `Frame` in shaders/organ.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct FrameUniform {
+    view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+}
+
+/// Keep in sync with `Organ` in shaders/organ.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct OrganUniform {
+    model: [[f32; 4]; 4],
+    normal_matrix: [[f32; 4]; 4],
+    colour: [f32; 4],
+    id: [u32; 4],
+}
+
+/// Distance between organ uniforms in the dynamic-offset buffer (the largest alignment allowed).
+const ORGAN_STRIDE: u64 = 256;
+
+struct GpuMesh {
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    index_count: u32,
+    /// Organ-space centre, for back-to-front sorting of translucent organs.
+    center: Vec3,
+}
+
+/// What one frame shows.
+pub struct FrameInput<'a> {
+    pub camera: &'a Camera,
+    pub layout: &'a Layout,
+    /// Linear RGBA clear colour; alpha 0 gives a transparent background.
+    pub background: [f32; 4],
+}
+
+/// Counts of one rendered frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RenderStats {
+    pub organs_drawn: usize,
+    pub triangles_drawn: usize,
+}
+
+pub struct Renderer {
+    meshes: Vec<GpuMesh>,
+    frame_buffer: wgpu::Buffer,
+    frame_bind: wgpu::BindGroup,
+    organ_buffer: wgpu::Buffer,
+    organ_bind: wgpu::BindGroup,
+    opaque: wgpu::RenderPipeline,
+    blend: wgpu::RenderPipeline,
+    pick: wgpu::RenderPipeline,
+}
+
+/// sRGB component to linear.
+fn linear(c: f32) -> f32 {
+    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+}
+
+impl Renderer {
+    /// Creates the pipelines and uploads the set's meshes.
+    pub fn new(device: &wgpu::Device, set: &OrganSet) -> Result<Renderer> {
+        let max = device.limits().max_buffer_size;
+        let mut meshes = Vec::with_capacity(set.organs.len());
+        for o in &set.organs {
+            let vertices: Vec<[f32; 6]> = o
+                .mesh
+                .positions
+                .iter()
+                .zip(&o.mesh.normals)
+                .map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
+                .collect();
+            let bytes = (vertices.len() * 24).max(o.mesh.indices.len() * 4) as u64;
+            if bytes > max {
+                return Err(Error::Other(format!("organ \"{}\" needs a {bytes}-byte buffer; this GPU allows {max}", o.id)));
+            }
+            meshes.push(GpuMesh {
+                vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&o.id),
+                    contents: bytemuck::cast_slice(&vertices),
+                    usage: wgpu::BufferUsages::VERTEX,
+                }),
+                indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(&o.id),
+                    contents: bytemuck::cast_slice(&o.mesh.indices),
+                    usage: wgpu::BufferUsages::INDEX,
+                }),
+                index_count: o.mesh.indices.len() as u32,
+                center: o.mesh.bounds().center(),
+            });
+        }
+        let uniform_layout = |label, dynamic| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: dynamic,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                }],
+            })
+        };
+        let frame_layout = uniform_layout("frame", false);
+        let organ_layout = uniform_layout("organ", true);
+        let frame_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame uniform"),
+            size: std::mem::size_of::<FrameUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let organ_buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("organ uniforms"),
+            size: ORGAN_STRIDE * set.organs.len().max(1) as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let bind = |layout: &wgpu::BindGroupLayout, buffer: &wgpu::Buffer, size: Option<u64>| {
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: None,
+                layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer,
+                        offset: 0,
+                        size: size.and_then(wgpu::BufferSize::new),
+                    }),
+                }],
+            })
+        };
+        let frame_bind = bind(&frame_layout, &frame_buffer, None);
+        let organ_bind = bind(&organ_layout, &organ_buffer, Some(std::mem::size_of::<OrganUniform>() as u64));
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("organ.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(super::SHADERS[0].1.into()),
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("organ"),
+            bind_group_layouts: &[Some(&frame_layout), Some(&organ_layout)],
+            immediate_size: 0,
+        });
+        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let pipeline = |label, fragment: &str, format, blend, depth_write, cull, samples| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&pipeline_layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: 24,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &vertex_attributes,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(fragment),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let opaque = pipeline("organ opaque", "fs_shade", COLOR_FORMAT, None, true, None, SAMPLE_COUNT);
+        // Placeholder transparency: plain alpha blending, organs sorted back to front, back faces culled.
+        let over = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::SrcAlpha,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent::OVER,
+        };
+        let blend = pipeline("organ blend", "fs_shade", COLOR_FORMAT, Some(over), false, Some(wgpu::Face::Back), SAMPLE_COUNT);
+        let pick = pipeline("organ pick", "fs_pick", ID_FORMAT, None, true, None, 1);
+        Ok(Renderer { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, opaque, blend, pick })
+    }
+
+    fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
+        let vp = frame.camera.view_projection(aspect);
+        let fu = FrameUniform { view_proj: vp.to_cols_array_2d(), eye: frame.camera.eye.extend(1.0).to_array() };
+        queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&fu));
+        let mut data = vec![0u8; ORGAN_STRIDE as usize * self.meshes.len()];
+        for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
+            let model = s.transform.matrix();
+            let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
+            let c = s.colour.map(linear);
+            let u = OrganUniform {
+                model: model.to_cols_array_2d(),
+                normal_matrix: normal.to_cols_array_2d(),
+                colour: Vec4::new(c[0], c[1], c[2], s.opacity).to_array(),
+                id: [i as u32 + 1, 0, 0, 0],
+            };
+            let at = i * ORGAN_STRIDE as usize;
+            data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
+        }
+        queue.write_buffer(&self.organ_buffer, 0, &data);
+    }
+
+    fn draw(&self, pass: &mut wgpu::RenderPass, organ: usize) {
+        let m = &self.meshes[organ];
+        pass.set_bind_group(1, &self.organ_bind, &[(organ as u64 * ORGAN_STRIDE) as u32]);
+        pass.set_vertex_buffer(0, m.vertices.slice(..));
+        pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..m.index_count, 0, 0..1);
+    }
+
+    /// Draws the frame into `target`'s colour image: opaque organs with depth, then translucent ones
+    /// blended back to front.
+    pub fn render(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput) -> RenderStats {
+        self.upload(queue, frame, target.aspect());
+        let states = &frame.layout.organs;
+        let n = self.meshes.len().min(states.len());
+        let opaque: Vec<usize> = (0..n).filter(|&i| states[i].is_opaque()).collect();
+        let eye = frame.camera.eye;
+        let mut translucent: Vec<(f32, usize)> = (0..n)
+            .filter(|&i| states[i].is_drawn() && !states[i].is_opaque())
+            .map(|i| {
+                let c = states[i].transform.matrix().transform_point3(self.meshes[i].center);
+                (-(c - eye).length_squared(), i)
+            })
+            .collect();
+        translucent.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let bg = frame.background.map(f64::from);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("organs"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.msaa_color,
+                    depth_slice: None,
+                    resolve_target: Some(&target.color_view),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] }),
+                        store: wgpu::StoreOp::Discard,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.msaa_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_bind, &[]);
+            pass.set_pipeline(&self.opaque);
+            for &i in &opaque {
+                self.draw(&mut pass, i);
+            }
+            pass.set_pipeline(&self.blend);
+            for &(_, i) in &translucent {
+                self.draw(&mut pass, i);
+            }
+        }
+        queue.submit([encoder.finish()]);
+        let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
+        let mut stats = RenderStats::default();
+        for i in drawn {
+            stats.organs_drawn += 1;
+            stats.triangles_drawn += self.meshes[i].index_count as usize / 3;
+        }
+        stats
+    }
+
+    /// Draws organ IDs into `target`'s ID buffer: for each pixel the nearest drawn organ whose
+    /// opacity is at least `min_opacity` (so clicking through a faded organ reaches what is inside).
+    pub fn render_ids(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput, min_opacity: f32) {
+        self.upload(queue, frame, target.aspect());
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("organ ids"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.ids_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.ids_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_bind, &[]);
+            pass.set_pipeline(&self.pick);
+            for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
+                if s.is_drawn() && s.opacity >= min_opacity {
+                    self.draw(&mut pass, i);
+                }
+            }
+        }
+        queue.submit([encoder.finish()]);
+    }
+}

@@ -1,0 +1,115 @@
+//! Render targets in screen pixels (origin top left): a multisampled colour and depth buffer, the
+//! resolved colour texture (what the viewer paints and the exporter reads back), and a
+//! single-sampled organ-ID buffer with its own depth for picking.
+
+use crate::error::{Error, Result};
+
+/// Colour format of the resolved image: 8-bit sRGB with alpha.
+pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+pub struct Target {
+    pub width: u32,
+    pub height: u32,
+    pub(crate) msaa_color: wgpu::TextureView,
+    pub(crate) msaa_depth: wgpu::TextureView,
+    /// The resolved image; `TEXTURE_BINDING` so a viewer can paint it.
+    pub color: wgpu::Texture,
+    pub color_view: wgpu::TextureView,
+    pub(crate) ids: wgpu::Texture,
+    pub(crate) ids_view: wgpu::TextureView,
+    pub(crate) ids_depth: wgpu::TextureView,
+}
+
+impl Target {
+    pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Target> {
+        let max = device.limits().max_texture_dimension_2d;
+        if width == 0 || height == 0 || width > max || height > max {
+            return Err(Error::Other(format!("image size {width}x{height} outside 1..={max} pixels per side")));
+        }
+        let make = |label, format, samples, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: samples,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
+        let samples = super::SAMPLE_COUNT;
+        let color = make("target color", COLOR_FORMAT, 1, attach | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC);
+        let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC);
+        Ok(Target {
+            width,
+            height,
+            msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach)),
+            msaa_depth: view(&make("target msaa depth", DEPTH_FORMAT, samples, attach)),
+            color_view: view(&color),
+            color,
+            ids_view: view(&ids),
+            ids,
+            ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach)),
+        })
+    }
+
+    pub fn aspect(&self) -> f32 {
+        self.width as f32 / self.height as f32
+    }
+
+    /// Reads the resolved colour image back (blocking).
+    pub fn read_color(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<image::RgbaImage> {
+        let bytes = read_texture(device, queue, &self.color, 4)?;
+        image::RgbaImage::from_raw(self.width, self.height, bytes).ok_or_else(|| Error::Other("read-back size mismatch".into()))
+    }
+
+    /// Reads the organ-ID buffer back (blocking): organ index + 1 per pixel, 0 for background.
+    pub fn read_ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<u32>> {
+        let bytes = read_texture(device, queue, &self.ids, 4)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+}
+
+/// Copies a single-sampled 2D texture into host memory, removing the row padding.
+fn read_texture(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture, bytes_per_pixel: u32) -> Result<Vec<u8>> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = w * bytes_per_pixel;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read-back"),
+        size: padded as u64 * h as u64,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
+        },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+    );
+    queue.submit([encoder.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    buffer.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Other(format!("GPU poll: {e}")))?;
+    rx.recv()
+        .map_err(|e| Error::Other(format!("read-back: {e}")))?
+        .map_err(|e| Error::Other(format!("read-back: {e}")))?;
+    let data = buffer.get_mapped_range(..).map_err(|e| Error::Other(format!("read-back: {e}")))?;
+    let mut out = Vec::with_capacity((row * h) as usize);
+    for r in 0..h as usize {
+        out.extend_from_slice(&data[r * padded as usize..r * padded as usize + row as usize]);
+    }
+    drop(data);
+    buffer.unmap();
+    Ok(out)
+}

@@ -1,0 +1,291 @@
+//! The headless commands of `vbrain`. Each prints a human summary, or with `--json` one JSON object
+//! on stdout; errors go to stderr and make the exit status non-zero.
+
+use anyhow::{anyhow, bail, Context, Result};
+use clap::{Parser, Subcommand};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+use vbrain::camera::{Camera, View};
+use vbrain::layout::Layout;
+use vbrain::organ_set::{self, import, scale, Loaded, OrganSet};
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+
+#[derive(Parser)]
+#[command(name = "vbrain", version, about = "Explore the brain as a set of organs: viewer and headless tools")]
+pub struct Args {
+    /// Organ set folder, .obj/.vbo file or folder of them to open in the viewer (default: organs/brain)
+    pub path: Option<PathBuf>,
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// List the organs of a set: triangles per organ and bounds
+    Info {
+        path: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Render a set to a PNG through the viewer's renderer
+    Render(RenderArgs),
+    /// Turn a label volume (NIfTI) and its label table into an organ set
+    Import {
+        /// Label volume, .nii or .nii.gz
+        volume: PathBuf,
+        /// Label table: CSV `index,name` or a FreeSurfer colour look-up table
+        #[arg(long)]
+        labels: PathBuf,
+        /// Output folder for the organ set
+        #[arg(long)]
+        out: PathBuf,
+        /// Triangle budget for the whole set
+        #[arg(long, default_value_t = 200_000)]
+        triangles: usize,
+        /// Smoothing iterations (Taubin)
+        #[arg(long, default_value_t = 10)]
+        smooth: usize,
+        /// Title of the new set (default: the volume's file name)
+        #[arg(long)]
+        title: Option<String>,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Write a denser copy of a set (each triangle subdivided), for benchmarks
+    Scale {
+        set: PathBuf,
+        /// Density factor K: each triangle becomes n*n with n = round(sqrt(K))
+        #[arg(long)]
+        factor: f64,
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    pub path: PathBuf,
+    /// Output PNG file
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH
+    #[arg(long, default_value = "1024x1024")]
+    pub size: String,
+    /// Standard view: anterior, posterior, left, right, superior, inferior
+    #[arg(long)]
+    pub view: Option<String>,
+    /// Orbit AZ,EL in degrees from the anterior view (azimuth toward the right, elevation upward)
+    #[arg(long, allow_hyphen_values = true)]
+    pub orbit: Option<String>,
+    /// Hide organs by id (repeatable)
+    #[arg(long, num_args = 1..)]
+    pub hide: Vec<String>,
+    /// Set opacity, ID=A or all=A with A in 0..1 (repeatable)
+    #[arg(long, num_args = 1..)]
+    pub opacity: Vec<String>,
+    /// Transparent background instead of the viewer's dark grey
+    #[arg(long)]
+    pub transparent: bool,
+    #[arg(long)]
+    pub json: bool,
+}
+
+pub fn run(command: Command) -> std::process::ExitCode {
+    match run_command(command) {
+        Ok(true) => std::process::ExitCode::SUCCESS,
+        Ok(false) => std::process::ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs one command; `Ok(false)` means it finished but reported errors (e.g. broken organs).
+fn run_command(command: Command) -> Result<bool> {
+    match command {
+        Command::Info { path, json } => info(&path, json),
+        Command::Render(args) => render(&args),
+        Command::Import { volume, labels, out, triangles, smooth, title, json } => {
+            import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
+        }
+        Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+    }
+}
+
+/// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
+pub fn open_reporting(path: &Path) -> Result<(OrganSet, bool)> {
+    let Loaded { set, errors, warnings } = organ_set::open(path).map_err(|e| anyhow!(e))?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    for e in &errors {
+        eprintln!("error: {e}");
+    }
+    if set.organs.is_empty() {
+        bail!("{}: no organ could be loaded", path.display());
+    }
+    Ok((set, errors.is_empty()))
+}
+
+fn info(path: &Path, json: bool) -> Result<bool> {
+    let (set, ok) = open_reporting(path)?;
+    let bounds = set.bounds();
+    if json {
+        let organs: Vec<_> = set
+            .organs
+            .iter()
+            .map(|o| {
+                json!({
+                    "id": o.id, "name": o.name, "group": o.group, "triangles": o.mesh.triangle_count(),
+                    "vertices": o.mesh.positions.len(), "bounds": o.mesh.bounds(),
+                })
+            })
+            .collect();
+        let out = json!({ "title": set.title, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
+        println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
+        for o in &set.organs {
+            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh.triangle_count(), o.name);
+        }
+    }
+    Ok(ok)
+}
+
+pub fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| anyhow!("size \"{s}\" is not WxH"))?;
+    let w: u32 = w.trim().parse().with_context(|| format!("width in \"{s}\""))?;
+    let h: u32 = h.trim().parse().with_context(|| format!("height in \"{s}\""))?;
+    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+        bail!("size {w}x{h} outside 1..16384");
+    }
+    Ok((w, h))
+}
+
+/// Applies `--hide` and `--opacity` to a layout.
+fn apply_overrides(set: &OrganSet, layout: &mut Layout, hide: &[String], opacity: &[String]) -> Result<()> {
+    let index = |id: &str| set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"));
+    for id in hide {
+        layout.organs[index(id)?].visible = false;
+    }
+    for spec in opacity {
+        let (id, a) = spec.split_once('=').ok_or_else(|| anyhow!("opacity \"{spec}\" is not ID=A"))?;
+        let a: f32 = a.parse().with_context(|| format!("opacity in \"{spec}\""))?;
+        if !(0.0..=1.0).contains(&a) {
+            bail!("opacity {a} in \"{spec}\" outside 0..1");
+        }
+        if id == "all" {
+            layout.organs.iter_mut().for_each(|s| s.opacity = a);
+        } else {
+            layout.organs[index(id)?].opacity = a;
+        }
+    }
+    Ok(())
+}
+
+fn render(args: &RenderArgs) -> Result<bool> {
+    let (width, height) = parse_size(&args.size)?;
+    let (set, ok) = open_reporting(&args.path)?;
+    let mut layout = Layout::new(&set);
+    apply_overrides(&set, &mut layout, &args.hide, &args.opacity)?;
+    let bounds = layout.bounds(&set);
+    let camera = match (&args.view, &args.orbit) {
+        (Some(_), Some(_)) => bail!("give --view or --orbit, not both"),
+        (Some(v), None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
+        (None, Some(o)) => {
+            let (az, el) = o.split_once(',').ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;
+            let az: f32 = az.trim().parse().with_context(|| format!("azimuth in \"{o}\""))?;
+            let el: f32 = el.trim().parse().with_context(|| format!("elevation in \"{o}\""))?;
+            Camera::orbit(&bounds, az, el)
+        }
+        (None, None) => Camera::view(&bounds, View::Anterior),
+    };
+    let started = std::time::Instant::now();
+    let gpu = GpuContext::headless()?;
+    let renderer = Renderer::new(&gpu.device, &set)?;
+    let target = Target::new(&gpu.device, width, height)?;
+    let background = if args.transparent { [0.0; 4] } else { crate::viewer::BACKGROUND };
+    let stats = renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &camera, layout: &layout, background });
+    let image = target.read_color(&gpu.device, &gpu.queue)?;
+    write_png(&args.out, &image, true)?;
+    if args.json {
+        let out = json!({
+            "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
+            "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
+            "adapter": gpu.adapter_description(), "seconds": started.elapsed().as_secs_f64(),
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!("{}: {width}x{height}, {} organs, {} triangles drawn ({})", args.out.display(), stats.organs_drawn, stats.triangles_drawn, gpu.adapter_description());
+    }
+    Ok(ok)
+}
+
+/// Encodes a PNG and writes it atomically; `replace` false refuses to overwrite an existing file.
+pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
+    let mut bytes = Vec::new();
+    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
+    let fill = |w: &mut dyn std::io::Write| w.write_all(&bytes);
+    if replace { vbrain::atomic::write(path, fill)? } else { vbrain::atomic::write_new(path, fill)? }
+    Ok(())
+}
+
+fn progress_bar(len: u64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}") {
+        bar.set_style(style);
+    }
+    bar
+}
+
+fn import_cmd(volume: &Path, labels: &Path, out: &Path, triangles: usize, smooth: usize, title: Option<String>, json: bool) -> Result<bool> {
+    let table = import::read_label_table(labels)?;
+    let vol = import::read_volume(volume)?;
+    let title = title.unwrap_or_else(|| {
+        let name = volume.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        name.trim_end_matches(".gz").trim_end_matches(".nii").to_string()
+    });
+    let opts = import::ImportOptions { triangles, smoothing: smooth, title };
+    let bar = progress_bar(1);
+    let (set, warnings) = import::import(&vol, &table, &opts, &mut |done, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })?;
+    bar.finish_and_clear();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    set.save(out)?;
+    summary(json, "import", &set, out)
+}
+
+fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
+    if json {
+        let organs: Vec<_> = set.organs.iter().map(|o| json!({"id": o.id, "name": o.name, "triangles": o.mesh.triangle_count()})).collect();
+        println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs, "triangles": set.triangle_count()}))?);
+    } else {
+        println!("{what}: wrote {} organs, {} triangles to {}", set.organs.len(), set.triangle_count(), out.display());
+    }
+    Ok(true)
+}
+
+fn scale_cmd(path: &Path, factor: f64, out: &Path, json: bool) -> Result<bool> {
+    if !(factor.is_finite() && factor >= 1.0 && factor <= 10_000.0) {
+        bail!("factor {factor} outside 1..10000");
+    }
+    let (set, ok) = open_reporting(path)?;
+    let n = scale::level_for_factor(factor);
+    let bar = progress_bar(set.organs.len() as u64);
+    let scaled = scale::scale_set(&set, n, &mut |done, _, what| {
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    });
+    bar.finish_and_clear();
+    scaled.save(out)?;
+    Ok(summary(json, "scale", &scaled, out)? && ok)
+}
