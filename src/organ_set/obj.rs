@@ -93,13 +93,15 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
     Ok(ObjFile { objects, warnings: missing.into_inner() })
 }
 
-/// Validates every line; returns the text on success, or the first problem with its line number.
-pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
+/// Validates every line; returns the text for `tobj` on success (polyline `l` and point `p`
+/// statements blanked, since `tobj` would read them as faces), or the first problem with its line.
+pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, str>> {
     if bytes.is_empty() {
         return Err(Error::parse(path, None, "empty file"));
     }
     let mut counts = [0usize; 3]; // v, vt, vn
     let mut faces = 0usize;
+    let mut has_lines = false;
     for (n, raw) in bytes.split(|&b| b == b'\n').enumerate() {
         let line_no = n + 1;
         let err = |m: String| Error::parse(path, Some(line_no), m);
@@ -142,6 +144,8 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
                 }
                 if keyword == "f" {
                     faces += 1;
+                } else {
+                    has_lines = true;
                 }
             }
             // Comments, `o`, `g`, `s`, `mtllib`, `usemtl` and statements vbrain has no use for.
@@ -151,8 +155,13 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<&'a str> {
     if faces == 0 {
         return Err(Error::parse(path, None, "no faces (`f` lines): nothing to draw"));
     }
-    // `check` proved the bytes are UTF-8 line by line, hence as a whole.
-    std::str::from_utf8(bytes).map_err(|_| Error::parse(path, None, "not UTF-8 text"))
+    // Every line is UTF-8, hence the whole.
+    let text = std::str::from_utf8(bytes).map_err(|_| Error::parse(path, None, "not UTF-8 text"))?;
+    if !has_lines {
+        return Ok(text.into());
+    }
+    let keep = |line: &str| !matches!(line.split_whitespace().next(), Some("l" | "p"));
+    Ok(text.split('\n').map(|l| if keep(l) { l } else { "" }).collect::<Vec<_>>().join("\n").into())
 }
 
 fn shorten(s: &str) -> String {
