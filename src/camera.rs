@@ -65,11 +65,22 @@ impl Camera {
     /// A camera on a sphere around the centre of `bounds`, far enough to frame all of it.
     /// Azimuth turns from the anterior view toward the subject's right (90 = right view); elevation
     /// lifts toward superior (90 = superior view, anterior at the top of the image).
+    /// The distance fits the box's extent across and along the view direction into the vertical
+    /// field of view (and so into any image at least as wide as it is tall).
     pub fn orbit(bounds: &Bounds, azimuth_deg: f32, elevation_deg: f32) -> Camera {
-        let center = if bounds.is_empty() { Vec3::ZERO } else { bounds.center() };
-        let radius = if bounds.is_empty() { 1.0 } else { (bounds.size().length() * 0.5).max(1e-3) };
-        let distance = radius / (FOV_Y.to_radians() * 0.5).sin() * 1.02;
-        Camera::looking_at(center, distance, azimuth_deg, elevation_deg, radius)
+        if bounds.is_empty() {
+            return Camera::looking_at(Vec3::ZERO, 4.0, azimuth_deg, elevation_deg, 1.0);
+        }
+        let probe = Camera::looking_at(Vec3::ZERO, 1.0, azimuth_deg, elevation_deg, 1.0);
+        let forward = -probe.eye.normalize();
+        let right = forward.cross(probe.up).normalize();
+        let half = bounds.size() * 0.5;
+        let extent = |axis: Vec3| half.x * axis.x.abs() + half.y * axis.y.abs() + half.z * axis.z.abs();
+        let across = extent(right).max(extent(probe.up));
+        let depth = extent(forward);
+        let distance = across / (FOV_Y.to_radians() * 0.5).tan() * 1.05 + depth;
+        let radius = (bounds.size().length() * 0.5).max(1e-3);
+        Camera::looking_at(bounds.center(), distance, azimuth_deg, elevation_deg, radius)
     }
 
     /// A camera at `distance` from `center` in the direction given by azimuth and elevation (as in
@@ -122,12 +133,12 @@ mod tests {
 
     #[test]
     fn views_look_from_the_named_side() {
-        assert!(Camera::view(&unit(), View::Anterior).eye.y > 50.0);
-        assert!(Camera::view(&unit(), View::Right).eye.x > 50.0);
-        assert!(Camera::view(&unit(), View::Left).eye.x < -50.0);
-        assert!(Camera::view(&unit(), View::Superior).eye.z > 50.0);
+        assert!(Camera::view(&unit(), View::Anterior).eye.y > 40.0);
+        assert!(Camera::view(&unit(), View::Right).eye.x > 40.0);
+        assert!(Camera::view(&unit(), View::Left).eye.x < -40.0);
+        assert!(Camera::view(&unit(), View::Superior).eye.z > 40.0);
         let inf = Camera::view(&unit(), View::Inferior);
-        assert!(inf.eye.z < -50.0 && inf.up.y.abs() > 0.99);
+        assert!(inf.eye.z < -40.0 && inf.up.y.abs() > 0.99);
     }
 
     #[test]
