@@ -1,6 +1,8 @@
 //! The default organ set (organs/brain): real anatomy, enough organs and triangles, and one shared
 //! space (millimetres, RAS): cortex inside the skull, skull inside the scalp.
 
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
+
 use glam::Vec3;
 use vbrain::mesh::Mesh;
 use vbrain::organ_set::{self, OrganSet};
@@ -36,7 +38,14 @@ fn hits(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
 fn enclosed(mesh: &Mesh, p: Vec3) -> bool {
     let mut dirs = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
     for i in 0..8 {
-        dirs.push(Vec3::new(if i & 1 == 0 { 1.0 } else { -1.0 }, if i & 2 == 0 { 1.0 } else { -1.0 }, if i & 4 == 0 { 1.0 } else { -1.0 }).normalize());
+        dirs.push(
+            Vec3::new(
+                if i & 1 == 0 { 1.0 } else { -1.0 },
+                if i & 2 == 0 { 1.0 } else { -1.0 },
+                if i & 4 == 0 { 1.0 } else { -1.0 },
+            )
+            .normalize(),
+        );
     }
     dirs.iter().all(|&d| hits(mesh, p, d))
 }
@@ -47,15 +56,40 @@ fn size_and_names() {
     assert!(set.organs.len() >= 20, "{} organs", set.organs.len());
     let t = set.triangle_count();
     assert!((150_000..=300_000).contains(&t), "{t} triangles");
-    for id in ["scalp", "skull", "white_matter_l", "lateral_ventricle_r", "third_ventricle", "fourth_ventricle", "thalamus_l",
-        "caudate_r", "putamen_l", "pallidum_r", "hippocampus_l", "amygdala_r", "brainstem", "cerebellum_l", "corpus_callosum", "frontal_l"]
-    {
+    for id in [
+        "scalp",
+        "skull",
+        "white_matter_l",
+        "lateral_ventricle_r",
+        "third_ventricle",
+        "fourth_ventricle",
+        "thalamus_l",
+        "caudate_r",
+        "putamen_l",
+        "pallidum_r",
+        "hippocampus_l",
+        "amygdala_r",
+        "brainstem",
+        "cerebellum_l",
+        "corpus_callosum",
+        "frontal_l",
+    ] {
         let o = &set.organs[set.find(id).unwrap_or_else(|| panic!("no organ {id}"))];
         assert!(o.info.len() > 150, "{id}: info text too short");
         assert!(!o.group.is_empty(), "{id}: no group");
-        assert!(o.mesh.triangle_count() >= 50, "{id}: {} triangles", o.mesh.triangle_count());
+        assert!(
+            o.mesh.triangle_count() >= 50,
+            "{id}: {} triangles",
+            o.mesh.triangle_count()
+        );
     }
-    assert!(!set.sources.is_empty() && set.sources.iter().all(|s| !s.licence.is_empty() && !s.attribution.is_empty()));
+    assert!(
+        !set.sources.is_empty()
+            && set
+                .sources
+                .iter()
+                .all(|s| !s.licence.is_empty() && !s.attribution.is_empty())
+    );
     // RAS: the left hemisphere is at negative x, the frontal lobe anterior of the occipital lobe,
     // the cerebellum below the parietal lobe.
     let c = |id: &str| set.organs[set.find(id).unwrap()].mesh.bounds().center();
@@ -70,15 +104,36 @@ fn one_space_cortex_in_skull_in_scalp() {
     let mesh = |id: &str| &set.organs[set.find(id).unwrap()].mesh;
     let (skull, scalp) = (mesh("skull"), mesh("scalp"));
     let mut checked = 0;
-    for id in ["frontal_l", "frontal_r", "parietal_l", "parietal_r", "temporal_l", "temporal_r", "occipital_l", "occipital_r", "cerebellum_l", "cerebellum_r"] {
+    for id in [
+        "frontal_l",
+        "frontal_r",
+        "parietal_l",
+        "parietal_r",
+        "temporal_l",
+        "temporal_r",
+        "occipital_l",
+        "occipital_r",
+        "cerebellum_l",
+        "cerebellum_r",
+    ] {
         let m = mesh(id);
         for p in m.positions.iter().step_by(m.positions.len() / 12 + 1) {
-            assert!(enclosed(skull, Vec3::from(*p)), "{id} vertex {p:?} is not inside the skull");
+            assert!(
+                enclosed(skull, Vec3::from(*p)),
+                "{id} vertex {p:?} is not inside the skull"
+            );
             checked += 1;
         }
     }
-    for p in skull.positions.iter().step_by(skull.positions.len() / 60 + 1) {
-        assert!(enclosed(scalp, Vec3::from(*p)), "skull vertex {p:?} is not inside the scalp");
+    for p in skull
+        .positions
+        .iter()
+        .step_by(skull.positions.len() / 60 + 1)
+    {
+        assert!(
+            enclosed(scalp, Vec3::from(*p)),
+            "skull vertex {p:?} is not inside the scalp"
+        );
         checked += 1;
     }
     assert!(checked > 150);

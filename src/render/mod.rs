@@ -10,7 +10,7 @@ mod renderer;
 mod target;
 
 pub use context::{GpuContext, NO_ADAPTER_HELP};
-pub use renderer::{FrameInput, Renderer, RenderStats, SAMPLE_COUNT};
+pub use renderer::{FrameInput, RenderStats, Renderer, SAMPLE_COUNT};
 pub use target::{Target, COLOR_FORMAT};
 
 /// The WGSL sources, by file name, for validation and pipeline creation.

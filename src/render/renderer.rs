@@ -69,7 +69,11 @@ pub struct Renderer {
 
 /// sRGB component to linear.
 fn linear(c: f32) -> f32 {
-    if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) }
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
 }
 
 impl Renderer {
@@ -87,7 +91,10 @@ impl Renderer {
                 .collect();
             let bytes = (vertices.len() * 24).max(o.mesh.indices.len() * 4) as u64;
             if bytes > max {
-                return Err(Error::Other(format!("organ \"{}\" needs a {bytes}-byte buffer; this GPU allows {max}", o.id)));
+                return Err(Error::Other(format!(
+                    "organ \"{}\" needs a {bytes}-byte buffer; this GPU allows {max}",
+                    o.id
+                )));
             }
             meshes.push(GpuMesh {
                 vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -148,7 +155,11 @@ impl Renderer {
             })
         };
         let frame_bind = bind(&frame_layout, &frame_buffer, None);
-        let organ_bind = bind(&organ_layout, &organ_buffer, Some(std::mem::size_of::<OrganUniform>() as u64));
+        let organ_bind = bind(
+            &organ_layout,
+            &organ_buffer,
+            Some(std::mem::size_of::<OrganUniform>() as u64),
+        );
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("organ.wgsl"),
             source: wgpu::ShaderSource::Wgsl(super::SHADERS[0].1.into()),
@@ -173,7 +184,10 @@ impl Renderer {
                         attributes: &vertex_attributes,
                     })],
                 },
-                primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..Default::default()
+                },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(depth_write),
@@ -181,18 +195,33 @@ impl Renderer {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+                multisample: wgpu::MultisampleState {
+                    count: samples,
+                    ..Default::default()
+                },
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some(fragment),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })],
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
                 }),
                 multiview_mask: None,
                 cache: None,
             })
         };
-        let opaque = pipeline("organ opaque", "fs_shade", COLOR_FORMAT, None, true, None, SAMPLE_COUNT);
+        let opaque = pipeline(
+            "organ opaque",
+            "fs_shade",
+            COLOR_FORMAT,
+            None,
+            true,
+            None,
+            SAMPLE_COUNT,
+        );
         // Placeholder transparency: plain alpha blending, organs sorted back to front, back faces culled.
         let over = wgpu::BlendState {
             color: wgpu::BlendComponent {
@@ -202,17 +231,43 @@ impl Renderer {
             },
             alpha: wgpu::BlendComponent::OVER,
         };
-        let blend = pipeline("organ blend", "fs_shade", COLOR_FORMAT, Some(over), false, Some(wgpu::Face::Back), SAMPLE_COUNT);
+        let blend = pipeline(
+            "organ blend",
+            "fs_shade",
+            COLOR_FORMAT,
+            Some(over),
+            false,
+            Some(wgpu::Face::Back),
+            SAMPLE_COUNT,
+        );
         let pick = pipeline("organ pick", "fs_pick", ID_FORMAT, None, true, None, 1);
-        Ok(Renderer { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, opaque, blend, pick })
+        Ok(Renderer {
+            meshes,
+            frame_buffer,
+            frame_bind,
+            organ_buffer,
+            organ_bind,
+            opaque,
+            blend,
+            pick,
+        })
     }
 
     fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
         let vp = frame.camera.view_projection(aspect);
-        let fu = FrameUniform { view_proj: vp.to_cols_array_2d(), eye: frame.camera.eye.extend(1.0).to_array() };
+        let fu = FrameUniform {
+            view_proj: vp.to_cols_array_2d(),
+            eye: frame.camera.eye.extend(1.0).to_array(),
+        };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&fu));
         let mut data = vec![0u8; ORGAN_STRIDE as usize * self.meshes.len()];
-        for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
+        for (i, s) in frame
+            .layout
+            .organs
+            .iter()
+            .enumerate()
+            .take(self.meshes.len())
+        {
             let model = s.transform.matrix();
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
             let c = s.colour.map(linear);
@@ -223,7 +278,8 @@ impl Renderer {
                 id: [i as u32 + 1, 0, 0, 0],
             };
             let at = i * ORGAN_STRIDE as usize;
-            data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
+            data[at..at + std::mem::size_of::<OrganUniform>()]
+                .copy_from_slice(bytemuck::bytes_of(&u));
         }
         queue.write_buffer(&self.organ_buffer, 0, &data);
     }
@@ -238,7 +294,13 @@ impl Renderer {
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then translucent ones
     /// blended back to front.
-    pub fn render(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput) -> RenderStats {
+    pub fn render(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+        frame: &FrameInput,
+    ) -> RenderStats {
         self.upload(queue, frame, target.aspect());
         let states = &frame.layout.organs;
         let n = self.meshes.len().min(states.len());
@@ -247,7 +309,10 @@ impl Renderer {
         let mut translucent: Vec<(f32, usize)> = (0..n)
             .filter(|&i| states[i].is_drawn() && !states[i].is_opaque())
             .map(|i| {
-                let c = states[i].transform.matrix().transform_point3(self.meshes[i].center);
+                let c = states[i]
+                    .transform
+                    .matrix()
+                    .transform_point3(self.meshes[i].center);
                 (-(c - eye).length_squared(), i)
             })
             .collect();
@@ -262,13 +327,21 @@ impl Renderer {
                     depth_slice: None,
                     resolve_target: Some(&target.color_view),
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] }),
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: bg[0],
+                            g: bg[1],
+                            b: bg[2],
+                            a: bg[3],
+                        }),
                         store: wgpu::StoreOp::Discard,
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.msaa_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -286,7 +359,10 @@ impl Renderer {
             }
         }
         queue.submit([encoder.finish()]);
-        let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
+        let drawn = opaque
+            .iter()
+            .copied()
+            .chain(translucent.iter().map(|t| t.1));
         let mut stats = RenderStats::default();
         for i in drawn {
             stats.organs_drawn += 1;
@@ -297,7 +373,14 @@ impl Renderer {
 
     /// Draws organ IDs into `target`'s ID buffer: for each pixel the nearest drawn organ whose
     /// opacity is at least `min_opacity` (so clicking through a faded organ reaches what is inside).
-    pub fn render_ids(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput, min_opacity: f32) {
+    pub fn render_ids(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+        frame: &FrameInput,
+        min_opacity: f32,
+    ) {
         self.upload(queue, frame, target.aspect());
         let mut encoder = device.create_command_encoder(&Default::default());
         {
@@ -307,11 +390,17 @@ impl Renderer {
                     view: &target.ids_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.ids_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -320,7 +409,13 @@ impl Renderer {
             });
             pass.set_bind_group(0, &self.frame_bind, &[]);
             pass.set_pipeline(&self.pick);
-            for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
+            for (i, s) in frame
+                .layout
+                .organs
+                .iter()
+                .enumerate()
+                .take(self.meshes.len())
+            {
                 if s.is_drawn() && s.opacity >= min_opacity {
                     self.draw(&mut pass, i);
                 }

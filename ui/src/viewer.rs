@@ -26,11 +26,17 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
     let path = path.unwrap_or_else(default_set_path);
     let options = eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
-        viewport: eframe::egui::ViewportBuilder::default().with_title("vbrain").with_inner_size([1280.0, 820.0]),
+        viewport: eframe::egui::ViewportBuilder::default()
+            .with_title("vbrain")
+            .with_inner_size([1280.0, 820.0]),
         ..Default::default()
     };
-    eframe::run_native("vbrain", options, Box::new(move |cc| Ok(Box::new(Viewer::new(cc, path)))))
-        .map_err(|e| anyhow!("could not open the viewer window: {e}"))
+    eframe::run_native(
+        "vbrain",
+        options,
+        Box::new(move |cc| Ok(Box::new(Viewer::new(cc, path)))),
+    )
+    .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
 
 /// The loaded scene with its GPU resources.
@@ -40,9 +46,12 @@ struct Scene {
     renderer: Renderer,
 }
 
+/// A set loaded off the UI thread, with its problems as messages; or why it could not load.
+type LoadResult = Result<(OrganSet, Vec<String>), String>;
+
 pub struct Viewer {
     scene: Option<Scene>,
-    loading: Option<mpsc::Receiver<Result<(OrganSet, Vec<String>), String>>>,
+    loading: Option<mpsc::Receiver<LoadResult>>,
     messages: Vec<String>,
     target: Option<(Target, eframe::egui::TextureId)>,
     azimuth: f32,
@@ -72,7 +81,12 @@ impl Viewer {
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
             let result = organ_set::open(&path).map_err(|e| e.to_string()).map(|l| {
-                let problems = l.errors.iter().map(|e| e.to_string()).chain(l.warnings).collect();
+                let problems = l
+                    .errors
+                    .iter()
+                    .map(|e| e.to_string())
+                    .chain(l.warnings)
+                    .collect();
                 (l.set, problems)
             });
             let _ = tx.send(result);
@@ -94,7 +108,11 @@ impl Viewer {
                 match Renderer::new(&rs.device, &set) {
                     Ok(renderer) => {
                         self.title = set.title.clone();
-                        self.scene = Some(Scene { layout: Layout::new(&set), set, renderer });
+                        self.scene = Some(Scene {
+                            layout: Layout::new(&set),
+                            set,
+                            renderer,
+                        });
                     }
                     Err(e) => self.messages.push(e.to_string()),
                 }
@@ -108,19 +126,32 @@ impl Viewer {
         let base = Camera::orbit(&bounds, self.azimuth, self.elevation);
         let distance = (base.eye - base.target).length() * self.zoom;
         let radius = bounds.size().length() * 0.5;
-        Camera::looking_at(base.target, distance, self.azimuth, self.elevation, radius.max(distance))
+        Camera::looking_at(
+            base.target,
+            distance,
+            self.azimuth,
+            self.elevation,
+            radius.max(distance),
+        )
     }
 
     fn organ_panel(&mut self, ui: &mut eframe::egui::Ui) {
         let Some(scene) = &mut self.scene else { return };
         ui.heading(&scene.set.title);
-        ui.label(format!("{} organs, {} triangles", scene.set.organs.len(), scene.set.triangle_count()));
+        ui.label(format!(
+            "{} organs, {} triangles",
+            scene.set.organs.len(),
+            scene.set.triangle_count()
+        ));
         ui.separator();
         eframe::egui::ScrollArea::vertical().show(ui, |ui| {
             for (organ, state) in scene.set.organs.iter().zip(scene.layout.organs.iter_mut()) {
                 ui.horizontal(|ui| {
-                    ui.checkbox(&mut state.visible, "").on_hover_text("Show or hide");
-                    ui.add(eframe::egui::Slider::new(&mut state.opacity, 0.0..=1.0).show_value(false));
+                    ui.checkbox(&mut state.visible, "")
+                        .on_hover_text("Show or hide");
+                    ui.add(
+                        eframe::egui::Slider::new(&mut state.opacity, 0.0..=1.0).show_value(false),
+                    );
                     ui.label(&organ.name);
                 });
             }
@@ -140,20 +171,37 @@ impl Viewer {
             self.zoom = (self.zoom * (-scroll * 0.002).exp()).clamp(0.05, 5.0);
         }
         let Some(scene) = &self.scene else { return };
-        let Some(rs) = frame.wgpu_render_state() else { return };
+        let Some(rs) = frame.wgpu_render_state() else {
+            return;
+        };
         let ppp = ui.ctx().pixels_per_point();
-        let (w, h) = (((rect.width() * ppp) as u32).max(1), ((rect.height() * ppp) as u32).max(1));
-        let needs_new = self.target.as_ref().is_none_or(|(t, _)| t.width != w || t.height != h);
+        let (w, h) = (
+            ((rect.width() * ppp) as u32).max(1),
+            ((rect.height() * ppp) as u32).max(1),
+        );
+        let needs_new = self
+            .target
+            .as_ref()
+            .is_none_or(|(t, _)| t.width != w || t.height != h);
         if needs_new {
             match Target::new(&rs.device, w, h) {
                 Ok(t) => {
                     let mut egui_renderer = rs.renderer.write();
                     let id = match self.target.take() {
                         Some((_, id)) => {
-                            egui_renderer.update_egui_texture_from_wgpu_texture(&rs.device, &t.color_view, wgpu::FilterMode::Linear, id);
+                            egui_renderer.update_egui_texture_from_wgpu_texture(
+                                &rs.device,
+                                &t.color_view,
+                                wgpu::FilterMode::Linear,
+                                id,
+                            );
                             id
                         }
-                        None => egui_renderer.register_native_texture(&rs.device, &t.color_view, wgpu::FilterMode::Linear),
+                        None => egui_renderer.register_native_texture(
+                            &rs.device,
+                            &t.color_view,
+                            wgpu::FilterMode::Linear,
+                        ),
                     };
                     self.target = Some((t, id));
                 }
@@ -163,11 +211,26 @@ impl Viewer {
                 }
             }
         }
-        let Some((target, id)) = &self.target else { return };
+        let Some((target, id)) = &self.target else {
+            return;
+        };
         let camera = self.camera(scene);
-        scene.renderer.render(&rs.device, &rs.queue, target, &FrameInput { camera: &camera, layout: &scene.layout, background: BACKGROUND });
-        let uv = eframe::egui::Rect::from_min_max(eframe::egui::pos2(0.0, 0.0), eframe::egui::pos2(1.0, 1.0));
-        ui.painter().image(*id, rect, uv, eframe::egui::Color32::WHITE);
+        scene.renderer.render(
+            &rs.device,
+            &rs.queue,
+            target,
+            &FrameInput {
+                camera: &camera,
+                layout: &scene.layout,
+                background: BACKGROUND,
+            },
+        );
+        let uv = eframe::egui::Rect::from_min_max(
+            eframe::egui::pos2(0.0, 0.0),
+            eframe::egui::pos2(1.0, 1.0),
+        );
+        ui.painter()
+            .image(*id, rect, uv, eframe::egui::Color32::WHITE);
     }
 }
 
@@ -199,10 +262,13 @@ impl eframe::App for Viewer {
                 }
             });
         }
-        Panel::left("organs").default_size(300.0).show(ui, |ui| self.organ_panel(ui));
+        Panel::left("organs")
+            .default_size(300.0)
+            .show(ui, |ui| self.organ_panel(ui));
         CentralPanel::no_frame().show(ui, |ui| self.viewport(ui, frame));
         if self.loading.is_some() {
-            ui.ctx().request_repaint_after(std::time::Duration::from_millis(50));
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(50));
         }
     }
 }

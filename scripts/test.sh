@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# vbrain's test command (README.md): formatting, lints, and the whole test suite.
+# GPU tests need a Vulkan (or other wgpu) adapter; on a machine with none, this installs Mesa's
+# software Vulkan driver (lavapipe) when it can (root on Debian/Ubuntu), else says what to install.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+have_vulkan_driver() {
+    compgen -G "/usr/share/vulkan/icd.d/*.json" >/dev/null || compgen -G "/etc/vulkan/icd.d/*.json" >/dev/null
+}
+
+if ! have_vulkan_driver; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "No Vulkan driver found: installing Mesa's software Vulkan (mesa-vulkan-drivers)"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq mesa-vulkan-drivers >/dev/null
+    else
+        echo "warning: no Vulkan driver found; GPU tests will fail. Install one, e.g. 'sudo apt-get install mesa-vulkan-drivers'" >&2
+    fi
+fi
+# The Vulkan loader complains without a runtime dir; give it a private one.
+if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "${XDG_RUNTIME_DIR}" ]; then
+    XDG_RUNTIME_DIR="$(mktemp -d)"
+    export XDG_RUNTIME_DIR
+fi
+
+cargo fmt --all --check
+cargo clippy --workspace --all-targets --locked -- -D warnings
+cargo test --workspace --locked
