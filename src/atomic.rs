@@ -11,31 +11,18 @@ pub fn write(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<(
 }
 
 /// Writes `path` atomically, failing if it already exists (never silently overwrites).
-pub fn write_new(
-    path: &Path,
-    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-) -> Result<()> {
+pub fn write_new(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
     write_impl(path, fill, false)
 }
 
-fn write_impl(
-    path: &Path,
-    fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>,
-    replace: bool,
-) -> Result<()> {
+fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>, replace: bool) -> Result<()> {
     let io = |e| Error::io(path, e);
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
     };
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Other(format!("{}: not a file name", path.display())))?;
-    let tmp = dir.join(format!(
-        ".{}.{}.tmp",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
+    let name = path.file_name().ok_or_else(|| Error::Other(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
         let mut w = std::io::BufWriter::new(file);
@@ -69,11 +56,6 @@ mod tests {
         assert!(write_new(&p, |w| w.write_all(b"three")).is_err());
         assert_eq!(std::fs::read(&p).ok().as_deref(), Some(&b"two"[..]));
         // No temporary file is left behind.
-        assert_eq!(
-            std::fs::read_dir(dir.path())
-                .map(|d| d.count())
-                .unwrap_or(0),
-            1
-        );
+        assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
     }
 }

@@ -16,14 +16,8 @@ pub enum View {
 }
 
 impl View {
-    pub const ALL: [View; 6] = [
-        View::Anterior,
-        View::Posterior,
-        View::Left,
-        View::Right,
-        View::Superior,
-        View::Inferior,
-    ];
+    pub const ALL: [View; 6] =
+        [View::Anterior, View::Posterior, View::Left, View::Right, View::Superior, View::Inferior];
 
     pub fn name(self) -> &'static str {
         match self {
@@ -37,9 +31,7 @@ impl View {
     }
 
     pub fn parse(s: &str) -> Option<View> {
-        View::ALL
-            .into_iter()
-            .find(|v| v.name().eq_ignore_ascii_case(s))
+        View::ALL.into_iter().find(|v| v.name().eq_ignore_ascii_case(s))
     }
 
     /// Azimuth and elevation (degrees) of this view, as in [`Camera::orbit`].
@@ -84,46 +76,24 @@ impl Camera {
         let forward = -probe.eye.normalize();
         let right = forward.cross(probe.up).normalize();
         let half = bounds.size() * 0.5;
-        let extent =
-            |axis: Vec3| half.x * axis.x.abs() + half.y * axis.y.abs() + half.z * axis.z.abs();
+        let extent = |axis: Vec3| half.x * axis.x.abs() + half.y * axis.y.abs() + half.z * axis.z.abs();
         let across = extent(right).max(extent(probe.up));
         let depth = extent(forward);
         let distance = across / (FOV_Y.to_radians() * 0.5).tan() * 1.05 + depth;
-        let radius = (bounds.size().length() * 0.5).max(1e-3);
-        Camera::looking_at(
-            bounds.center(),
-            distance,
-            azimuth_deg,
-            elevation_deg,
-            radius,
-        )
+        let mut camera = Camera::looking_at(bounds.center(), distance, azimuth_deg, elevation_deg, 1.0);
+        camera.fit_depth(bounds);
+        camera
     }
 
     /// A camera at `distance` from `center` in the direction given by azimuth and elevation (as in
     /// [`Camera::orbit`]); `radius` bounds the scene for the depth range.
-    pub fn looking_at(
-        center: Vec3,
-        distance: f32,
-        azimuth_deg: f32,
-        elevation_deg: f32,
-        radius: f32,
-    ) -> Camera {
-        let (az, el) = (
-            azimuth_deg.to_radians(),
-            elevation_deg.clamp(-90.0, 90.0).to_radians(),
-        );
+    pub fn looking_at(center: Vec3, distance: f32, azimuth_deg: f32, elevation_deg: f32, radius: f32) -> Camera {
+        let (az, el) = (azimuth_deg.to_radians(), elevation_deg.clamp(-90.0, 90.0).to_radians());
         let dir = Vec3::new(az.sin() * el.cos(), az.cos() * el.cos(), el.sin());
         // Up is superior, tilted toward posterior as the camera rises, so the poles stay defined.
         let up = Vec3::new(-az.sin() * el.sin(), -az.cos() * el.sin(), el.cos()).normalize();
         let near = (distance - radius * 1.5).max(distance * 0.01).max(0.1);
-        Camera {
-            eye: center + dir * distance,
-            target: center,
-            up,
-            fov_y: FOV_Y,
-            near,
-            far: distance + radius * 1.5,
-        }
+        Camera { eye: center + dir * distance, target: center, up, fov_y: FOV_Y, near, far: distance + radius * 1.5 }
     }
 
     pub fn view(bounds: &Bounds, view: View) -> Camera {
@@ -136,16 +106,16 @@ impl Camera {
     }
 
     pub fn projection(&self, aspect: f32) -> Mat4 {
-        Mat4::perspective_rh(
-            self.fov_y.to_radians(),
-            aspect.max(1e-6),
-            self.near,
-            self.far,
-        )
+        Mat4::perspective_rh(self.fov_y.to_radians(), aspect.max(1e-6), self.near, self.far)
     }
 
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
         self.projection(aspect) * self.view_matrix()
+    }
+
+    /// The same camera moved along its line of sight to `factor` times its distance from the target.
+    pub fn zoomed(&self, factor: f32) -> Camera {
+        Camera { eye: self.target + (self.eye - self.target) * factor, ..*self }
     }
 
     /// Adjusts near and far planes to enclose a scene of these bounds (world space).
@@ -165,10 +135,7 @@ mod tests {
     use super::*;
 
     fn unit() -> Bounds {
-        Bounds {
-            min: [-10.0; 3],
-            max: [10.0; 3],
-        }
+        Bounds { min: [-10.0; 3], max: [10.0; 3] }
     }
 
     #[test]
@@ -187,10 +154,7 @@ mod tests {
         let vp = cam.view_projection(1.0);
         for c in unit().corners() {
             let p = vp.project_point3(c);
-            assert!(
-                p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z),
-                "{c} -> {p}"
-            );
+            assert!(p.x.abs() <= 1.0 && p.y.abs() <= 1.0 && (0.0..=1.0).contains(&p.z), "{c} -> {p}");
         }
     }
 }

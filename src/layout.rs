@@ -18,12 +18,7 @@ pub struct Transform {
 
 impl Transform {
     pub fn identity(pivot: Vec3) -> Self {
-        Transform {
-            translation: Vec3::ZERO,
-            rotation_deg: Vec3::ZERO,
-            scale: 1.0,
-            pivot,
-        }
+        Transform { translation: Vec3::ZERO, rotation_deg: Vec3::ZERO, scale: 1.0, pivot }
     }
 
     pub fn is_identity(&self) -> bool {
@@ -96,9 +91,7 @@ impl Layout {
                 .iter()
                 .zip(&self.organs)
                 .filter(|(_, s)| all || s.is_drawn())
-                .fold(Bounds::EMPTY, |b, (o, s)| {
-                    b.union(o.mesh.bounds().transformed(&s.transform.matrix()))
-                })
+                .fold(Bounds::EMPTY, |b, (o, s)| b.union(o.mesh.bounds().transformed(&s.transform.matrix())))
         };
         let b = drawn(false);
         if b.is_empty() {
@@ -119,18 +112,9 @@ mod tests {
         t.rotation_deg = Vec3::new(0.0, 0.0, 90.0);
         t.scale = 2.0;
         // The pivot stays put; a point 1 mm right of it goes 2 mm anterior.
-        assert!(t
-            .matrix()
-            .transform_point3(Vec3::new(10.0, 0.0, 0.0))
-            .abs_diff_eq(Vec3::new(10.0, 0.0, 0.0), 1e-5));
-        assert!(t
-            .matrix()
-            .transform_point3(Vec3::new(11.0, 0.0, 0.0))
-            .abs_diff_eq(Vec3::new(10.0, 2.0, 0.0), 1e-5));
+        assert!(t.matrix().transform_point3(Vec3::new(10.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 0.0, 0.0), 1e-5));
+        assert!(t.matrix().transform_point3(Vec3::new(11.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 2.0, 0.0), 1e-5));
         t.translation = Vec3::Z;
-        assert!(t
-            .matrix()
-            .transform_point3(Vec3::new(10.0, 0.0, 0.0))
-            .abs_diff_eq(Vec3::new(10.0, 0.0, 1.0), 1e-5));
+        assert!(t.matrix().transform_point3(Vec3::new(10.0, 0.0, 0.0)).abs_diff_eq(Vec3::new(10.0, 0.0, 1.0), 1e-5));
     }
 }

@@ -22,10 +22,7 @@ pub struct Bounds {
 }
 
 impl Bounds {
-    pub const EMPTY: Bounds = Bounds {
-        min: [f32::INFINITY; 3],
-        max: [f32::NEG_INFINITY; 3],
-    };
+    pub const EMPTY: Bounds = Bounds { min: [f32::INFINITY; 3], max: [f32::NEG_INFINITY; 3] };
 
     pub fn is_empty(&self) -> bool {
         (0..3).any(|i| self.min[i] > self.max[i])
@@ -102,10 +99,7 @@ impl Mesh {
                 acc[i as usize] += n;
             }
         }
-        self.normals = acc
-            .into_iter()
-            .map(|n| n.try_normalize().unwrap_or(Vec3::Z).to_array())
-            .collect();
+        self.normals = acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Z).to_array()).collect();
     }
 
     /// Appends another mesh (indices shifted).
@@ -119,35 +113,15 @@ impl Mesh {
     /// Checks the invariants stated on [`Mesh`]; returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
         if self.normals.len() != self.positions.len() {
-            return Err(format!(
-                "{} normals for {} vertices",
-                self.normals.len(),
-                self.positions.len()
-            ));
+            return Err(format!("{} normals for {} vertices", self.normals.len(), self.positions.len()));
         }
         if !self.indices.len().is_multiple_of(3) {
-            return Err(format!(
-                "{} indices is not a multiple of 3",
-                self.indices.len()
-            ));
+            return Err(format!("{} indices is not a multiple of 3", self.indices.len()));
         }
-        if let Some(i) = self
-            .indices
-            .iter()
-            .find(|&&i| i as usize >= self.positions.len())
-        {
-            return Err(format!(
-                "index {i} out of range ({} vertices)",
-                self.positions.len()
-            ));
+        if let Some(i) = self.indices.iter().find(|&&i| i as usize >= self.positions.len()) {
+            return Err(format!("index {i} out of range ({} vertices)", self.positions.len()));
         }
-        if self
-            .positions
-            .iter()
-            .chain(&self.normals)
-            .flatten()
-            .any(|v| !v.is_finite())
-        {
+        if self.positions.iter().chain(&self.normals).flatten().any(|v| !v.is_finite()) {
             return Err("non-finite coordinate".into());
         }
         Ok(())
@@ -162,33 +136,21 @@ mod tests {
     fn area_weighted_normals() {
         // Two triangles sharing vertex 0: a large one in the xy-plane, a small one in the xz-plane.
         let mut m = Mesh {
-            positions: vec![
-                [0., 0., 0.],
-                [10., 0., 0.],
-                [0., 10., 0.],
-                [0., 0., 1.],
-                [1., 0., 0.],
-            ],
+            positions: vec![[0., 0., 0.], [10., 0., 0.], [0., 10., 0.], [0., 0., 1.], [1., 0., 0.]],
             normals: vec![],
             indices: vec![0, 1, 2, 0, 3, 4],
         };
         m.compute_normals();
         let n0 = Vec3::from(m.normals[0]);
         // Area 50 along +z, area 0.5 along +y: the shared normal leans to +z by 100:1.
-        assert!(
-            (n0 - Vec3::new(0.0, 1.0, 100.0).normalize()).length() < 1e-5,
-            "{n0}"
-        );
+        assert!((n0 - Vec3::new(0.0, 1.0, 100.0).normalize()).length() < 1e-5, "{n0}");
         assert_eq!(m.normals[1], [0., 0., 1.]);
         assert!(m.validate().is_ok());
     }
 
     #[test]
     fn bounds_transform() {
-        let b = Bounds {
-            min: [-1., -2., -3.],
-            max: [1., 2., 3.],
-        };
+        let b = Bounds { min: [-1., -2., -3.], max: [1., 2., 3.] };
         let t = b.transformed(&glam::Mat4::from_translation(Vec3::new(10., 0., 0.)));
         assert_eq!(t.min, [9., -2., -3.]);
         assert!(Bounds::EMPTY.is_empty());

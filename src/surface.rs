@@ -24,25 +24,12 @@ pub fn surface_nets(grid: &Grid, iso: f32) -> Mesh {
     let (cx, cy) = (nx - 1, ny - 1);
     let cell = |x: usize, y: usize, z: usize| x + cx * (y + cy * z);
     let mut cell_vertex = vec![u32::MAX; cx * cy * (nz - 1)];
-    const EDGES: [(usize, usize); 12] = [
-        (0, 1),
-        (2, 3),
-        (4, 5),
-        (6, 7),
-        (0, 2),
-        (1, 3),
-        (4, 6),
-        (5, 7),
-        (0, 4),
-        (1, 5),
-        (2, 6),
-        (3, 7),
-    ];
+    const EDGES: [(usize, usize); 12] =
+        [(0, 1), (2, 3), (4, 5), (6, 7), (0, 2), (1, 3), (4, 6), (5, 7), (0, 4), (1, 5), (2, 6), (3, 7)];
     for z in 0..nz - 1 {
         for y in 0..ny - 1 {
             for x in 0..nx - 1 {
-                let corner: [f32; 8] =
-                    std::array::from_fn(|i| at(x + (i & 1), y + ((i >> 1) & 1), z + (i >> 2)));
+                let corner: [f32; 8] = std::array::from_fn(|i| at(x + (i & 1), y + ((i >> 1) & 1), z + (i >> 2)));
                 let inside = corner.iter().filter(|&&v| v >= iso).count();
                 if inside == 0 || inside == 8 {
                     continue;
@@ -96,11 +83,7 @@ pub fn surface_nets(grid: &Grid, iso: f32) -> Mesh {
                     }
                     // (u, v, axis) is right-handed, so this order faces +axis; outward is toward outside.
                     let outward_positive = inside;
-                    let [a, b, c, d] = if outward_positive {
-                        quad
-                    } else {
-                        [quad[0], quad[3], quad[2], quad[1]]
-                    };
+                    let [a, b, c, d] = if outward_positive { quad } else { [quad[0], quad[3], quad[2], quad[1]] };
                     let pos = |i: u32| Vec3::from(mesh.positions[i as usize]);
                     // Split along the shorter diagonal.
                     if pos(a).distance_squared(pos(c)) <= pos(b).distance_squared(pos(d)) {
@@ -149,11 +132,7 @@ pub fn taubin_smooth(mesh: &mut Mesh, iterations: usize) {
                 *out = p.to_array();
                 continue;
             }
-            let mean = ns
-                .iter()
-                .map(|&n| Vec3::from(mesh.positions[n as usize]))
-                .sum::<Vec3>()
-                / ns.len() as f32;
+            let mean = ns.iter().map(|&n| Vec3::from(mesh.positions[n as usize])).sum::<Vec3>() / ns.len() as f32;
             *out = (p + (mean - p) * factor).to_array();
         }
         std::mem::swap(&mut mesh.positions, &mut next);
@@ -222,14 +201,8 @@ pub fn simplify(mesh: &mut Mesh, target_triangles: usize) {
     let Ok(adapter) = meshopt::VertexDataAdapter::new(bytes, 12, 0) else {
         return;
     };
-    let indices = meshopt::simplify(
-        &mesh.indices,
-        &adapter,
-        target_triangles * 3,
-        1.0,
-        meshopt::SimplifyOptions::None,
-        None,
-    );
+    let indices =
+        meshopt::simplify(&mesh.indices, &adapter, target_triangles * 3, 1.0, meshopt::SimplifyOptions::None, None);
     if !indices.is_empty() {
         mesh.indices = indices;
         compact(mesh);
@@ -262,22 +235,14 @@ mod tests {
                 *edges.entry((t[k], t[(k + 1) % 3])).or_insert(0) += 1;
             }
         }
-        edges
-            .iter()
-            .all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
+        edges.iter().all(|(&(a, b), &n)| n == 1 && edges.get(&(b, a)) == Some(&1))
     }
 
     #[test]
     fn sphere_is_closed_outward_and_round() {
         let n = 24;
         let values = sphere_grid(n, 8.0);
-        let mut m = surface_nets(
-            &Grid {
-                dims: [n, n, n],
-                values: &values,
-            },
-            0.0,
-        );
+        let mut m = surface_nets(&Grid { dims: [n, n, n], values: &values }, 0.0);
         assert!(m.triangle_count() > 500);
         assert!(is_closed_and_consistent(&m));
         let c = Vec3::splat((n as f32 - 1.0) / 2.0);
@@ -290,23 +255,15 @@ mod tests {
             .indices
             .chunks_exact(3)
             .map(|t| {
-                let [a, b, cc] =
-                    [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
+                let [a, b, cc] = [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
                 a.dot(b.cross(cc)) / 6.0
             })
             .sum();
         let exact = 4.0 / 3.0 * std::f32::consts::PI * 512.0;
-        assert!(
-            (vol - exact).abs() / exact < 0.05,
-            "volume {vol} vs {exact}"
-        );
+        assert!((vol - exact).abs() / exact < 0.05, "volume {vol} vs {exact}");
         taubin_smooth(&mut m, 10);
         simplify(&mut m, 300);
-        assert!(
-            m.triangle_count() <= 310 && m.triangle_count() > 100,
-            "{}",
-            m.triangle_count()
-        );
+        assert!(m.triangle_count() <= 310 && m.triangle_count() > 100, "{}", m.triangle_count());
         assert!(is_closed_and_consistent(&m));
     }
 
@@ -314,17 +271,9 @@ mod tests {
     fn specks_are_removed() {
         let n = 24;
         let mut values = sphere_grid(n, 6.0);
-        values
-            .iter_mut()
-            .for_each(|v| *v = if *v > 0.0 { 1.0 } else { 0.0 });
+        values.iter_mut().for_each(|v| *v = if *v > 0.0 { 1.0 } else { 0.0 });
         values[2 + n * (2 + n * 2)] = 1.0; // one stray voxel
-        let mut m = surface_nets(
-            &Grid {
-                dims: [n, n, n],
-                values: &values,
-            },
-            0.5,
-        );
+        let mut m = surface_nets(&Grid { dims: [n, n, n], values: &values }, 0.5);
         let before = m.triangle_count();
         remove_small_components(&mut m, 50);
         assert!(m.triangle_count() < before && m.triangle_count() > 200);

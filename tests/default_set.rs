@@ -77,19 +77,9 @@ fn size_and_names() {
         let o = &set.organs[set.find(id).unwrap_or_else(|| panic!("no organ {id}"))];
         assert!(o.info.len() > 150, "{id}: info text too short");
         assert!(!o.group.is_empty(), "{id}: no group");
-        assert!(
-            o.mesh.triangle_count() >= 50,
-            "{id}: {} triangles",
-            o.mesh.triangle_count()
-        );
+        assert!(o.mesh.triangle_count() >= 50, "{id}: {} triangles", o.mesh.triangle_count());
     }
-    assert!(
-        !set.sources.is_empty()
-            && set
-                .sources
-                .iter()
-                .all(|s| !s.licence.is_empty() && !s.attribution.is_empty())
-    );
+    assert!(!set.sources.is_empty() && set.sources.iter().all(|s| !s.licence.is_empty() && !s.attribution.is_empty()));
     // RAS: the left hemisphere is at negative x, the frontal lobe anterior of the occipital lobe,
     // the cerebellum below the parietal lobe.
     let c = |id: &str| set.organs[set.find(id).unwrap()].mesh.bounds().center();
@@ -118,22 +108,12 @@ fn one_space_cortex_in_skull_in_scalp() {
     ] {
         let m = mesh(id);
         for p in m.positions.iter().step_by(m.positions.len() / 12 + 1) {
-            assert!(
-                enclosed(skull, Vec3::from(*p)),
-                "{id} vertex {p:?} is not inside the skull"
-            );
+            assert!(enclosed(skull, Vec3::from(*p)), "{id} vertex {p:?} is not inside the skull");
             checked += 1;
         }
     }
-    for p in skull
-        .positions
-        .iter()
-        .step_by(skull.positions.len() / 60 + 1)
-    {
-        assert!(
-            enclosed(scalp, Vec3::from(*p)),
-            "skull vertex {p:?} is not inside the scalp"
-        );
+    for p in skull.positions.iter().step_by(skull.positions.len() / 60 + 1) {
+        assert!(enclosed(scalp, Vec3::from(*p)), "skull vertex {p:?} is not inside the scalp");
         checked += 1;
     }
     assert!(checked > 150);

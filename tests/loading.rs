@@ -20,81 +20,27 @@ const QUAD: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n";
 #[test]
 fn quirky_valid_files() {
     assert_eq!(triangles(&format!("{QUAD}f 1 2 3 4\n")), 2, "quad");
-    assert_eq!(
-        triangles("v 0 0 0\nv 1 0 0\nv 1 1 0\nv .5 1.5 0\nv 0 1 0\nf 1 2 3 4 5\n"),
-        3,
-        "pentagon"
-    );
-    assert_eq!(
-        triangles(&format!("{QUAD}f 1 2 3 4\r\n").replace('\n', "\r\n")),
-        2,
-        "CRLF"
-    );
-    assert_eq!(
-        triangles(&format!("# comment\n{QUAD}# another\nf -4 -3 -2\n")),
-        1,
-        "negative indices"
-    );
-    assert_eq!(
-        triangles(&format!(
-            "{QUAD}vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n"
-        )),
-        1,
-        "v/vt/vn"
-    );
-    assert_eq!(
-        triangles(&format!("{QUAD}vn 0 0 1\nf 1//1 2//1 3//1 4//1\n")),
-        2,
-        "v//vn"
-    );
-    assert_eq!(
-        triangles(&format!("{QUAD}vt 0 0\nf 1/1 2/1 3/1\n")),
-        1,
-        "v/vt"
-    );
-    assert_eq!(
-        triangles(&format!("mtllib missing.mtl\nusemtl skin\n{QUAD}f 1 2 3\n")),
-        1,
-        "missing mtllib"
-    );
-    assert_eq!(
-        triangles("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n"),
-        1,
-        "vertex colours"
-    );
-    assert_eq!(
-        triangles(&format!("{QUAD}s 1\nl 1 2 3\ns off\nf 1 2 3\n")),
-        1,
-        "l and s lines"
-    );
-    assert_eq!(
-        triangles("v 1e-3 0E0 -0.0\nv 1.5e+2 0 0\nv 0 2.5E2 0\nf 1 2 3\n"),
-        1,
-        "scientific notation"
-    );
-    assert_eq!(
-        triangles(&format!("{QUAD}f 1 2 3\n\n\n   \n\tf 1 3 4\n")),
-        2,
-        "blank lines and tabs"
-    );
+    assert_eq!(triangles("v 0 0 0\nv 1 0 0\nv 1 1 0\nv .5 1.5 0\nv 0 1 0\nf 1 2 3 4 5\n"), 3, "pentagon");
+    assert_eq!(triangles(&format!("{QUAD}f 1 2 3 4\r\n").replace('\n', "\r\n")), 2, "CRLF");
+    assert_eq!(triangles(&format!("# comment\n{QUAD}# another\nf -4 -3 -2\n")), 1, "negative indices");
+    assert_eq!(triangles(&format!("{QUAD}vt 0 0\nvt 1 0\nvt 1 1\nvn 0 0 1\nf 1/1/1 2/2/1 3/3/1\n")), 1, "v/vt/vn");
+    assert_eq!(triangles(&format!("{QUAD}vn 0 0 1\nf 1//1 2//1 3//1 4//1\n")), 2, "v//vn");
+    assert_eq!(triangles(&format!("{QUAD}vt 0 0\nf 1/1 2/1 3/1\n")), 1, "v/vt");
+    assert_eq!(triangles(&format!("mtllib missing.mtl\nusemtl skin\n{QUAD}f 1 2 3\n")), 1, "missing mtllib");
+    assert_eq!(triangles("v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nf 1 2 3\n"), 1, "vertex colours");
+    assert_eq!(triangles(&format!("{QUAD}s 1\nl 1 2 3\ns off\nf 1 2 3\n")), 1, "l and s lines");
+    assert_eq!(triangles("v 1e-3 0E0 -0.0\nv 1.5e+2 0 0\nv 0 2.5E2 0\nf 1 2 3\n"), 1, "scientific notation");
+    assert_eq!(triangles(&format!("{QUAD}f 1 2 3\n\n\n   \n\tf 1 3 4\n")), 2, "blank lines and tabs");
     assert_eq!(triangles(&format!("{QUAD}f 1 2 3")), 1, "no final newline");
     let warned = parse(format!("mtllib missing.mtl\n{QUAD}f 1 2 3\n").as_bytes()).unwrap();
-    assert_eq!(
-        warned.warnings.len(),
-        1,
-        "a missing material library is a warning"
-    );
+    assert_eq!(warned.warnings.len(), 1, "a missing material library is a warning");
 }
 
 #[test]
 fn objects_and_groups_are_organs() {
     let text = format!("{QUAD}o first\nf 1 2 3\ng second\nf 1 3 4\nf 1 2 4\n");
     let f = parse(text.as_bytes()).unwrap();
-    let names: Vec<_> = f
-        .objects
-        .iter()
-        .map(|o| (o.name.as_str(), o.mesh.triangle_count()))
-        .collect();
+    let names: Vec<_> = f.objects.iter().map(|o| (o.name.as_str(), o.mesh.triangle_count())).collect();
     assert_eq!(names, [("first", 1), ("second", 2)]);
     let unnamed = parse(format!("{QUAD}f 1 2 3\n").as_bytes()).unwrap();
     assert_eq!(unnamed.objects[0].name, "test");
@@ -112,80 +58,29 @@ fn normals_are_computed_when_missing() {
 #[test]
 fn malformed_files_name_file_and_line() {
     let cases: &[(&[u8], Option<usize>, &str)] = &[
-        (
-            b"v 0 0 zero\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-            Some(1),
-            "not a number",
-        ),
+        (b"v 0 0 zero\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Some(1), "not a number"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", Some(4), "index 0"),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n",
-            Some(4),
-            "out of range",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
-            Some(4),
-            "out of range",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n",
-            Some(4),
-            "not an integer",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967297\n",
-            Some(4),
-            "out of range",
-        ),
-        (
-            b"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-            Some(1),
-            "not finite",
-        ),
-        (
-            b"v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n",
-            Some(2),
-            "not finite",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e39\nf 1 2 3\n",
-            Some(4),
-            "not finite",
-        ),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", Some(4), "out of range"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n", Some(4), "out of range"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 99999999999999999999999\n", Some(4), "not an integer"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4294967297\n", Some(4), "out of range"),
+        (b"v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Some(1), "not finite"),
+        (b"v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n", Some(2), "not finite"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1e39\nf 1 2 3\n", Some(4), "not finite"),
         (b"v 0 0 0\nv 1 0 0\nf 1 2\n", Some(3), "at least 3"),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv \xff\xfe 0 0\n",
-            Some(5),
-            "UTF-8",
-        ),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nv \xff\xfe 0 0\n", Some(5), "UTF-8"),
         (b"", None, "empty"),
         (b"\x7fELF\x02\x01\x01\x00\x00\x00", Some(1), "binary"),
         (b"v 0 0 0\nv 1 0 0\nv 0 1 0\n", None, "no faces"),
         (b"# only a comment\n", None, "no faces"),
         (b"v 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Some(1), "needs 3"),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n",
-            Some(4),
-            "needs 3",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n",
-            Some(4),
-            "normal index",
-        ),
-        (
-            b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2/3/4 2 3\n",
-            Some(4),
-            "more than three",
-        ),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0\nf 1 2 3\n", Some(4), "needs 3"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//2 2//1 3//1\n", Some(4), "normal index"),
+        (b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/2/3/4 2 3\n", Some(4), "more than three"),
         (b"v 0 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", Some(1), "w = 0"),
     ];
     for (text, line, needle) in cases {
-        let e = parse(text)
-            .err()
-            .unwrap_or_else(|| panic!("accepted {:?}", String::from_utf8_lossy(text)))
-            .to_string();
+        let e = parse(text).err().unwrap_or_else(|| panic!("accepted {:?}", String::from_utf8_lossy(text))).to_string();
         let at = match line {
             Some(l) => format!("test.obj:{l}:"),
             None => "test.obj:".to_string(),
@@ -229,11 +124,7 @@ fn a_broken_organ_does_not_stop_the_set() {
     write(dir.path(), "good.vbo", &format!("{QUAD}f 1 2 3\n"));
     write(dir.path(), "bad.vbo", &format!("{QUAD}f 1 2 9\n"));
     let organs = [
-        organ(
-            "good",
-            "good.vbo",
-            r#", "opacity": 0.5, "group": "A/B", "info": "text""#,
-        ),
+        organ("good", "good.vbo", r#", "opacity": 0.5, "group": "A/B", "info": "text""#),
         organ("bad_mesh", "bad.vbo", ""),
         organ("missing", "nope.vbo", ""),
         organ("escape", "../outside.vbo", ""),
@@ -247,10 +138,7 @@ fn a_broken_organ_does_not_stop_the_set() {
     let loaded = organ_set::open(dir.path()).unwrap();
     assert_eq!(loaded.set.organs.len(), 1);
     let o = &loaded.set.organs[0];
-    assert_eq!(
-        (o.id.as_str(), o.opacity, o.group.as_str(), o.info.as_str()),
-        ("good", 0.5, "A/B", "text")
-    );
+    assert_eq!((o.id.as_str(), o.opacity, o.group.as_str(), o.info.as_str()), ("good", 0.5, "A/B", "text"));
     let errors: Vec<String> = loaded.errors.iter().map(|e| e.to_string()).collect();
     assert_eq!(errors.len(), 7, "{errors:#?}");
     let expect = [
@@ -263,10 +151,7 @@ fn a_broken_organ_does_not_stop_the_set() {
         ("organset.json", "twice"),
     ];
     for (e, (file, what)) in errors.iter().zip(expect) {
-        assert!(
-            e.contains(file) && e.contains(what),
-            "{e:?} should name {file} and {what:?}"
-        );
+        assert!(e.contains(file) && e.contains(what), "{e:?} should name {file} and {what:?}");
     }
     assert!(path.exists());
 }
@@ -286,21 +171,14 @@ fn broken_manifests_are_fatal_and_named() {
     for (text, needle) in cases {
         write(dir.path(), "organset.json", text);
         let e = organ_set::open(dir.path()).unwrap_err().to_string();
-        assert!(
-            e.contains("organset.json") && e.contains(needle),
-            "{e:?} should mention {needle:?}"
-        );
+        assert!(e.contains("organset.json") && e.contains(needle), "{e:?} should mention {needle:?}");
     }
 }
 
 #[test]
 fn folders_and_single_files_without_manifest() {
     let dir = tempfile::tempdir().unwrap();
-    write(
-        dir.path(),
-        "a.obj",
-        &format!("{QUAD}o one\nf 1 2 3\no two\nf 1 3 4\n"),
-    );
+    write(dir.path(), "a.obj", &format!("{QUAD}o one\nf 1 2 3\no two\nf 1 3 4\n"));
     write(dir.path(), "b.vbo", &format!("{QUAD}f 1 2 3\n"));
     write(dir.path(), "c.OBJ", "garbage\n");
     write(dir.path(), "notes.txt", "not a mesh");
@@ -312,35 +190,22 @@ fn folders_and_single_files_without_manifest() {
     assert!(loaded.errors[0].to_string().contains("c.OBJ"));
     let single = organ_set::open(&dir.path().join("b.vbo")).unwrap();
     assert_eq!(single.set.organs.len(), 1);
-    assert!(organ_set::open(&dir.path().join("missing.obj"))
-        .unwrap_err()
-        .to_string()
-        .contains("missing.obj"));
+    assert!(organ_set::open(&dir.path().join("missing.obj")).unwrap_err().to_string().contains("missing.obj"));
     let empty = tempfile::tempdir().unwrap();
-    assert!(organ_set::open(empty.path())
-        .unwrap_err()
-        .to_string()
-        .contains("no organset.json"));
+    assert!(organ_set::open(empty.path()).unwrap_err().to_string().contains("no organset.json"));
 }
 
 #[test]
 fn saved_sets_load_back_identically() {
     let dir = tempfile::tempdir().unwrap();
-    let src = write(
-        dir.path(),
-        "src.obj",
-        &format!("{QUAD}o plate\nf 1 2 3 4\n"),
-    );
+    let src = write(dir.path(), "src.obj", &format!("{QUAD}o plate\nf 1 2 3 4\n"));
     let set = organ_set::open(&src).unwrap().set;
     let out = dir.path().join("set");
     set.save(&out).unwrap();
     let back = organ_set::open(&out).unwrap();
     assert!(back.errors.is_empty());
     assert_eq!(back.set.organs[0].mesh.indices, set.organs[0].mesh.indices);
-    assert_eq!(
-        back.set.organs[0].mesh.positions,
-        set.organs[0].mesh.positions
-    );
+    assert_eq!(back.set.organs[0].mesh.positions, set.organs[0].mesh.positions);
     assert_eq!(
         back.set.organs[0].colour.map(|c| (c * 255.0).round()),
         set.organs[0].colour.map(|c| (c * 255.0).round())

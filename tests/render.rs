@@ -15,9 +15,7 @@ fn gpu() -> GpuContext {
 }
 
 fn default_set() -> OrganSet {
-    organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain"))
-        .unwrap()
-        .set
+    organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set
 }
 
 struct Shot {
@@ -35,11 +33,7 @@ fn shoot(
 ) -> Shot {
     let target = Target::new(&gpu.device, 160, 128).unwrap();
     let camera = Camera::view(&Layout::new(set).bounds(set), view);
-    let frame = FrameInput {
-        camera: &camera,
-        layout,
-        background,
-    };
+    let frame = FrameInput { camera: &camera, layout, background };
     renderer.render(&gpu.device, &gpu.queue, &target, &frame);
     renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
     Shot {
@@ -60,22 +54,12 @@ fn default_brain_hide_fade_pick_move() {
     let layout = Layout::new(&set);
     let dark = [0.0, 0.0, 0.0, 1.0];
     let base = shoot(&gpu, &renderer, &set, &layout, View::Left, dark);
-    let lit = base
-        .image
-        .pixels()
-        .filter(|p| p[0] > 10 || p[1] > 10 || p[2] > 10)
-        .count();
+    let lit = base.image.pixels().filter(|p| p[0] > 10 || p[1] > 10 || p[2] > 10).count();
     let total = (base.image.width() * base.image.height()) as usize;
-    assert!(
-        lit > total / 5,
-        "only {lit} of {total} pixels show the brain"
-    );
+    assert!(lit > total / 5, "only {lit} of {total} pixels show the brain");
     // Colour and ID agree: a pixel is lit exactly where some organ's ID is.
     let covered = base.ids.iter().filter(|&&i| i != 0).count();
-    assert!(
-        (covered as f64 - lit as f64).abs() < total as f64 * 0.02,
-        "{covered} IDs vs {lit} lit pixels"
-    );
+    assert!((covered as f64 - lit as f64).abs() < total as f64 * 0.02, "{covered} IDs vs {lit} lit pixels");
 
     // From the left, the left frontal lobe is in view; hidden, it is gone and what lay beneath shows.
     let frontal = set.find("frontal_l").unwrap();
@@ -93,23 +77,15 @@ fn default_brain_hide_fade_pick_move() {
     faded.organs[frontal].opacity = 0.2;
     let shot = shoot(&gpu, &renderer, &set, &faded, View::Left, dark);
     assert_eq!(count(&shot.ids, frontal), 0);
-    let i = base
-        .ids
-        .iter()
-        .position(|&id| id == frontal as u32 + 1)
-        .unwrap();
+    let i = base.ids.iter().position(|&id| id == frontal as u32 + 1).unwrap();
     let (x, y) = ((i % 160) as u32, (i / 160) as u32);
     assert_ne!(shot.image.get_pixel(x, y), base.image.get_pixel(x, y));
 
     // Moved 60 mm up, the brainstem shows up higher in the image.
     let stem = set.find("brainstem").unwrap();
     let mean_row = |ids: &[u32]| {
-        let rows: Vec<usize> = ids
-            .iter()
-            .enumerate()
-            .filter(|(_, &id)| id == stem as u32 + 1)
-            .map(|(i, _)| i / 160)
-            .collect();
+        let rows: Vec<usize> =
+            ids.iter().enumerate().filter(|(_, &id)| id == stem as u32 + 1).map(|(i, _)| i / 160).collect();
         rows.iter().sum::<usize>() as f64 / rows.len().max(1) as f64
     };
     let mut moved = layout.clone();
@@ -122,12 +98,7 @@ fn default_brain_hide_fade_pick_move() {
     still.organs[stem].transform.translation = Vec3::ZERO;
     let up = shoot(&gpu, &renderer, &set, &moved, View::Anterior, dark);
     let down = shoot(&gpu, &renderer, &set, &still, View::Anterior, dark);
-    assert!(
-        mean_row(&up.ids) + 10.0 < mean_row(&down.ids),
-        "{} vs {}",
-        mean_row(&up.ids),
-        mean_row(&down.ids)
-    );
+    assert!(mean_row(&up.ids) + 10.0 < mean_row(&down.ids), "{} vs {}", mean_row(&up.ids), mean_row(&down.ids));
 }
 
 #[test]
@@ -137,16 +108,8 @@ fn transparent_background_and_empty_scene() {
     let renderer = Renderer::new(&gpu.device, &set).unwrap();
     let mut layout = Layout::new(&set);
     let shot = shoot(&gpu, &renderer, &set, &layout, View::Superior, [0.0; 4]);
-    assert_eq!(
-        shot.image.get_pixel(0, 0)[3],
-        0,
-        "corner should be transparent"
-    );
-    assert_eq!(
-        shot.image.get_pixel(80, 64)[3],
-        255,
-        "centre should be opaque brain"
-    );
+    assert_eq!(shot.image.get_pixel(0, 0)[3], 0, "corner should be transparent");
+    assert_eq!(shot.image.get_pixel(80, 64)[3], 255, "centre should be opaque brain");
     layout.organs.iter_mut().for_each(|s| s.visible = false);
     let empty = shoot(&gpu, &renderer, &set, &layout, View::Superior, [0.0; 4]);
     assert!(empty.ids.iter().all(|&i| i == 0));

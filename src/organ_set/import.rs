@@ -26,8 +26,7 @@ pub struct Label {
 /// FreeSurfer colour look-up table (`index name r g b a`, `#` comments).
 pub fn read_label_table(path: &Path) -> Result<Vec<Label>> {
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = std::str::from_utf8(&bytes)
-        .map_err(|_| Error::parse(path, None, "label table is not UTF-8 text"))?;
+    let text = std::str::from_utf8(&bytes).map_err(|_| Error::parse(path, None, "label table is not UTF-8 text"))?;
     parse_label_table(text, path)
 }
 
@@ -40,9 +39,7 @@ pub fn parse_label_table(text: &str, path: &Path) -> Result<Vec<Label>> {
         }
         let err = |m: String| Error::parse(path, Some(n + 1), m);
         let fields: Vec<&str> = if line.contains(',') {
-            line.split(',')
-                .map(|f| f.trim().trim_matches('"'))
-                .collect()
+            line.split(',').map(|f| f.trim().trim_matches('"')).collect()
         } else {
             line.split_whitespace().collect()
         };
@@ -50,10 +47,7 @@ pub fn parse_label_table(text: &str, path: &Path) -> Result<Vec<Label>> {
             if labels.is_empty() && n == 0 {
                 continue; // a header line
             }
-            return Err(err(format!(
-                "label index `{}` is not an integer",
-                fields[0]
-            )));
+            return Err(err(format!("label index `{}` is not an integer", fields[0])));
         };
         let name = fields.get(1).copied().unwrap_or("").to_string();
         if name.is_empty() {
@@ -66,11 +60,7 @@ pub fn parse_label_table(text: &str, path: &Path) -> Result<Vec<Label>> {
         } else {
             None
         };
-        labels.push(Label {
-            index,
-            name,
-            colour,
-        });
+        labels.push(Label { index, name, colour });
     }
     if labels.is_empty() {
         return Err(Error::parse(path, None, "no labels in the table"));
@@ -89,35 +79,20 @@ pub struct LabelVolume {
 pub fn read_volume(path: &Path) -> Result<LabelVolume> {
     use nifti::{NiftiObject, NiftiVolume, ReaderOptions};
     let bad = |m: String| Error::parse(path, None, m);
-    let obj = ReaderOptions::new()
-        .read_file(path)
-        .map_err(|e| bad(format!("not a readable NIfTI volume: {e}")))?;
+    let obj = ReaderOptions::new().read_file(path).map_err(|e| bad(format!("not a readable NIfTI volume: {e}")))?;
     let h = obj.header().clone();
     let rank = h.dim[0] as usize;
     if !(3..=4).contains(&rank) || (rank == 4 && h.dim[4] > 1) {
-        return Err(bad(format!(
-            "expected a 3-D label volume, found {rank} dimensions {:?}",
-            &h.dim[1..=rank.min(7)]
-        )));
+        return Err(bad(format!("expected a 3-D label volume, found {rank} dimensions {:?}", &h.dim[1..=rank.min(7)])));
     }
     let dims = [h.dim[1] as usize, h.dim[2] as usize, h.dim[3] as usize];
     let count = dims[0] * dims[1] * dims[2];
     let volume = obj.into_volume();
-    let labels = decode_labels(
-        volume.raw_data(),
-        volume.data_type(),
-        h.endianness == nifti::Endianness::Big,
-        count,
-    )
-    .map_err(bad)?;
-    let affine = affine_of(&h).ok_or_else(|| {
-        bad("no usable voxel-to-world transform (sform, qform or pixel sizes)".into())
-    })?;
-    Ok(LabelVolume {
-        dims,
-        labels,
-        affine,
-    })
+    let labels = decode_labels(volume.raw_data(), volume.data_type(), h.endianness == nifti::Endianness::Big, count)
+        .map_err(bad)?;
+    let affine =
+        affine_of(&h).ok_or_else(|| bad("no usable voxel-to-world transform (sform, qform or pixel sizes)".into()))?;
+    Ok(LabelVolume { dims, labels, affine })
 }
 
 /// Decodes `count` voxels of raw NIfTI data into integer labels (floats are rounded, non-finite is 0).
@@ -185,22 +160,10 @@ fn affine_of(h: &nifti::NiftiHeader) -> Option<Mat4> {
         let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
         let q = glam::Quat::from_xyzw(b, c, d, a);
         let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
-        let scale = Vec3::new(
-            h.pixdim[1].abs(),
-            h.pixdim[2].abs(),
-            h.pixdim[3].abs() * qfac,
-        );
+        let scale = Vec3::new(h.pixdim[1].abs(), h.pixdim[2].abs(), h.pixdim[3].abs() * qfac);
         let scale = Vec3::select(scale.abs().cmpgt(Vec3::ZERO), scale, Vec3::ONE);
-        let rot = if h.qform_code > 0 && q.is_finite() {
-            q.normalize()
-        } else {
-            glam::Quat::IDENTITY
-        };
-        let offset = if h.qform_code > 0 {
-            Vec3::new(h.quatern_x, h.quatern_y, h.quatern_z)
-        } else {
-            Vec3::ZERO
-        };
+        let rot = if h.qform_code > 0 && q.is_finite() { q.normalize() } else { glam::Quat::IDENTITY };
+        let offset = if h.qform_code > 0 { Vec3::new(h.quatern_x, h.quatern_y, h.quatern_z) } else { Vec3::ZERO };
         Mat4::from_translation(offset) * Mat4::from_quat(rot) * Mat4::from_scale(scale)
     };
     (m.is_finite() && m.determinant().abs() > 1e-12).then_some(m)
@@ -218,11 +181,7 @@ pub struct ImportOptions {
 
 impl Default for ImportOptions {
     fn default() -> Self {
-        ImportOptions {
-            triangles: 200_000,
-            smoothing: 10,
-            title: "Imported organs".into(),
-        }
+        ImportOptions { triangles: 200_000, smoothing: 10, title: "Imported organs".into() }
     }
 }
 
@@ -262,25 +221,18 @@ pub fn import(
     }
     for label in boxes.keys() {
         if !table.iter().any(|l| l.index == *label) {
-            warnings.push(format!(
-                "label {label} is in the volume but not in the table: skipped"
-            ));
+            warnings.push(format!("label {label} is in the volume but not in the table: skipped"));
         }
     }
     organs.retain(|o| {
         let present = o.1.iter().any(|l| boxes.contains_key(l));
         if !present {
-            warnings.push(format!(
-                "\"{}\" (label {:?}) has no voxels: skipped",
-                o.0, o.1
-            ));
+            warnings.push(format!("\"{}\" (label {:?}) has no voxels: skipped", o.0, o.1));
         }
         present
     });
     if organs.is_empty() {
-        return Err(Error::Other(
-            "no label of the table occurs in the volume".into(),
-        ));
+        return Err(Error::Other("no label of the table occurs in the volume".into()));
     }
     // Extract every surface first; the budget is then shared by surface size.
     let total_steps = organs.len() * 2;
@@ -290,21 +242,15 @@ pub fn import(
         raw.push(extract(volume, labels, &boxes, opts.smoothing));
     }
     let total_raw: usize = raw.iter().map(Mesh::triangle_count).sum::<usize>().max(1);
-    let mut set = OrganSet {
-        title: opts.title.clone(),
-        ..Default::default()
-    };
+    let mut set = OrganSet { title: opts.title.clone(), ..Default::default() };
     let mut ids = std::collections::HashSet::new();
     for (i, ((name, _, colour), mut mesh)) in organs.into_iter().zip(raw).enumerate() {
         progress(total_steps / 2 + i, total_steps, &name);
-        let share =
-            (opts.triangles as f64 * mesh.triangle_count() as f64 / total_raw as f64) as usize;
+        let share = (opts.triangles as f64 * mesh.triangle_count() as f64 / total_raw as f64) as usize;
         surface::simplify(&mut mesh, share.max(64));
         mesh.compute_normals();
         if mesh.triangle_count() == 0 {
-            warnings.push(format!(
-                "\"{name}\": no surface left after clean-up: skipped"
-            ));
+            warnings.push(format!("\"{name}\": no surface left after clean-up: skipped"));
             continue;
         }
         let mut id = slug(&name);
@@ -353,20 +299,11 @@ fn extract(
     for z in 0..dims[2] {
         for y in 0..dims[1] {
             for x in 0..dims[0] {
-                let g = [
-                    origin[0] + x as i64,
-                    origin[1] + y as i64,
-                    origin[2] + z as i64,
-                ];
-                if g.iter().any(|&c| c < 0)
-                    || g[0] >= nx as i64
-                    || g[1] >= ny as i64
-                    || g[2] >= nz as i64
-                {
+                let g = [origin[0] + x as i64, origin[1] + y as i64, origin[2] + z as i64];
+                if g.iter().any(|&c| c < 0) || g[0] >= nx as i64 || g[1] >= ny as i64 || g[2] >= nz as i64 {
                     continue;
                 }
-                let label =
-                    volume.labels[g[0] as usize + nx * (g[1] as usize + ny * g[2] as usize)];
+                let label = volume.labels[g[0] as usize + nx * (g[1] as usize + ny * g[2] as usize)];
                 if labels.contains(&label) {
                     mask[x + dims[0] * (y + dims[1] * z)] = 1.0;
                 }
@@ -374,21 +311,11 @@ fn extract(
         }
     }
     blur121(&mut mask, dims);
-    let mut mesh = surface::surface_nets(
-        &surface::Grid {
-            dims,
-            values: &mask,
-        },
-        0.5,
-    );
+    let mut mesh = surface::surface_nets(&surface::Grid { dims, values: &mask }, 0.5);
     surface::remove_small_components(&mut mesh, 40);
     surface::taubin_smooth(&mut mesh, smoothing);
-    let to_world = volume.affine
-        * Mat4::from_translation(Vec3::new(
-            origin[0] as f32,
-            origin[1] as f32,
-            origin[2] as f32,
-        ));
+    let to_world =
+        volume.affine * Mat4::from_translation(Vec3::new(origin[0] as f32, origin[1] as f32, origin[2] as f32));
     for p in &mut mesh.positions {
         *p = to_world.transform_point3(Vec3::from(*p)).to_array();
     }
@@ -425,23 +352,10 @@ mod tests {
     fn label_tables() {
         let p = Path::new("t.csv");
         let csv = parse_label_table("index,name\n0,Unknown\n17,Left-Hippocampus\n", p).unwrap();
-        assert_eq!(
-            csv[1],
-            Label {
-                index: 17,
-                name: "Left-Hippocampus".into(),
-                colour: None
-            }
-        );
-        let lut =
-            parse_label_table("# FreeSurfer\n  17  Left-Hippocampus  220 216 20 0\n", p).unwrap();
-        assert_eq!(
-            lut[0].colour,
-            Some([220.0 / 255.0, 216.0 / 255.0, 20.0 / 255.0])
-        );
-        let e = parse_label_table("index,name\n1,a\nx,b\n", p)
-            .unwrap_err()
-            .to_string();
+        assert_eq!(csv[1], Label { index: 17, name: "Left-Hippocampus".into(), colour: None });
+        let lut = parse_label_table("# FreeSurfer\n  17  Left-Hippocampus  220 216 20 0\n", p).unwrap();
+        assert_eq!(lut[0].colour, Some([220.0 / 255.0, 216.0 / 255.0, 20.0 / 255.0]));
+        let e = parse_label_table("index,name\n1,a\nx,b\n", p).unwrap_err().to_string();
         assert!(e.contains("t.csv:3"), "{e}");
         assert!(parse_label_table("", p).is_err());
     }
@@ -459,40 +373,15 @@ mod tests {
             }
         }
         // 2 mm voxels, mirrored x (as radiological volumes are), shifted.
-        let affine = Mat4::from_translation(Vec3::new(100.0, 0.0, 0.0))
-            * Mat4::from_scale(Vec3::new(-2.0, 2.0, 2.0));
-        let vol = LabelVolume {
-            dims,
-            labels,
-            affine,
-        };
+        let affine = Mat4::from_translation(Vec3::new(100.0, 0.0, 0.0)) * Mat4::from_scale(Vec3::new(-2.0, 2.0, 2.0));
+        let vol = LabelVolume { dims, labels, affine };
         let table = vec![
-            Label {
-                index: 5,
-                name: "Left".into(),
-                colour: None,
-            },
-            Label {
-                index: 9,
-                name: "Right".into(),
-                colour: Some([1.0, 0.0, 0.0]),
-            },
-            Label {
-                index: 7,
-                name: "Absent".into(),
-                colour: None,
-            },
+            Label { index: 5, name: "Left".into(), colour: None },
+            Label { index: 9, name: "Right".into(), colour: Some([1.0, 0.0, 0.0]) },
+            Label { index: 7, name: "Absent".into(), colour: None },
         ];
-        let (set, warnings) = import(
-            &vol,
-            &table,
-            &ImportOptions {
-                triangles: 2000,
-                ..Default::default()
-            },
-            &mut |_, _, _| {},
-        )
-        .unwrap();
+        let (set, warnings) =
+            import(&vol, &table, &ImportOptions { triangles: 2000, ..Default::default() }, &mut |_, _, _| {}).unwrap();
         assert_eq!(set.organs.len(), 2);
         assert_eq!(warnings.len(), 1, "{warnings:?}");
         let left = set.organs[0].mesh.bounds();
@@ -507,8 +396,7 @@ mod tests {
                 .indices
                 .chunks_exact(3)
                 .map(|t| {
-                    let [a, b, cc] =
-                        [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
+                    let [a, b, cc] = [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
                     a.dot(b.cross(cc)) / 6.0
                 })
                 .sum();

@@ -78,11 +78,7 @@ pub fn parse_colour(s: &str) -> Option<[f32; 3]> {
     if hex.len() != 6 || !hex.is_ascii() {
         return None;
     }
-    let c = |i: usize| {
-        u8::from_str_radix(&hex[i..i + 2], 16)
-            .ok()
-            .map(|v| v as f32 / 255.0)
-    };
+    let c = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok().map(|v| v as f32 / 255.0);
     Some([c(0)?, c(2)?, c(4)?])
 }
 
@@ -97,22 +93,13 @@ impl Manifest {
     pub fn validate(&self) -> Vec<String> {
         let mut problems = Vec::new();
         if self.format != FORMAT {
-            problems.push(format!(
-                "format is \"{}\", expected \"{FORMAT}\"",
-                self.format
-            ));
+            problems.push(format!("format is \"{}\", expected \"{FORMAT}\"", self.format));
         }
         if self.units != "mm" {
-            problems.push(format!(
-                "units \"{}\" not supported (only \"mm\")",
-                self.units
-            ));
+            problems.push(format!("units \"{}\" not supported (only \"mm\")", self.units));
         }
         if self.coordinates != "RAS" {
-            problems.push(format!(
-                "coordinates \"{}\" not supported (only \"RAS\")",
-                self.coordinates
-            ));
+            problems.push(format!("coordinates \"{}\" not supported (only \"RAS\")", self.coordinates));
         }
         problems
     }
@@ -121,31 +108,17 @@ impl Manifest {
 impl OrganEntry {
     /// Checks one organ's fields (not its mesh file); returns the first problem.
     pub fn validate(&self) -> Result<(), String> {
-        let id_ok = !self.id.is_empty()
-            && self
-                .id
-                .chars()
-                .all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        let id_ok = !self.id.is_empty() && self.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         if !id_ok {
-            return Err(format!(
-                "organ id \"{}\" must be non-empty letters, digits, _ or -",
-                self.id
-            ));
+            return Err(format!("organ id \"{}\" must be non-empty letters, digits, _ or -", self.id));
         }
         if !(0.0..=1.0).contains(&self.opacity) {
-            return Err(format!(
-                "organ \"{}\": opacity {} outside 0..1",
-                self.id, self.opacity
-            ));
+            return Err(format!("organ \"{}\": opacity {} outside 0..1", self.id, self.opacity));
         }
         if parse_colour(&self.colour).is_none() {
-            return Err(format!(
-                "organ \"{}\": colour \"{}\" is not #rrggbb",
-                self.id, self.colour
-            ));
+            return Err(format!("organ \"{}\": colour \"{}\" is not #rrggbb", self.id, self.colour));
         }
-        mesh_path_ok(&self.mesh)
-            .map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))
+        mesh_path_ok(&self.mesh).map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))
     }
 }
 
@@ -167,9 +140,7 @@ fn mesh_path_ok(p: &str) -> Result<(), &'static str> {
                     return Err("escapes the set's folder");
                 }
             }
-            Component::RootDir | Component::Prefix(_) => {
-                return Err("must be a relative path inside the set's folder")
-            }
+            Component::RootDir | Component::Prefix(_) => return Err("must be a relative path inside the set's folder"),
         }
     }
     Ok(())

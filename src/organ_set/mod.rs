@@ -55,9 +55,7 @@ impl OrganSet {
 
     /// Bounds of all organs in their default positions.
     pub fn bounds(&self) -> Bounds {
-        self.organs
-            .iter()
-            .fold(Bounds::EMPTY, |b, o| b.union(o.mesh.bounds()))
+        self.organs.iter().fold(Bounds::EMPTY, |b, o| b.union(o.mesh.bounds()))
     }
 
     pub fn find(&self, id: &str) -> Option<usize> {
@@ -95,12 +93,9 @@ impl OrganSet {
         let meshes = dir.join("meshes");
         std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
         for o in &self.organs {
-            crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| {
-                obj::write_vbo(&[(&o.name, &o.mesh)], w)
-            })?;
+            crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
         }
-        let json = serde_json::to_string_pretty(&self.manifest())
-            .map_err(|e| Error::Other(e.to_string()))?;
+        let json = serde_json::to_string_pretty(&self.manifest()).map_err(|e| Error::Other(e.to_string()))?;
         crate::atomic::write(&dir.join(MANIFEST_FILE), |w| w.write_all(json.as_bytes()))
     }
 }
@@ -123,9 +118,7 @@ pub fn open(path: &Path) -> Result<Loaded> {
 }
 
 fn title_of(path: &Path) -> String {
-    path.file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "organs".into())
+    path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "organs".into())
 }
 
 /// Is this a mesh file vbrain reads (by extension)?
@@ -137,18 +130,11 @@ pub fn is_mesh_file(p: &Path) -> bool {
 
 fn mesh_files_in(dir: &Path) -> Result<Vec<PathBuf>> {
     let entries = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-    let mut files: Vec<PathBuf> = entries
-        .filter_map(|e| e.ok())
-        .map(|e| e.path())
-        .filter(|p| p.is_file() && is_mesh_file(p))
-        .collect();
+    let mut files: Vec<PathBuf> =
+        entries.filter_map(|e| e.ok()).map(|e| e.path()).filter(|p| p.is_file() && is_mesh_file(p)).collect();
     files.sort();
     if files.is_empty() {
-        return Err(Error::parse(
-            dir,
-            None,
-            format!("no {MANIFEST_FILE} and no .obj or .vbo files in this folder"),
-        ));
+        return Err(Error::parse(dir, None, format!("no {MANIFEST_FILE} and no .obj or .vbo files in this folder")));
     }
     Ok(files)
 }
@@ -156,8 +142,8 @@ fn mesh_files_in(dir: &Path) -> Result<Vec<PathBuf>> {
 /// Reads the manifest; a problem with the manifest itself is fatal, a problem with one organ is not.
 pub fn open_manifest(path: &Path) -> Result<Loaded> {
     let text = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let manifest: Manifest = serde_json::from_slice(&text)
-        .map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
+    let manifest: Manifest =
+        serde_json::from_slice(&text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
     let problems = manifest.validate();
     if !problems.is_empty() {
         return Err(Error::parse(path, None, problems.join("; ")));
@@ -166,17 +152,10 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     let mut loaded = Loaded::default();
     let mut seen = std::collections::HashSet::new();
     let results: Vec<Result<(Organ, Vec<String>)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = manifest
-            .organs
-            .iter()
-            .map(|entry| s.spawn(|| load_entry(entry, dir, path)))
-            .collect();
+        let handles: Vec<_> = manifest.organs.iter().map(|entry| s.spawn(|| load_entry(entry, dir, path))).collect();
         handles
             .into_iter()
-            .map(|h| {
-                h.join()
-                    .unwrap_or_else(|_| Err(Error::Other("organ loader panicked".into())))
-            })
+            .map(|h| h.join().unwrap_or_else(|_| Err(Error::Other("organ loader panicked".into()))))
             .collect()
     });
     for (entry, result) in manifest.organs.iter().zip(results) {
@@ -185,11 +164,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
                 loaded.warnings.extend(warnings);
                 loaded.set.organs.push(organ);
             }
-            Ok(_) => loaded.errors.push(Error::parse(
-                path,
-                None,
-                format!("organ id \"{}\" appears twice", entry.id),
-            )),
+            Ok(_) => loaded.errors.push(Error::parse(path, None, format!("organ id \"{}\" appears twice", entry.id))),
             Err(e) => loaded.errors.push(e),
         }
     }
@@ -199,14 +174,8 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     Ok(loaded)
 }
 
-fn load_entry(
-    entry: &OrganEntry,
-    dir: &Path,
-    manifest_path: &Path,
-) -> Result<(Organ, Vec<String>)> {
-    entry
-        .validate()
-        .map_err(|m| Error::parse(manifest_path, None, m))?;
+fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {
+    entry.validate().map_err(|m| Error::parse(manifest_path, None, m))?;
     let file = obj::read(&dir.join(&entry.mesh))?;
     let mut mesh = Mesh::default();
     for o in &file.objects {
@@ -227,23 +196,13 @@ fn load_entry(
 
 /// One organ per object of each file; a broken file is reported and skipped.
 pub fn open_files(files: &[PathBuf], title: &str) -> Result<Loaded> {
-    let mut loaded = Loaded {
-        set: OrganSet {
-            title: title.into(),
-            ..Default::default()
-        },
-        ..Default::default()
-    };
+    let mut loaded = Loaded { set: OrganSet { title: title.into(), ..Default::default() }, ..Default::default() };
     let mut ids = std::collections::HashSet::new();
     for f in files {
         match obj::read(f) {
             Ok(file) => {
                 loaded.warnings.extend(file.warnings);
-                let group = if files.len() > 1 {
-                    title_of(f)
-                } else {
-                    String::new()
-                };
+                let group = if files.len() > 1 { title_of(f) } else { String::new() };
                 for o in file.objects {
                     let id = unique_id(&slug(&o.name), &mut ids);
                     let colour = distinct_colour(loaded.set.organs.len());

@@ -45,17 +45,10 @@ pub const MAX_FILE_BYTES: u64 = 1 << 30;
 pub fn read(path: &Path) -> Result<ObjFile> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.len() > MAX_FILE_BYTES {
-        return Err(Error::parse(
-            path,
-            None,
-            format!("file of {} bytes is too large for a mesh", meta.len()),
-        ));
+        return Err(Error::parse(path, None, format!("file of {} bytes is too large for a mesh", meta.len())));
     }
     let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     parse(&bytes, path, &stem)
 }
 
@@ -79,39 +72,20 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
         if m.indices.is_empty() {
             continue;
         }
-        let positions: Vec<[f32; 3]> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| [p[0], p[1], p[2]])
-            .collect();
-        let mut mesh = Mesh {
-            normals: Vec::new(),
-            indices: m.indices,
-            positions,
-        };
+        let positions: Vec<[f32; 3]> = m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
+        let mut mesh = Mesh { normals: Vec::new(), indices: m.indices, positions };
         if m.normals.len() == m.positions.len() {
-            mesh.normals = m
-                .normals
-                .chunks_exact(3)
-                .map(|n| [n[0], n[1], n[2]])
-                .collect();
+            mesh.normals = m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect();
             // A zero normal in the file cannot shade: compute them all instead.
-            if mesh
-                .normals
-                .iter()
-                .any(|n| glam::Vec3::from(*n).try_normalize().is_none())
-            {
+            if mesh.normals.iter().any(|n| glam::Vec3::from(*n).try_normalize().is_none()) {
                 mesh.compute_normals();
             }
         } else {
             mesh.compute_normals();
         }
         mesh.validate().map_err(|e| Error::parse(path, None, e))?;
-        let name = if model.name.is_empty() || model.name == "unnamed_object" {
-            default_name.to_string()
-        } else {
-            model.name
-        };
+        let name =
+            if model.name.is_empty() || model.name == "unnamed_object" { default_name.to_string() } else { model.name };
         // tobj splits an object at each `usemtl`; pieces of one name are one organ again.
         match objects.iter_mut().find(|o| o.name == name) {
             Some(o) => o.mesh.append(&mesh),
@@ -121,10 +95,7 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
     if objects.is_empty() {
         return Err(Error::parse(path, None, "no faces"));
     }
-    Ok(ObjFile {
-        objects,
-        warnings: missing.into_inner(),
-    })
+    Ok(ObjFile { objects, warnings: missing.into_inner() })
 }
 
 /// Validates every line; returns the text for `tobj` on success (polyline `l` and point `p`
@@ -180,14 +151,10 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
                     _ => 1,
                 };
                 if args.len() < min {
-                    return Err(err(format!(
-                        "`{keyword}` needs at least {min} vertices, found {}",
-                        args.len()
-                    )));
+                    return Err(err(format!("`{keyword}` needs at least {min} vertices, found {}", args.len())));
                 }
                 for a in &args {
-                    face_ref(a, &counts)
-                        .map_err(|m| err(format!("face vertex `{}`: {m}", shorten(a))))?;
+                    face_ref(a, &counts).map_err(|m| err(format!("face vertex `{}`: {m}", shorten(a))))?;
                 }
                 if keyword == "f" {
                     faces += 1;
@@ -200,25 +167,15 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
         }
     }
     if faces == 0 {
-        return Err(Error::parse(
-            path,
-            None,
-            "no faces (`f` lines): nothing to draw",
-        ));
+        return Err(Error::parse(path, None, "no faces (`f` lines): nothing to draw"));
     }
     // Every line is UTF-8, hence the whole.
-    let text =
-        std::str::from_utf8(bytes).map_err(|_| Error::parse(path, None, "not UTF-8 text"))?;
+    let text = std::str::from_utf8(bytes).map_err(|_| Error::parse(path, None, "not UTF-8 text"))?;
     if !has_lines {
         return Ok(text.into());
     }
     let keep = |line: &str| !matches!(line.split_whitespace().next(), Some("l" | "p"));
-    Ok(text
-        .split('\n')
-        .map(|l| if keep(l) { l } else { "" })
-        .collect::<Vec<_>>()
-        .join("\n")
-        .into())
+    Ok(text.split('\n').map(|l| if keep(l) { l } else { "" }).collect::<Vec<_>>().join("\n").into())
 }
 
 fn shorten(s: &str) -> String {
@@ -233,16 +190,8 @@ fn floats(args: &[&str], line: usize, path: &Path) -> Result<Vec<f32>> {
     args.iter()
         .map(|a| match a.parse::<f32>() {
             Ok(v) if v.is_finite() => Ok(v),
-            Ok(_) => Err(Error::parse(
-                path,
-                Some(line),
-                format!("number `{}` is not finite", shorten(a)),
-            )),
-            Err(_) => Err(Error::parse(
-                path,
-                Some(line),
-                format!("`{}` is not a number", shorten(a)),
-            )),
+            Ok(_) => Err(Error::parse(path, Some(line), format!("number `{}` is not finite", shorten(a)))),
+            Err(_) => Err(Error::parse(path, Some(line), format!("`{}` is not a number", shorten(a)))),
         })
         .collect()
 }
@@ -261,9 +210,7 @@ fn face_ref(r: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
             continue;
         }
         let what = ["vertex", "texture", "normal"][k];
-        let i: i64 = p
-            .parse()
-            .map_err(|_| format!("{what} index is not an integer"))?;
+        let i: i64 = p.parse().map_err(|_| format!("{what} index is not an integer"))?;
         let n = counts[k] as i64;
         let ok = if i > 0 { i <= n } else { i < 0 && -i <= n };
         if !ok {
@@ -279,10 +226,7 @@ fn face_ref(r: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
 
 /// Writes meshes as a VBO file (text as defined above) into `out`.
 pub fn write_vbo(objects: &[(&str, &Mesh)], out: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(
-        out,
-        "# Virtual Brain Object (vbrain): o, v, vn, f; millimetres, RAS"
-    )?;
+    writeln!(out, "# Virtual Brain Object (vbrain): o, v, vn, f; millimetres, RAS")?;
     let mut base = 1u64;
     for (name, mesh) in objects {
         writeln!(out, "o {name}")?;

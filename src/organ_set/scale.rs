@@ -19,25 +19,14 @@ pub fn subdivide(mesh: &Mesh, n: usize) -> Mesh {
     if n <= 1 {
         return mesh.clone();
     }
-    let mut out = Mesh {
-        positions: mesh.positions.clone(),
-        normals: mesh.normals.clone(),
-        indices: Vec::new(),
-    };
+    let mut out = Mesh { positions: mesh.positions.clone(), normals: mesh.normals.clone(), indices: Vec::new() };
     out.indices.reserve(mesh.indices.len() * n * n);
     let mut edge_points: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
     let lerp_vertex = |out: &mut Mesh, a: u32, b: u32, t: f32| {
-        let (pa, pb) = (
-            Vec3::from(mesh.positions[a as usize]),
-            Vec3::from(mesh.positions[b as usize]),
-        );
-        let (na, nb) = (
-            Vec3::from(mesh.normals[a as usize]),
-            Vec3::from(mesh.normals[b as usize]),
-        );
+        let (pa, pb) = (Vec3::from(mesh.positions[a as usize]), Vec3::from(mesh.positions[b as usize]));
+        let (na, nb) = (Vec3::from(mesh.normals[a as usize]), Vec3::from(mesh.normals[b as usize]));
         out.positions.push(pa.lerp(pb, t).to_array());
-        out.normals
-            .push(na.lerp(nb, t).try_normalize().unwrap_or(na).to_array());
+        out.normals.push(na.lerp(nb, t).try_normalize().unwrap_or(na).to_array());
         out.positions.len() as u32 - 1
     };
     for t in mesh.indices.chunks_exact(3) {
@@ -53,19 +42,11 @@ pub fn subdivide(mesh: &Mesh, n: usize) -> Mesh {
             let key = (u.min(v), u.max(v));
             let pts = edge_points
                 .entry(key)
-                .or_insert_with(|| {
-                    (1..n)
-                        .map(|k| lerp_vertex(&mut out, key.0, key.1, k as f32 / n as f32))
-                        .collect()
-                })
+                .or_insert_with(|| (1..n).map(|k| lerp_vertex(&mut out, key.0, key.1, k as f32 / n as f32)).collect())
                 .clone();
             for k in 1..n {
                 // k-th point from u toward v.
-                let p = if u == key.0 {
-                    pts[k - 1]
-                } else {
-                    pts[n - k - 1]
-                };
+                let p = if u == key.0 { pts[k - 1] } else { pts[n - k - 1] };
                 let (i, j) = match at {
                     0 => (k, 0),
                     1 => (n - k, k),
@@ -89,28 +70,15 @@ pub fn subdivide(mesh: &Mesh, n: usize) -> Mesh {
                 let (s, r) = (i as f32 / n as f32, j as f32 / n as f32);
                 let w = 1.0 - s - r;
                 out.positions.push((pa * w + pb * s + pc * r).to_array());
-                out.normals.push(
-                    (na * w + nb * s + nc * r)
-                        .try_normalize()
-                        .unwrap_or(na)
-                        .to_array(),
-                );
+                out.normals.push((na * w + nb * s + nc * r).try_normalize().unwrap_or(na).to_array());
                 grid[idx(i, j)] = out.positions.len() as u32 - 1;
             }
         }
         for i in 0..n {
             for j in 0..n - i {
-                out.indices.extend_from_slice(&[
-                    grid[idx(i, j)],
-                    grid[idx(i + 1, j)],
-                    grid[idx(i, j + 1)],
-                ]);
+                out.indices.extend_from_slice(&[grid[idx(i, j)], grid[idx(i + 1, j)], grid[idx(i, j + 1)]]);
                 if i + j + 1 < n {
-                    out.indices.extend_from_slice(&[
-                        grid[idx(i + 1, j)],
-                        grid[idx(i + 1, j + 1)],
-                        grid[idx(i, j + 1)],
-                    ]);
+                    out.indices.extend_from_slice(&[grid[idx(i + 1, j)], grid[idx(i + 1, j + 1)], grid[idx(i, j + 1)]]);
                 }
             }
         }
@@ -158,21 +126,12 @@ mod tests {
             let mut edges = std::collections::HashSet::new();
             for t in s.indices.chunks_exact(3) {
                 for k in 0..3 {
-                    assert!(
-                        edges.insert((t[k], t[(k + 1) % 3])),
-                        "edge used twice at n = {n}"
-                    );
+                    assert!(edges.insert((t[k], t[(k + 1) % 3])), "edge used twice at n = {n}");
                 }
             }
-            assert!(
-                edges.iter().all(|&(a, b)| edges.contains(&(b, a))),
-                "open at n = {n}"
-            );
+            assert!(edges.iter().all(|&(a, b)| edges.contains(&(b, a))), "open at n = {n}");
             // Euler characteristic of a sphere: V - E + F = 2.
-            assert_eq!(
-                s.positions.len() as i64 - edges.len() as i64 / 2 + s.triangle_count() as i64,
-                2
-            );
+            assert_eq!(s.positions.len() as i64 - edges.len() as i64 / 2 + s.triangle_count() as i64, 2);
         }
     }
 }

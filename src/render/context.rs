@@ -28,9 +28,7 @@ impl GpuContext {
             let mut desc = wgpu::InstanceDescriptor::new_without_display_handle();
             desc.backends = backends;
             let instance = wgpu::Instance::new(desc);
-            match pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(
-                &instance, None,
-            )) {
+            match pollster::block_on(wgpu::util::initialize_adapter_from_env_or_default(&instance, None)) {
                 Ok(adapter) => return Self::open(instance, adapter),
                 Err(e) => last_error = e.to_string(),
             }
@@ -39,28 +37,16 @@ impl GpuContext {
     }
 
     fn open(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<GpuContext> {
-        let limits = wgpu::Limits {
-            max_buffer_size: adapter.limits().max_buffer_size,
-            ..wgpu::Limits::downlevel_defaults()
-        }
-        .using_resolution(adapter.limits());
+        let limits =
+            wgpu::Limits { max_buffer_size: adapter.limits().max_buffer_size, ..wgpu::Limits::downlevel_defaults() }
+                .using_resolution(adapter.limits());
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("vbrain headless"),
             required_limits: limits,
             ..Default::default()
         }))
-        .map_err(|e| {
-            Error::Other(format!(
-                "could not open the GPU device of {}: {e}",
-                adapter.get_info().name
-            ))
-        })?;
-        Ok(GpuContext {
-            instance,
-            adapter,
-            device,
-            queue,
-        })
+        .map_err(|e| Error::Other(format!("could not open the GPU device of {}: {e}", adapter.get_info().name)))?;
+        Ok(GpuContext { instance, adapter, device, queue })
     }
 
     /// "name (backend, device type)" of the adapter, for reports.

@@ -155,11 +155,7 @@ impl Renderer {
             })
         };
         let frame_bind = bind(&frame_layout, &frame_buffer, None);
-        let organ_bind = bind(
-            &organ_layout,
-            &organ_buffer,
-            Some(std::mem::size_of::<OrganUniform>() as u64),
-        );
+        let organ_bind = bind(&organ_layout, &organ_buffer, Some(std::mem::size_of::<OrganUniform>() as u64));
         let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some("organ.wgsl"),
             source: wgpu::ShaderSource::Wgsl(super::SHADERS[0].1.into()),
@@ -184,10 +180,7 @@ impl Renderer {
                         attributes: &vertex_attributes,
                     })],
                 },
-                primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
-                    ..Default::default()
-                },
+                primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,
                     depth_write_enabled: Some(depth_write),
@@ -195,33 +188,18 @@ impl Renderer {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: wgpu::MultisampleState {
-                    count: samples,
-                    ..Default::default()
-                },
+                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
                 fragment: Some(wgpu::FragmentState {
                     module: &shader,
                     entry_point: Some(fragment),
                     compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
+                    targets: &[Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })],
                 }),
                 multiview_mask: None,
                 cache: None,
             })
         };
-        let opaque = pipeline(
-            "organ opaque",
-            "fs_shade",
-            COLOR_FORMAT,
-            None,
-            true,
-            None,
-            SAMPLE_COUNT,
-        );
+        let opaque = pipeline("organ opaque", "fs_shade", COLOR_FORMAT, None, true, None, SAMPLE_COUNT);
         // Placeholder transparency: plain alpha blending, organs sorted back to front, back faces culled.
         let over = wgpu::BlendState {
             color: wgpu::BlendComponent {
@@ -231,43 +209,18 @@ impl Renderer {
             },
             alpha: wgpu::BlendComponent::OVER,
         };
-        let blend = pipeline(
-            "organ blend",
-            "fs_shade",
-            COLOR_FORMAT,
-            Some(over),
-            false,
-            Some(wgpu::Face::Back),
-            SAMPLE_COUNT,
-        );
+        let blend =
+            pipeline("organ blend", "fs_shade", COLOR_FORMAT, Some(over), false, Some(wgpu::Face::Back), SAMPLE_COUNT);
         let pick = pipeline("organ pick", "fs_pick", ID_FORMAT, None, true, None, 1);
-        Ok(Renderer {
-            meshes,
-            frame_buffer,
-            frame_bind,
-            organ_buffer,
-            organ_bind,
-            opaque,
-            blend,
-            pick,
-        })
+        Ok(Renderer { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, opaque, blend, pick })
     }
 
     fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
         let vp = frame.camera.view_projection(aspect);
-        let fu = FrameUniform {
-            view_proj: vp.to_cols_array_2d(),
-            eye: frame.camera.eye.extend(1.0).to_array(),
-        };
+        let fu = FrameUniform { view_proj: vp.to_cols_array_2d(), eye: frame.camera.eye.extend(1.0).to_array() };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&fu));
         let mut data = vec![0u8; ORGAN_STRIDE as usize * self.meshes.len()];
-        for (i, s) in frame
-            .layout
-            .organs
-            .iter()
-            .enumerate()
-            .take(self.meshes.len())
-        {
+        for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
             let c = s.colour.map(linear);
@@ -278,8 +231,7 @@ impl Renderer {
                 id: [i as u32 + 1, 0, 0, 0],
             };
             let at = i * ORGAN_STRIDE as usize;
-            data[at..at + std::mem::size_of::<OrganUniform>()]
-                .copy_from_slice(bytemuck::bytes_of(&u));
+            data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
         queue.write_buffer(&self.organ_buffer, 0, &data);
     }
@@ -309,10 +261,7 @@ impl Renderer {
         let mut translucent: Vec<(f32, usize)> = (0..n)
             .filter(|&i| states[i].is_drawn() && !states[i].is_opaque())
             .map(|i| {
-                let c = states[i]
-                    .transform
-                    .matrix()
-                    .transform_point3(self.meshes[i].center);
+                let c = states[i].transform.matrix().transform_point3(self.meshes[i].center);
                 (-(c - eye).length_squared(), i)
             })
             .collect();
@@ -327,21 +276,13 @@ impl Renderer {
                     depth_slice: None,
                     resolve_target: Some(&target.color_view),
                     ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color {
-                            r: bg[0],
-                            g: bg[1],
-                            b: bg[2],
-                            a: bg[3],
-                        }),
+                        load: wgpu::LoadOp::Clear(wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] }),
                         store: wgpu::StoreOp::Discard,
                     },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.msaa_depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -359,10 +300,7 @@ impl Renderer {
             }
         }
         queue.submit([encoder.finish()]);
-        let drawn = opaque
-            .iter()
-            .copied()
-            .chain(translucent.iter().map(|t| t.1));
+        let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
         let mut stats = RenderStats::default();
         for i in drawn {
             stats.organs_drawn += 1;
@@ -397,10 +335,7 @@ impl Renderer {
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &target.ids_depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
                     stencil_ops: None,
                 }),
                 timestamp_writes: None,
@@ -409,13 +344,7 @@ impl Renderer {
             });
             pass.set_bind_group(0, &self.frame_bind, &[]);
             pass.set_pipeline(&self.pick);
-            for (i, s) in frame
-                .layout
-                .organs
-                .iter()
-                .enumerate()
-                .take(self.meshes.len())
-            {
+            for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
                 if s.is_drawn() && s.opacity >= min_opacity {
                     self.draw(&mut pass, i);
                 }

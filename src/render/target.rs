@@ -17,6 +17,9 @@ pub struct Target {
     /// The resolved image; `TEXTURE_BINDING` so a viewer can paint it.
     pub color: wgpu::Texture,
     pub color_view: wgpu::TextureView,
+    /// The same image viewed as plain `Rgba8Unorm`: for painters such as egui that take texels as
+    /// sRGB-encoded values (sampling the sRGB view would decode them to linear, and darken them).
+    pub display_view: wgpu::TextureView,
     pub(crate) ids: wgpu::Texture,
     pub(crate) ids_view: wgpu::TextureView,
     pub(crate) ids_depth: wgpu::TextureView,
@@ -26,51 +29,38 @@ impl Target {
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Target> {
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
-            return Err(Error::Other(format!(
-                "image size {width}x{height} outside 1..={max} pixels per side"
-            )));
+            return Err(Error::Other(format!("image size {width}x{height} outside 1..={max} pixels per side")));
         }
-        let make = |label, format, samples, usage| {
+        let make = |label, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
-                size: wgpu::Extent3d {
-                    width,
-                    height,
-                    depth_or_array_layers: 1,
-                },
+                size: wgpu::Extent3d { width, height, depth_or_array_layers: 1 },
                 mip_level_count: 1,
                 sample_count: samples,
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: &[],
+                view_formats,
             })
         };
         let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let samples = super::SAMPLE_COUNT;
-        let color = make(
-            "target color",
-            COLOR_FORMAT,
-            1,
-            attach | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-        );
-        let ids = make(
-            "target ids",
-            ID_FORMAT,
-            1,
-            attach | wgpu::TextureUsages::COPY_SRC,
-        );
+        let plain = wgpu::TextureFormat::Rgba8Unorm;
+        let painted = attach | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let color = make("target color", COLOR_FORMAT, 1, painted, &[plain]);
+        let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC, &[]);
         Ok(Target {
             width,
             height,
-            msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach)),
-            msaa_depth: view(&make("target msaa depth", DEPTH_FORMAT, samples, attach)),
+            msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach, &[])),
+            msaa_depth: view(&make("target msaa depth", DEPTH_FORMAT, samples, attach, &[])),
             color_view: view(&color),
+            display_view: color.create_view(&wgpu::TextureViewDescriptor { format: Some(plain), ..Default::default() }),
             color,
             ids_view: view(&ids),
             ids,
-            ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach)),
+            ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
         })
     }
 
@@ -79,11 +69,7 @@ impl Target {
     }
 
     /// Reads the resolved colour image back (blocking).
-    pub fn read_color(
-        &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
-    ) -> Result<image::RgbaImage> {
+    pub fn read_color(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<image::RgbaImage> {
         let bytes = read_texture(device, queue, &self.color, 4)?;
         image::RgbaImage::from_raw(self.width, self.height, bytes)
             .ok_or_else(|| Error::Other("read-back size mismatch".into()))
@@ -105,8 +91,7 @@ fn read_texture(
 ) -> Result<Vec<u8>> {
     let (w, h) = (texture.width(), texture.height());
     let row = w * bytes_per_pixel;
-    let padded =
-        row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
+    let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("read-back"),
         size: padded as u64 * h as u64,
@@ -118,32 +103,20 @@ fn read_texture(
         texture.as_image_copy(),
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(padded),
-                rows_per_image: Some(h),
-            },
+            layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },
         },
-        wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
+        wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );
     queue.submit([encoder.finish()]);
     let (tx, rx) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
     });
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| Error::Other(format!("GPU poll: {e}")))?;
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Other(format!("GPU poll: {e}")))?;
     rx.recv()
         .map_err(|e| Error::Other(format!("read-back: {e}")))?
         .map_err(|e| Error::Other(format!("read-back: {e}")))?;
-    let data = buffer
-        .get_mapped_range(..)
-        .map_err(|e| Error::Other(format!("read-back: {e}")))?;
+    let data = buffer.get_mapped_range(..).map_err(|e| Error::Other(format!("read-back: {e}")))?;
     let mut out = Vec::with_capacity((row * h) as usize);
     for r in 0..h as usize {
         out.extend_from_slice(&data[r * padded as usize..r * padded as usize + row as usize]);

@@ -11,11 +11,7 @@ use vbrain::organ_set::{self, import, scale, Loaded, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 
 #[derive(Parser)]
-#[command(
-    name = "vbrain",
-    version,
-    about = "Explore the brain as a set of organs: viewer and headless tools"
-)]
+#[command(name = "vbrain", version, about = "Explore the brain as a set of organs: viewer and headless tools")]
 pub struct Args {
     /// Organ set folder, .obj/.vbo file or folder of them to open in the viewer (default: organs/brain)
     pub path: Option<PathBuf>,
@@ -112,31 +108,16 @@ fn run_command(command: Command) -> Result<bool> {
     match command {
         Command::Info { path, json } => info(&path, json),
         Command::Render(args) => render(&args),
-        Command::Import {
-            volume,
-            labels,
-            out,
-            triangles,
-            smooth,
-            title,
-            json,
-        } => import_cmd(&volume, &labels, &out, triangles, smooth, title, json),
-        Command::Scale {
-            set,
-            factor,
-            out,
-            json,
-        } => scale_cmd(&set, factor, &out, json),
+        Command::Import { volume, labels, out, triangles, smooth, title, json } => {
+            import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
+        }
+        Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
     }
 }
 
 /// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
 pub fn open_reporting(path: &Path) -> Result<(OrganSet, bool)> {
-    let Loaded {
-        set,
-        errors,
-        warnings,
-    } = organ_set::open(path).map_err(|e| anyhow!(e))?;
+    let Loaded { set, errors, warnings } = organ_set::open(path).map_err(|e| anyhow!(e))?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
@@ -166,37 +147,19 @@ fn info(path: &Path, json: bool) -> Result<bool> {
         let out = json!({ "title": set.title, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        println!(
-            "{}: {} organs, {} triangles",
-            set.title,
-            set.organs.len(),
-            set.triangle_count()
-        );
+        println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
         println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
         for o in &set.organs {
-            println!(
-                "  {:<28} {:>8} triangles  {}",
-                o.id,
-                o.mesh.triangle_count(),
-                o.name
-            );
+            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh.triangle_count(), o.name);
         }
     }
     Ok(ok)
 }
 
 pub fn parse_size(s: &str) -> Result<(u32, u32)> {
-    let (w, h) = s
-        .split_once(['x', 'X'])
-        .ok_or_else(|| anyhow!("size \"{s}\" is not WxH"))?;
-    let w: u32 = w
-        .trim()
-        .parse()
-        .with_context(|| format!("width in \"{s}\""))?;
-    let h: u32 = h
-        .trim()
-        .parse()
-        .with_context(|| format!("height in \"{s}\""))?;
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(|| anyhow!("size \"{s}\" is not WxH"))?;
+    let w: u32 = w.trim().parse().with_context(|| format!("width in \"{s}\""))?;
+    let h: u32 = h.trim().parse().with_context(|| format!("height in \"{s}\""))?;
     if w == 0 || h == 0 || w > 16384 || h > 16384 {
         bail!("size {w}x{h} outside 1..16384");
     }
@@ -204,26 +167,14 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
 }
 
 /// Applies `--hide` and `--opacity` to a layout.
-fn apply_overrides(
-    set: &OrganSet,
-    layout: &mut Layout,
-    hide: &[String],
-    opacity: &[String],
-) -> Result<()> {
-    let index = |id: &str| {
-        set.find(id)
-            .ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"))
-    };
+fn apply_overrides(set: &OrganSet, layout: &mut Layout, hide: &[String], opacity: &[String]) -> Result<()> {
+    let index = |id: &str| set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"));
     for id in hide {
         layout.organs[index(id)?].visible = false;
     }
     for spec in opacity {
-        let (id, a) = spec
-            .split_once('=')
-            .ok_or_else(|| anyhow!("opacity \"{spec}\" is not ID=A"))?;
-        let a: f32 = a
-            .parse()
-            .with_context(|| format!("opacity in \"{spec}\""))?;
+        let (id, a) = spec.split_once('=').ok_or_else(|| anyhow!("opacity \"{spec}\" is not ID=A"))?;
+        let a: f32 = a.parse().with_context(|| format!("opacity in \"{spec}\""))?;
         if !(0.0..=1.0).contains(&a) {
             bail!("opacity {a} in \"{spec}\" outside 0..1");
         }
@@ -244,22 +195,11 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let bounds = layout.bounds(&set);
     let camera = match (&args.view, &args.orbit) {
         (Some(_), Some(_)) => bail!("give --view or --orbit, not both"),
-        (Some(v), None) => Camera::view(
-            &bounds,
-            View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?,
-        ),
+        (Some(v), None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
         (None, Some(o)) => {
-            let (az, el) = o
-                .split_once(',')
-                .ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;
-            let az: f32 = az
-                .trim()
-                .parse()
-                .with_context(|| format!("azimuth in \"{o}\""))?;
-            let el: f32 = el
-                .trim()
-                .parse()
-                .with_context(|| format!("elevation in \"{o}\""))?;
+            let (az, el) = o.split_once(',').ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;
+            let az: f32 = az.trim().parse().with_context(|| format!("azimuth in \"{o}\""))?;
+            let el: f32 = el.trim().parse().with_context(|| format!("elevation in \"{o}\""))?;
             Camera::orbit(&bounds, az, el)
         }
         (None, None) => Camera::view(&bounds, View::Anterior),
@@ -268,21 +208,9 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
-    let background = if args.transparent {
-        [0.0; 4]
-    } else {
-        crate::viewer::BACKGROUND
-    };
-    let stats = renderer.render(
-        &gpu.device,
-        &gpu.queue,
-        &target,
-        &FrameInput {
-            camera: &camera,
-            layout: &layout,
-            background,
-        },
-    );
+    let background = if args.transparent { [0.0; 4] } else { crate::viewer::BACKGROUND };
+    let stats =
+        renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &camera, layout: &layout, background });
     let image = target.read_color(&gpu.device, &gpu.queue)?;
     write_png(&args.out, &image, true)?;
     if args.json {
@@ -307,10 +235,7 @@ fn render(args: &RenderArgs) -> Result<bool> {
 /// Encodes a PNG and writes it atomically; `replace` false refuses to overwrite an existing file.
 pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
     let mut bytes = Vec::new();
-    image.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )?;
+    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
     let fill = |w: &mut dyn std::io::Write| w.write_all(&bytes);
     if replace {
         vbrain::atomic::write(path, fill)?
@@ -340,19 +265,10 @@ fn import_cmd(
     let table = import::read_label_table(labels)?;
     let vol = import::read_volume(volume)?;
     let title = title.unwrap_or_else(|| {
-        let name = volume
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        name.trim_end_matches(".gz")
-            .trim_end_matches(".nii")
-            .to_string()
+        let name = volume.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        name.trim_end_matches(".gz").trim_end_matches(".nii").to_string()
     });
-    let opts = import::ImportOptions {
-        triangles,
-        smoothing: smooth,
-        title,
-    };
+    let opts = import::ImportOptions { triangles, smoothing: smooth, title };
     let bar = progress_bar(1);
     let (set, warnings) = import::import(&vol, &table, &opts, &mut |done, total, what| {
         bar.set_length(total as u64);
@@ -376,17 +292,10 @@ fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
             .collect();
         println!(
             "{}",
-            serde_json::to_string_pretty(
-                &json!({"out": out, "organs": organs, "triangles": set.triangle_count()})
-            )?
+            serde_json::to_string_pretty(&json!({"out": out, "organs": organs, "triangles": set.triangle_count()}))?
         );
     } else {
-        println!(
-            "{what}: wrote {} organs, {} triangles to {}",
-            set.organs.len(),
-            set.triangle_count(),
-            out.display()
-        );
+        println!("{what}: wrote {} organs, {} triangles to {}", set.organs.len(), set.triangle_count(), out.display());
     }
     Ok(true)
 }

@@ -26,17 +26,11 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
     let path = path.unwrap_or_else(default_set_path);
     let options = eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
-        viewport: eframe::egui::ViewportBuilder::default()
-            .with_title("vbrain")
-            .with_inner_size([1280.0, 820.0]),
+        viewport: eframe::egui::ViewportBuilder::default().with_title("vbrain").with_inner_size([1280.0, 820.0]),
         ..Default::default()
     };
-    eframe::run_native(
-        "vbrain",
-        options,
-        Box::new(move |cc| Ok(Box::new(Viewer::new(cc, path)))),
-    )
-    .map_err(|e| anyhow!("could not open the viewer window: {e}"))
+    eframe::run_native("vbrain", options, Box::new(move |cc| Ok(Box::new(Viewer::new(cc, path)))))
+        .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
 
 /// The loaded scene with its GPU resources.
@@ -44,6 +38,8 @@ struct Scene {
     set: OrganSet,
     layout: Layout,
     renderer: Renderer,
+    /// What the camera frames: the organs shown when the set was opened (world space).
+    home: vbrain::mesh::Bounds,
 }
 
 /// A set loaded off the UI thread, with its problems as messages; or why it could not load.
@@ -81,12 +77,7 @@ impl Viewer {
         let (tx, rx) = mpsc::channel();
         std::thread::spawn(move || {
             let result = organ_set::open(&path).map_err(|e| e.to_string()).map(|l| {
-                let problems = l
-                    .errors
-                    .iter()
-                    .map(|e| e.to_string())
-                    .chain(l.warnings)
-                    .collect();
+                let problems = l.errors.iter().map(|e| e.to_string()).chain(l.warnings).collect();
                 (l.set, problems)
             });
             let _ = tx.send(result);
@@ -108,11 +99,9 @@ impl Viewer {
                 match Renderer::new(&rs.device, &set) {
                     Ok(renderer) => {
                         self.title = set.title.clone();
-                        self.scene = Some(Scene {
-                            layout: Layout::new(&set),
-                            set,
-                            renderer,
-                        });
+                        let layout = Layout::new(&set);
+                        let home = layout.bounds(&set);
+                        self.scene = Some(Scene { layout, set, renderer, home });
                     }
                     Err(e) => self.messages.push(e.to_string()),
                 }
@@ -121,37 +110,23 @@ impl Viewer {
         }
     }
 
+    /// The orbit camera around the home bounds; at zoom 1 exactly `vbrain render --orbit AZ,EL`.
     fn camera(&self, scene: &Scene) -> Camera {
-        let bounds = scene.set.bounds();
-        let base = Camera::orbit(&bounds, self.azimuth, self.elevation);
-        let distance = (base.eye - base.target).length() * self.zoom;
-        let radius = bounds.size().length() * 0.5;
-        Camera::looking_at(
-            base.target,
-            distance,
-            self.azimuth,
-            self.elevation,
-            radius.max(distance),
-        )
+        let mut camera = Camera::orbit(&scene.home, self.azimuth, self.elevation).zoomed(self.zoom);
+        camera.fit_depth(&scene.layout.bounds(&scene.set).union(scene.home));
+        camera
     }
 
     fn organ_panel(&mut self, ui: &mut eframe::egui::Ui) {
         let Some(scene) = &mut self.scene else { return };
         ui.heading(&scene.set.title);
-        ui.label(format!(
-            "{} organs, {} triangles",
-            scene.set.organs.len(),
-            scene.set.triangle_count()
-        ));
+        ui.label(format!("{} organs, {} triangles", scene.set.organs.len(), scene.set.triangle_count()));
         ui.separator();
         eframe::egui::ScrollArea::vertical().show(ui, |ui| {
             for (organ, state) in scene.set.organs.iter().zip(scene.layout.organs.iter_mut()) {
                 ui.horizontal(|ui| {
-                    ui.checkbox(&mut state.visible, "")
-                        .on_hover_text("Show or hide");
-                    ui.add(
-                        eframe::egui::Slider::new(&mut state.opacity, 0.0..=1.0).show_value(false),
-                    );
+                    ui.checkbox(&mut state.visible, "").on_hover_text("Show or hide");
+                    ui.add(eframe::egui::Slider::new(&mut state.opacity, 0.0..=1.0).show_value(false));
                     ui.label(&organ.name);
                 });
             }
@@ -175,14 +150,8 @@ impl Viewer {
             return;
         };
         let ppp = ui.ctx().pixels_per_point();
-        let (w, h) = (
-            ((rect.width() * ppp) as u32).max(1),
-            ((rect.height() * ppp) as u32).max(1),
-        );
-        let needs_new = self
-            .target
-            .as_ref()
-            .is_none_or(|(t, _)| t.width != w || t.height != h);
+        let (w, h) = (((rect.width() * ppp) as u32).max(1), ((rect.height() * ppp) as u32).max(1));
+        let needs_new = self.target.as_ref().is_none_or(|(t, _)| t.width != w || t.height != h);
         if needs_new {
             match Target::new(&rs.device, w, h) {
                 Ok(t) => {
@@ -191,17 +160,15 @@ impl Viewer {
                         Some((_, id)) => {
                             egui_renderer.update_egui_texture_from_wgpu_texture(
                                 &rs.device,
-                                &t.color_view,
+                                &t.display_view,
                                 wgpu::FilterMode::Linear,
                                 id,
                             );
                             id
                         }
-                        None => egui_renderer.register_native_texture(
-                            &rs.device,
-                            &t.color_view,
-                            wgpu::FilterMode::Linear,
-                        ),
+                        None => {
+                            egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear)
+                        }
                     };
                     self.target = Some((t, id));
                 }
@@ -219,18 +186,10 @@ impl Viewer {
             &rs.device,
             &rs.queue,
             target,
-            &FrameInput {
-                camera: &camera,
-                layout: &scene.layout,
-                background: BACKGROUND,
-            },
+            &FrameInput { camera: &camera, layout: &scene.layout, background: BACKGROUND },
         );
-        let uv = eframe::egui::Rect::from_min_max(
-            eframe::egui::pos2(0.0, 0.0),
-            eframe::egui::pos2(1.0, 1.0),
-        );
-        ui.painter()
-            .image(*id, rect, uv, eframe::egui::Color32::WHITE);
+        let uv = eframe::egui::Rect::from_min_max(eframe::egui::pos2(0.0, 0.0), eframe::egui::pos2(1.0, 1.0));
+        ui.painter().image(*id, rect, uv, eframe::egui::Color32::WHITE);
     }
 }
 
@@ -262,13 +221,10 @@ impl eframe::App for Viewer {
                 }
             });
         }
-        Panel::left("organs")
-            .default_size(300.0)
-            .show(ui, |ui| self.organ_panel(ui));
+        Panel::left("organs").default_size(300.0).show(ui, |ui| self.organ_panel(ui));
         CentralPanel::no_frame().show(ui, |ui| self.viewport(ui, frame));
         if self.loading.is_some() {
-            ui.ctx()
-                .request_repaint_after(std::time::Duration::from_millis(50));
+            ui.ctx().request_repaint_after(std::time::Duration::from_millis(50));
         }
     }
 }

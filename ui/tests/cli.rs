@@ -7,25 +7,15 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn vbrain(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_vbrain"))
-        .args(args)
-        .output()
-        .unwrap()
+    Command::new(env!("CARGO_BIN_EXE_vbrain")).args(args).output().unwrap()
 }
 
 fn brain() -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../organs/brain")
-        .display()
-        .to_string()
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain").display().to_string()
 }
 
 fn json(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
@@ -36,14 +26,9 @@ fn info_json_of_the_default_brain() {
     assert!(organs.len() >= 20);
     let total = v["triangles"].as_u64().unwrap();
     assert!((150_000..=300_000).contains(&total));
-    let sum: u64 = organs
-        .iter()
-        .map(|o| o["triangles"].as_u64().unwrap())
-        .sum();
+    let sum: u64 = organs.iter().map(|o| o["triangles"].as_u64().unwrap()).sum();
     assert_eq!(sum, total);
-    assert!(organs
-        .iter()
-        .all(|o| o["id"].is_string() && o["name"].is_string()));
+    assert!(organs.iter().all(|o| o["id"].is_string() && o["name"].is_string()));
 }
 
 #[test]
@@ -83,58 +68,30 @@ fn render_writes_a_png_of_the_asked_size() {
         args.extend(bad.iter().copied());
         let r = vbrain(&args);
         assert!(!r.status.success(), "{bad:?} accepted");
-        assert!(
-            String::from_utf8_lossy(&r.stderr).contains("error"),
-            "{bad:?}"
-        );
+        assert!(String::from_utf8_lossy(&r.stderr).contains("error"), "{bad:?}");
     }
 }
 
 #[test]
 fn a_broken_organ_is_reported_and_the_rest_listed() {
     let dir = tempfile::tempdir().unwrap();
-    std::fs::write(
-        dir.path().join("good.obj"),
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n",
-    )
-    .unwrap();
-    std::fs::write(
-        dir.path().join("bad.obj"),
-        "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n",
-    )
-    .unwrap();
+    std::fs::write(dir.path().join("good.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
     let r = vbrain(&["info", dir.path().to_str().unwrap()]);
     assert!(!r.status.success());
     assert!(String::from_utf8_lossy(&r.stdout).contains("good"));
-    assert!(
-        String::from_utf8_lossy(&r.stderr).contains("bad.obj:4"),
-        "{}",
-        String::from_utf8_lossy(&r.stderr)
-    );
+    assert!(String::from_utf8_lossy(&r.stderr).contains("bad.obj:4"), "{}", String::from_utf8_lossy(&r.stderr));
     let missing = vbrain(&["info", "/no/such/set"]);
-    assert!(
-        !missing.status.success()
-            && String::from_utf8_lossy(&missing.stderr).contains("/no/such/set")
-    );
+    assert!(!missing.status.success() && String::from_utf8_lossy(&missing.stderr).contains("/no/such/set"));
 }
 
 /// A minimal NIfTI-1 file (gzip-compressed when the name ends in .gz): int16 labels, 2 mm voxels,
 /// sform with a mirrored x axis as radiological volumes have.
 fn write_nifti(path: &Path, dims: [usize; 3], labels: &[i16]) {
     let mut h = vec![0u8; 352];
-    let put =
-        |h: &mut Vec<u8>, at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
+    let put = |h: &mut Vec<u8>, at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
     put(&mut h, 0, &348i32.to_le_bytes());
-    let dim: [i16; 8] = [
-        3,
-        dims[0] as i16,
-        dims[1] as i16,
-        dims[2] as i16,
-        1,
-        1,
-        1,
-        1,
-    ];
+    let dim: [i16; 8] = [3, dims[0] as i16, dims[1] as i16, dims[2] as i16, 1, 1, 1, 1];
     for (i, d) in dim.iter().enumerate() {
         put(&mut h, 40 + 2 * i, &d.to_le_bytes());
     }
@@ -146,11 +103,7 @@ fn write_nifti(path: &Path, dims: [usize; 3], labels: &[i16]) {
     put(&mut h, 108, &352f32.to_le_bytes()); // vox_offset
     put(&mut h, 112, &1f32.to_le_bytes()); // scl_slope
     put(&mut h, 254, &1i16.to_le_bytes()); // sform_code
-    let rows = [
-        [-2.0f32, 0.0, 0.0, 40.0],
-        [0.0, 2.0, 0.0, -20.0],
-        [0.0, 0.0, 2.0, -10.0],
-    ];
+    let rows = [[-2.0f32, 0.0, 0.0, 40.0], [0.0, 2.0, 0.0, -20.0], [0.0, 0.0, 2.0, -10.0]];
     for (r, row) in rows.iter().enumerate() {
         for (c, v) in row.iter().enumerate() {
             put(&mut h, 280 + 16 * r + 4 * c, &v.to_le_bytes());
@@ -190,11 +143,7 @@ fn import_a_label_volume_then_scale_it() {
     let dir = tempfile::tempdir().unwrap();
     let vol = two_blobs(dir.path(), "seg.nii.gz");
     let csv = dir.path().join("labels.csv");
-    std::fs::write(
-        &csv,
-        "index,name\n0,Unknown\n17,Left-Hippocampus\n53,Right-Hippocampus\n",
-    )
-    .unwrap();
+    std::fs::write(&csv, "index,name\n0,Unknown\n17,Left-Hippocampus\n53,Right-Hippocampus\n").unwrap();
     let out = dir.path().join("set");
     let v = json(&vbrain(&[
         "import",
@@ -214,14 +163,15 @@ fn import_a_label_volume_then_scale_it() {
     // Voxel x 3..10 at -2 mm from +40 lies at x = 20..34 mm: world space, not voxel space.
     let info = json(&vbrain(&["info", out.to_str().unwrap(), "--json"]));
     let b = &info["organs"][0]["bounds"];
-    assert!(
-        b["min"][0].as_f64().unwrap() > 18.0 && b["max"][0].as_f64().unwrap() < 36.0,
-        "{b}"
-    );
+    assert!(b["min"][0].as_f64().unwrap() > 18.0 && b["max"][0].as_f64().unwrap() < 36.0, "{b}");
 
     // A FreeSurfer colour table works too, and its colours are used.
     let lut = dir.path().join("lut.txt");
-    std::fs::write(&lut, "#No. Label Name: R G B A\n17  Left-Hippocampus  220 216 20 0\n53 Right-Hippocampus 220 216 20 0\n").unwrap();
+    std::fs::write(
+        &lut,
+        "#No. Label Name: R G B A\n17  Left-Hippocampus  220 216 20 0\n53 Right-Hippocampus 220 216 20 0\n",
+    )
+    .unwrap();
     let out2 = dir.path().join("set2");
     json(&vbrain(&[
         "import",
@@ -232,36 +182,18 @@ fn import_a_label_volume_then_scale_it() {
         out2.to_str().unwrap(),
         "--json",
     ]));
-    assert!(std::fs::read_to_string(out2.join("organset.json"))
-        .unwrap()
-        .contains("#dcd814"));
+    assert!(std::fs::read_to_string(out2.join("organset.json")).unwrap().contains("#dcd814"));
 
     let scaled = dir.path().join("scaled");
-    let s = json(&vbrain(&[
-        "scale",
-        out.to_str().unwrap(),
-        "--factor",
-        "4",
-        "--out",
-        scaled.to_str().unwrap(),
-        "--json",
-    ]));
-    assert_eq!(
-        s["triangles"].as_u64().unwrap(),
-        4 * v["triangles"].as_u64().unwrap()
-    );
+    let s =
+        json(&vbrain(&["scale", out.to_str().unwrap(), "--factor", "4", "--out", scaled.to_str().unwrap(), "--json"]));
+    assert_eq!(s["triangles"].as_u64().unwrap(), 4 * v["triangles"].as_u64().unwrap());
 
     // Bad input: clear errors naming the file.
     let junk = dir.path().join("junk.nii");
     std::fs::write(&junk, b"not a nifti").unwrap();
-    let r = vbrain(&[
-        "import",
-        junk.to_str().unwrap(),
-        "--labels",
-        csv.to_str().unwrap(),
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let r =
+        vbrain(&["import", junk.to_str().unwrap(), "--labels", csv.to_str().unwrap(), "--out", out.to_str().unwrap()]);
     assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("junk.nii"));
     let bad_csv = dir.path().join("bad.csv");
     std::fs::write(&bad_csv, "index,name\n17,a\nseventeen,b\n").unwrap();
