@@ -20,6 +20,7 @@ pub mod camera;
 pub mod error;
 pub mod layout;
 pub mod mesh;
+pub mod navigation;
 pub mod organ_set;
 pub mod render;
 pub mod surface;

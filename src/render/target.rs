@@ -70,26 +70,38 @@ impl Target {
 
     /// Reads the resolved colour image back (blocking).
     pub fn read_color(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<image::RgbaImage> {
-        let bytes = read_texture(device, queue, &self.color, 4)?;
+        let bytes = read_texture(device, queue, &self.color, 4, [0, 0], [self.width, self.height])?;
         image::RgbaImage::from_raw(self.width, self.height, bytes)
             .ok_or_else(|| Error::Other("read-back size mismatch".into()))
     }
 
     /// Reads the organ-ID buffer back (blocking): organ index + 1 per pixel, 0 for background.
     pub fn read_ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<u32>> {
-        let bytes = read_texture(device, queue, &self.ids, 4)?;
+        let bytes = read_texture(device, queue, &self.ids, 4, [0, 0], [self.width, self.height])?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
+    }
+
+    /// Reads one pixel of the organ-ID buffer (blocking); `None` outside the target.
+    pub fn read_id_at(&self, device: &wgpu::Device, queue: &wgpu::Queue, x: u32, y: u32) -> Result<Option<u32>> {
+        if x >= self.width || y >= self.height {
+            return Ok(None);
+        }
+        let bytes = read_texture(device, queue, &self.ids, 4, [x, y], [1, 1])?;
+        Ok(Some(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])))
     }
 }
 
-/// Copies a single-sampled 2D texture into host memory, removing the row padding.
+/// Copies a `size` region at `origin` of a single-sampled 2D texture into host memory, removing the
+/// row padding.
 fn read_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
     bytes_per_pixel: u32,
+    origin: [u32; 2],
+    size: [u32; 2],
 ) -> Result<Vec<u8>> {
-    let (w, h) = (texture.width(), texture.height());
+    let [w, h] = size;
     let row = w * bytes_per_pixel;
     let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
     let buffer = device.create_buffer(&wgpu::BufferDescriptor {
@@ -100,7 +112,12 @@ fn read_texture(
     });
     let mut encoder = device.create_command_encoder(&Default::default());
     encoder.copy_texture_to_buffer(
-        texture.as_image_copy(),
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d { x: origin[0], y: origin[1], z: 0 },
+            aspect: wgpu::TextureAspect::All,
+        },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,
             layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(padded), rows_per_image: Some(h) },

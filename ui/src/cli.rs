@@ -208,7 +208,7 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
-    let background = if args.transparent { [0.0; 4] } else { crate::viewer::BACKGROUND };
+    let background = if args.transparent { [0.0; 4] } else { crate::BACKGROUND };
     let stats =
         renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &camera, layout: &layout, background });
     let image = target.read_color(&gpu.device, &gpu.queue)?;

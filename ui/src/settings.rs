@@ -1,0 +1,140 @@
+//! What the viewer remembers between sessions (eframe storage): recent sets, the last set, and
+//! render and export settings. Window layout is persisted by eframe itself. A store that cannot be
+//! read falls back to the defaults.
+
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+pub const STORAGE_KEY: &str = "vbrain-settings";
+const MAX_RECENT: usize = 10;
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    /// Organ sets and mesh files opened, newest first.
+    pub recent: Vec<PathBuf>,
+    /// The set open when the viewer was last closed.
+    pub last_set: Option<PathBuf>,
+    /// Open the last set at start instead of the default brain (when no path is given).
+    pub reopen_last: bool,
+    /// Viewport background, sRGB.
+    pub background: [f32; 3],
+    /// Clicks pick the nearest organ at least this opaque (so clicks reach through faded organs).
+    pub pick_min_opacity: f32,
+    pub show_inspector: bool,
+    pub show_stats: bool,
+    pub export: ExportSettings,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ExportSize {
+    Viewport,
+    Double,
+    Quadruple,
+    Custom,
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct ExportSettings {
+    pub size: ExportSize,
+    pub custom: [u32; 2],
+    pub transparent: bool,
+    /// Folder of the last export; the current folder if none.
+    pub folder: Option<PathBuf>,
+}
+
+impl Default for ExportSettings {
+    fn default() -> Self {
+        ExportSettings { size: ExportSize::Double, custom: [1920, 1080], transparent: false, folder: None }
+    }
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        let bg = crate::BACKGROUND;
+        let srgb = |c: f32| if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+        Settings {
+            recent: Vec::new(),
+            last_set: None,
+            reopen_last: false,
+            background: [srgb(bg[0]), srgb(bg[1]), srgb(bg[2])],
+            pick_min_opacity: 0.25,
+            show_inspector: true,
+            show_stats: true,
+            export: ExportSettings::default(),
+        }
+    }
+}
+
+impl Settings {
+    /// Reads the settings; missing or unreadable (corrupted) entries give the defaults.
+    pub fn load(storage: Option<&dyn eframe::Storage>) -> Settings {
+        storage.and_then(|s| eframe::get_value(s, STORAGE_KEY)).unwrap_or_default()
+    }
+
+    pub fn save(&self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, STORAGE_KEY, self);
+    }
+
+    /// Puts `path` first in the recent list.
+    pub fn remember(&mut self, path: &Path) {
+        let path = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        self.recent.retain(|p| p != &path);
+        self.recent.insert(0, path.clone());
+        self.recent.truncate(MAX_RECENT);
+        self.last_set = Some(path);
+    }
+
+    /// The background as linear RGBA for the renderer.
+    pub fn background_linear(&self, transparent: bool) -> [f32; 4] {
+        let lin = |c: f32| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        let b = self.background;
+        [lin(b[0]), lin(b[1]), lin(b[2]), if transparent { 0.0 } else { 1.0 }]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashMap;
+
+    #[derive(Default)]
+    struct Store(HashMap<String, String>);
+
+    impl eframe::Storage for Store {
+        fn get_string(&self, key: &str) -> Option<String> {
+            self.0.get(key).cloned()
+        }
+        fn set_string(&mut self, key: &str, value: String) {
+            self.0.insert(key.into(), value);
+        }
+        fn flush(&mut self) {}
+    }
+
+    #[test]
+    fn round_trip_and_corruption() {
+        let mut s = Settings { reopen_last: true, ..Default::default() };
+        s.remember(Path::new("/tmp/a"));
+        s.remember(Path::new("/tmp/b"));
+        s.remember(Path::new("/tmp/a"));
+        assert_eq!(s.recent, [PathBuf::from("/tmp/a"), PathBuf::from("/tmp/b")]);
+        let mut store = Store::default();
+        s.save(&mut store);
+        assert_eq!(Settings::load(Some(&store)), s);
+        store.set_string(STORAGE_KEY, "(recent: [[[ garbage".into());
+        assert_eq!(Settings::load(Some(&store)), Settings::default());
+        assert_eq!(Settings::load(None), Settings::default());
+        // Unknown or missing fields do not lose the rest.
+        store.set_string(STORAGE_KEY, "(show_stats: false, future_field: 3)".into());
+        assert!(!Settings::load(Some(&store)).show_stats);
+    }
+
+    #[test]
+    fn default_background_is_the_render_background() {
+        let b = Settings::default().background_linear(false);
+        for i in 0..3 {
+            assert!((b[i] - crate::BACKGROUND[i]).abs() < 1e-4);
+        }
+    }
+}
