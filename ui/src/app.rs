@@ -110,12 +110,14 @@ pub struct Notification {
 type LoadResult = Result<(Loaded, Vec<PathBuf>), String>;
 
 pub struct App {
+    /// The device eframe renders with; the scene draws with it too.
+    pub gpu: Option<egui_wgpu::RenderState>,
     pub scene: Option<Scene>,
     pub selected: Option<usize>,
     pub settings: Settings,
     pub notifications: Vec<Notification>,
     pub viewport: Viewport,
-    pub(crate) dialogs: Dialogs,
+    pub dialogs: Dialogs,
     pub(crate) filter: String,
     loading: Option<Job<LoadResult>>,
     pub(crate) importing: Option<Job<Result<PathBuf, String>>>,
@@ -141,6 +143,7 @@ impl App {
     pub fn new(cc: &eframe::CreationContext, options: AppOptions) -> App {
         let settings = Settings::load(cc.storage);
         let mut app = App {
+            gpu: cc.wgpu_render_state.clone(),
             scene: None,
             selected: None,
             notifications: Vec::new(),
@@ -197,7 +200,7 @@ impl App {
         self.notifications.push(Notification { text: text.into(), error });
     }
 
-    fn poll_jobs(&mut self, ctx: &egui::Context, frame: &eframe::Frame) {
+    fn poll_jobs(&mut self, ctx: &egui::Context) {
         if let Some(result) = self.importing.as_ref().and_then(|j| j.poll()) {
             self.importing = None;
             match result {
@@ -211,13 +214,13 @@ impl App {
         let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
         self.loading = None;
         match result {
-            Ok((loaded, paths)) => self.install(loaded, paths, frame),
+            Ok((loaded, paths)) => self.install(loaded, paths),
             Err(e) => self.notify(e, true),
         }
     }
 
     /// Makes a loaded set the scene (the previous one stays if this one has no organs).
-    fn install(&mut self, loaded: Loaded, paths: Vec<PathBuf>, frame: &eframe::Frame) {
+    fn install(&mut self, loaded: Loaded, paths: Vec<PathBuf>) {
         for w in loaded.warnings {
             self.notify(w, false);
         }
@@ -228,7 +231,7 @@ impl App {
             self.notify(format!("{}: no organ could be loaded", paths_label(&paths)), true);
             return;
         }
-        let Some(rs) = frame.wgpu_render_state() else {
+        let Some(rs) = &self.gpu else {
             self.notify("the viewer needs the wgpu renderer", true);
             return;
         };
@@ -237,7 +240,8 @@ impl App {
                 let set = loaded.set;
                 let layout = Layout::new(&set);
                 let home = layout.bounds(&set);
-                let last_translucent = set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
+                let last_translucent =
+                    set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
                 if let [one] = paths.as_slice() {
                     self.settings.remember(one);
                 }
@@ -301,7 +305,10 @@ impl App {
     fn menu_bar(&mut self, ui: &mut egui::Ui) {
         egui::MenuBar::new().ui(ui, |ui| {
             ui.menu_button("File", |ui| {
-                if ui.add(egui::Button::new("Open organ set...").shortcut_text(ui.ctx().format_shortcut(&keys::OPEN))).clicked() {
+                if ui
+                    .add(egui::Button::new("Open organ set...").shortcut_text(ui.ctx().format_shortcut(&keys::OPEN)))
+                    .clicked()
+                {
                     self.dialogs.open_set.open = true;
                 }
                 if ui.button("Open mesh files...").clicked() {
@@ -321,7 +328,8 @@ impl App {
                     }
                 });
                 ui.separator();
-                let export = egui::Button::new("Export screenshot...").shortcut_text(ui.ctx().format_shortcut(&keys::EXPORT));
+                let export =
+                    egui::Button::new("Export screenshot...").shortcut_text(ui.ctx().format_shortcut(&keys::EXPORT));
                 if ui.add_enabled(self.scene.is_some(), export).clicked() {
                     self.dialogs.export.open = true;
                 }
@@ -333,7 +341,10 @@ impl App {
             ui.menu_button("View", |ui| {
                 for (key, view) in keys::VIEWS {
                     let label = format!("{}{}", view.name()[..1].to_uppercase(), &view.name()[1..]);
-                    if ui.add(egui::Button::new(label).shortcut_text(format!("{key:?}").trim_start_matches("Num"))).clicked() {
+                    if ui
+                        .add(egui::Button::new(label).shortcut_text(format!("{key:?}").trim_start_matches("Num")))
+                        .clicked()
+                    {
                         self.viewport.set_view(view, self.scene.as_ref().map(|s| s.home));
                     }
                 }
@@ -360,13 +371,17 @@ impl App {
                         s.show_all();
                     }
                 }
-                let reset = egui::Button::new("Reset organ layout").shortcut_text(ui.ctx().format_shortcut(&keys::RESET_LAYOUT));
+                let reset = egui::Button::new("Reset organ layout")
+                    .shortcut_text(ui.ctx().format_shortcut(&keys::RESET_LAYOUT));
                 if ui.add_enabled(has, reset).clicked() {
                     if let Some(s) = &mut self.scene {
                         s.reset_layout();
                     }
                 }
-                ui.add(egui::Slider::new(&mut self.settings.pick_min_opacity, 0.0..=1.0).text("click through below opacity"));
+                ui.add(
+                    egui::Slider::new(&mut self.settings.pick_min_opacity, 0.0..=1.0)
+                        .text("click through below opacity"),
+                );
             });
             ui.menu_button("Help", |ui| {
                 ui.label(CONTROLS);
@@ -446,7 +461,9 @@ impl App {
     }
 
     fn dropped_files(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<PathBuf> = ctx.input(|i| i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect());
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect()
+        });
         if dropped.is_empty() {
             return;
         }
@@ -479,20 +496,23 @@ G walk-through camera (W/A/S/D/Q/E move, drag to look); F frame selected; T togg
 H hide or show it; I isolate it; Esc deselect; Ctrl+R reset organ layout; Ctrl+O open; Ctrl+S export screenshot.";
 
 impl eframe::App for App {
-    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         use egui::{CentralPanel, Panel};
         let ctx = ui.ctx().clone();
-        self.poll_jobs(&ctx, frame);
+        self.poll_jobs(&ctx);
         self.dropped_files(&ctx);
         self.handle_keys(&ctx);
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
         Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
         Panel::left("organs").default_size(330.0).resizable(true).show(ui, |ui| crate::panels::organ_panel(self, ui));
         if self.settings.show_inspector && self.selected.is_some() {
-            Panel::right("inspector").default_size(300.0).resizable(true).show(ui, |ui| crate::panels::inspector(self, ui));
+            Panel::right("inspector")
+                .default_size(300.0)
+                .resizable(true)
+                .show(ui, |ui| crate::panels::inspector(self, ui));
         }
-        CentralPanel::no_frame().show(ui, |ui| crate::viewport::show(self, ui, frame));
-        crate::files::windows(self, &ctx, frame);
+        CentralPanel::no_frame().show(ui, |ui| crate::viewport::show(self, ui));
+        crate::files::windows(self, &ctx);
         self.notifications(&ctx);
         if self.is_loading() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));

@@ -121,11 +121,11 @@ const MESHES: (&str, &[&str]) = ("Meshes", &["obj", "vbo", "OBJ", "VBO"]);
 const VOLUMES: (&str, &[&str]) = ("NIfTI label volume", &["nii", "gz"]);
 const TABLES: (&str, &[&str]) = ("Label table", &["csv", "txt", "ctbl", "lut"]);
 
-pub fn windows(app: &mut App, ctx: &egui::Context, frame: &eframe::Frame) {
+pub fn windows(app: &mut App, ctx: &egui::Context) {
     open_set_window(app, ctx);
     open_meshes_window(app, ctx);
     import_window(app, ctx);
-    export_window(app, ctx, frame);
+    export_window(app, ctx);
 }
 
 fn open_set_window(app: &mut App, ctx: &egui::Context) {
@@ -182,7 +182,9 @@ fn import_window(app: &mut App, ctx: &egui::Context) {
     let mut open = w.open;
     let mut start = false;
     egui::Window::new("Import label volume").open(&mut open).collapsible(false).show(ctx, |ui| {
-        ui.label("A label volume (atlas or segmentation, NIfTI) and its label table (CSV index,name or a FreeSurfer LUT).");
+        ui.label(
+            "A label volume (atlas or segmentation, NIfTI) and its label table (CSV index,name or a FreeSurfer LUT).",
+        );
         w.volume_field.ui(ui, "Volume:", Pick::File, &[VOLUMES]);
         w.labels.ui(ui, "Labels:", Pick::File, &[TABLES]);
         w.out.ui(ui, "Output folder:", Pick::Folder, &[]);
@@ -198,8 +200,12 @@ fn import_window(app: &mut App, ctx: &egui::Context) {
         return;
     }
     let w = &app.dialogs.import;
-    let (volume, labels, out, triangles) =
-        (PathBuf::from(w.volume_field.text.trim()), PathBuf::from(w.labels.text.trim()), w.out.text.trim().to_string(), w.triangles);
+    let (volume, labels, out, triangles) = (
+        PathBuf::from(w.volume_field.text.trim()),
+        PathBuf::from(w.labels.text.trim()),
+        w.out.text.trim().to_string(),
+        w.triangles,
+    );
     let out = if out.is_empty() { volume.with_extension("").with_extension("") } else { PathBuf::from(out) };
     app.importing = Some(Job::spawn(format!("import {}", volume.display()), ctx, move |progress| {
         use vbrain::organ_set::import;
@@ -208,13 +214,14 @@ fn import_window(app: &mut App, ctx: &egui::Context) {
         let vol = import::read_volume(&volume).map_err(|e| e.to_string())?;
         let title = volume.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
         let opts = import::ImportOptions { triangles, title, ..Default::default() };
-        let (set, _warnings) = import::import(&vol, &table, &opts, &mut |d, t, m| progress.set(d, t, m)).map_err(|e| e.to_string())?;
+        let (set, _warnings) =
+            import::import(&vol, &table, &opts, &mut |d, t, m| progress.set(d, t, m)).map_err(|e| e.to_string())?;
         set.save(&out).map_err(|e| e.to_string())?;
         Ok(out)
     }));
 }
 
-fn export_window(app: &mut App, ctx: &egui::Context, frame: &eframe::Frame) {
+fn export_window(app: &mut App, ctx: &egui::Context) {
     let Some(scene) = &app.scene else { return };
     let viewport = app.viewport.pixel_size().unwrap_or([1280, 800]);
     let w = &mut app.dialogs.export;
@@ -264,7 +271,7 @@ fn export_window(app: &mut App, ctx: &egui::Context, frame: &eframe::Frame) {
         ExportSize::Quadruple => [vw * 4, vh * 4],
         ExportSize::Custom => app.settings.export.custom,
     };
-    let result = export_now(app, frame, size);
+    let result = export_now(app, size);
     let message = match result {
         Ok(path) => {
             app.settings.export.folder = path.parent().map(Path::to_path_buf);
@@ -280,9 +287,9 @@ fn export_window(app: &mut App, ctx: &egui::Context, frame: &eframe::Frame) {
 }
 
 /// Exports the current view at `size` to the export window's path.
-pub fn export_now(app: &App, frame: &eframe::Frame, size: [u32; 2]) -> anyhow::Result<PathBuf> {
+pub fn export_now(app: &App, size: [u32; 2]) -> anyhow::Result<PathBuf> {
     let scene = app.scene.as_ref().ok_or_else(|| anyhow::anyhow!("no organ set"))?;
-    let rs = frame.wgpu_render_state().ok_or_else(|| anyhow::anyhow!("no GPU"))?;
+    let rs = app.gpu.as_ref().ok_or_else(|| anyhow::anyhow!("no GPU"))?;
     let camera = crate::viewport::camera(app).ok_or_else(|| anyhow::anyhow!("no camera"))?;
     let mut path = PathBuf::from(app.dialogs.export.path.text.trim());
     if path.as_os_str().is_empty() {

@@ -9,11 +9,11 @@
 pub mod app;
 pub mod cli;
 pub mod export;
-mod files;
+pub mod files;
 pub mod jobs;
 mod panels;
 pub mod settings;
-mod viewport;
+pub mod viewport;
 
 pub use app::{App, AppOptions};
 

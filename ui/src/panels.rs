@@ -83,7 +83,13 @@ pub fn organ_panel(app: &mut App, ui: &mut egui::Ui) {
     }
 }
 
-fn group_contents(ui: &mut egui::Ui, scene: &mut Scene, group: &Group, selected: Option<usize>, select: &mut Option<usize>) {
+fn group_contents(
+    ui: &mut egui::Ui,
+    scene: &mut Scene,
+    group: &Group,
+    selected: Option<usize>,
+    select: &mut Option<usize>,
+) {
     for child in &group.children {
         let id = ui.make_persistent_id(("group", &child.name, child.all().first().copied()));
         egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, true)

@@ -97,6 +97,7 @@ impl Settings {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use eframe::Storage;
     use std::collections::HashMap;
 
     #[derive(Default)]
@@ -108,6 +109,9 @@ mod tests {
         }
         fn set_string(&mut self, key: &str, value: String) {
             self.0.insert(key.into(), value);
+        }
+        fn remove_string(&mut self, key: &str) {
+            self.0.remove(key);
         }
         fn flush(&mut self) {}
     }

@@ -73,9 +73,9 @@ pub fn camera(app: &App) -> Option<Camera> {
 }
 
 /// Which organ is under a point of the viewport (points), from the ID buffer.
-pub fn pick(app: &App, frame: &eframe::Frame, at: Pos2) -> Option<usize> {
+pub fn pick(app: &App, at: Pos2) -> Option<usize> {
     let scene = app.scene.as_ref()?;
-    let rs = frame.wgpu_render_state()?;
+    let rs = app.gpu.as_ref()?;
     let (target, _) = app.viewport.target.as_ref()?;
     let camera = camera(app)?;
     let rect = app.viewport.rect;
@@ -89,15 +89,15 @@ pub fn pick(app: &App, frame: &eframe::Frame, at: Pos2) -> Option<usize> {
     }
 }
 
-pub fn show(app: &mut App, ui: &mut egui::Ui, frame: &eframe::Frame) {
+pub fn show(app: &mut App, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
     crate::accessible(&response, "Viewport");
     app.viewport.rect = rect;
-    handle_input(app, ui, &response, frame);
-    draw(app, ui, rect, frame);
+    handle_input(app, ui, &response);
+    draw(app, ui, rect);
 }
 
-fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response, frame: &eframe::Frame) {
+fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response) {
     let (modifiers, dt) = ui.input(|i| (i.modifiers, i.stable_dt.min(0.1)));
     let size = Vec2::new(app.viewport.rect.width(), app.viewport.rect.height());
     let delta = Vec2::new(response.drag_delta().x, response.drag_delta().y);
@@ -113,7 +113,8 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response, frame: 
             _ => nav.orbit(delta),
         }
     }
-    if (response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle)) && delta != Vec2::ZERO
+    if (response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle))
+        && delta != Vec2::ZERO
     {
         nav.pan(delta, size.y);
     }
@@ -147,7 +148,7 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response, frame: 
     }
     if response.double_clicked() {
         if let Some(p) = response.interact_pointer_pos() {
-            if let Some(organ) = pick(app, frame, p) {
+            if let Some(organ) = pick(app, p) {
                 app.selected = Some(organ);
                 if let Some(scene) = &app.scene {
                     let b = scene.organ_bounds(organ);
@@ -157,7 +158,7 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response, frame: 
         }
     } else if response.clicked() {
         if let Some(p) = response.interact_pointer_pos() {
-            app.selected = pick(app, frame, p);
+            app.selected = pick(app, p);
         }
     }
 }
@@ -190,8 +191,8 @@ fn manipulate(
     }
 }
 
-fn draw(app: &mut App, ui: &egui::Ui, rect: Rect, frame: &eframe::Frame) {
-    let Some(rs) = frame.wgpu_render_state() else { return };
+fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
+    let Some(rs) = app.gpu.clone() else { return };
     let Some(camera) = camera(app) else { return };
     let ppp = ui.ctx().pixels_per_point();
     let (w, h) = (((rect.width() * ppp).round() as u32).max(1), ((rect.height() * ppp).round() as u32).max(1));
@@ -210,7 +211,9 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect, frame: &eframe::Frame) {
                         );
                         id
                     }
-                    None => egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear),
+                    None => {
+                        egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear)
+                    }
                 };
                 vp.target = Some((t, id));
             }
@@ -237,4 +240,20 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect, frame: &eframe::Frame) {
     while vp.frame_times.front().is_some_and(|t| now.duration_since(*t).as_secs_f32() > 1.0) {
         vp.frame_times.pop_front();
     }
+}
+
+/// The organ-ID buffer of the current view at the viewport's size: organ index + 1 per physical
+/// pixel (row-major), 0 for background. For tests and tools; picking reads single pixels.
+pub fn read_ids(app: &App) -> Option<(Vec<u32>, [u32; 2])> {
+    let (scene, rs, (target, _)) = (app.scene.as_ref()?, app.gpu.as_ref()?, app.viewport.target.as_ref()?);
+    let camera = camera(app)?;
+    let input = FrameInput { camera: &camera, layout: &scene.layout, background: [0.0; 4] };
+    scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
+    Some((target.read_ids(&rs.device, &rs.queue).ok()?, [target.width, target.height]))
+}
+
+/// The image the viewport shows now, read back from its target.
+pub fn read_image(app: &App) -> Option<image::RgbaImage> {
+    let (rs, (target, _)) = (app.gpu.as_ref()?, app.viewport.target.as_ref()?);
+    target.read_color(&rs.device, &rs.queue).ok()
 }
