@@ -121,6 +121,14 @@ fn group_header(ui: &mut egui::Ui, scene: &mut Scene, group: &Group) {
             scene.set_opacity(i, next);
         }
     }
+    let mut opacity = organs.iter().map(|&i| scene.layout.organs[i].opacity).sum::<f32>() / organs.len().max(1) as f32;
+    let r = ui
+        .add(egui::Slider::new(&mut opacity, 0.0..=1.0).show_value(false))
+        .on_hover_text("Opacity of the whole group");
+    accessible(&r, format!("Opacity of group {}", group.name));
+    if r.changed() {
+        organs.iter().for_each(|&i| scene.set_opacity(i, opacity));
+    }
     let r = ui.small_button("isolate").on_hover_text("Show only this group");
     accessible(&r, format!("Isolate group {}", group.name));
     if r.clicked() {

@@ -59,7 +59,7 @@ impl Default for Settings {
             last_set: None,
             reopen_last: false,
             background: [srgb(bg[0]), srgb(bg[1]), srgb(bg[2])],
-            pick_min_opacity: 0.25,
+            pick_min_opacity: 0.5,
             show_inspector: true,
             show_stats: true,
             export: ExportSettings::default(),
