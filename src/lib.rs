@@ -16,7 +16,9 @@
 //! Nothing here panics on bad input: every file error names its file (and line).
 
 pub mod atomic;
+pub mod bvh;
 pub mod camera;
+pub mod cull;
 pub mod error;
 pub mod layout;
 pub mod mesh;

@@ -33,7 +33,7 @@ fn shoot(
 ) -> Shot {
     let target = Target::new(&gpu.device, 160, 128).unwrap();
     let camera = Camera::view(&Layout::new(set).bounds(set), view);
-    let frame = FrameInput { camera: &camera, layout, background };
+    let frame = FrameInput { camera: &camera, layout, draw: None, background };
     renderer.render(&gpu.device, &gpu.queue, &target, &frame);
     renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
     Shot {

@@ -260,16 +260,7 @@ pub fn import(
             n += 1;
         }
         let colour = colour.unwrap_or_else(|| distinct_colour(set.organs.len()));
-        set.organs.push(Organ {
-            id,
-            name,
-            group: String::new(),
-            colour,
-            opacity: 1.0,
-            visible: true,
-            info: String::new(),
-            mesh,
-        });
+        set.organs.push(Organ::new(id, name, colour, mesh));
     }
     progress(total_steps, total_steps, "done");
     Ok((set, warnings))

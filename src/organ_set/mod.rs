@@ -10,6 +10,7 @@ pub mod manifest;
 pub mod obj;
 pub mod scale;
 
+use crate::bvh::Bvh;
 use crate::error::{Error, Result};
 use crate::mesh::{Bounds, Mesh};
 use manifest::{Manifest, OrganEntry, Source};
@@ -28,7 +29,23 @@ pub struct Organ {
     pub opacity: f32,
     pub visible: bool,
     pub info: String,
+    /// Triangles in the order of `bvh`'s leaves.
     pub mesh: Mesh,
+    pub bvh: Bvh,
+}
+
+impl Organ {
+    /// An organ with the set's defaults; builds its hierarchy (reordering the mesh's triangles).
+    pub fn new(id: String, name: String, colour: [f32; 3], mut mesh: Mesh) -> Organ {
+        let bvh = Bvh::build(&mut mesh);
+        Organ { id, name, group: String::new(), colour, opacity: 1.0, visible: true, info: String::new(), mesh, bvh }
+    }
+
+    /// Replaces the mesh, rebuilding the hierarchy.
+    pub fn set_mesh(&mut self, mut mesh: Mesh) {
+        self.bvh = Bvh::build(&mut mesh);
+        self.mesh = mesh;
+    }
 }
 
 #[derive(Clone, Debug, Default)]
@@ -181,15 +198,13 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
     for o in &file.objects {
         mesh.append(&o.mesh);
     }
+    let colour = manifest::parse_colour(&entry.colour).unwrap_or([0.8; 3]);
     let organ = Organ {
-        id: entry.id.clone(),
-        name: entry.name.clone(),
         group: entry.group.clone(),
-        colour: manifest::parse_colour(&entry.colour).unwrap_or([0.8; 3]),
         opacity: entry.opacity,
         visible: entry.visible,
         info: entry.info.clone(),
-        mesh,
+        ..Organ::new(entry.id.clone(), entry.name.clone(), colour, mesh)
     };
     Ok((organ, file.warnings))
 }
@@ -206,16 +221,7 @@ pub fn open_files(files: &[PathBuf], title: &str) -> Result<Loaded> {
                 for o in file.objects {
                     let id = unique_id(&slug(&o.name), &mut ids);
                     let colour = distinct_colour(loaded.set.organs.len());
-                    loaded.set.organs.push(Organ {
-                        id,
-                        name: o.name,
-                        group: group.clone(),
-                        colour,
-                        opacity: 1.0,
-                        visible: true,
-                        info: String::new(),
-                        mesh: o.mesh,
-                    });
+                    loaded.set.organs.push(Organ { group: group.clone(), ..Organ::new(id, o.name, colour, o.mesh) });
                 }
             }
             Err(e) => loaded.errors.push(e),

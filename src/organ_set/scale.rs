@@ -93,7 +93,7 @@ pub fn scale_set(set: &OrganSet, n: usize, progress: super::import::Progress) ->
     let total = out.organs.len();
     for (i, o) in out.organs.iter_mut().enumerate() {
         progress(i, total, &o.id);
-        o.mesh = subdivide(&o.mesh, n);
+        o.set_mesh(subdivide(&o.mesh, n));
     }
     progress(total, total, "done");
     out

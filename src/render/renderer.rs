@@ -3,6 +3,7 @@
 
 use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 use crate::camera::Camera;
+use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -45,6 +46,8 @@ struct GpuMesh {
 pub struct FrameInput<'a> {
     pub camera: &'a Camera,
     pub layout: &'a Layout,
+    /// What survived culling; `None` draws every drawn organ whole.
+    pub draw: Option<&'a DrawList>,
     /// Linear RGBA clear colour; alpha 0 gives a transparent background.
     pub background: [f32; 4],
 }
@@ -236,12 +239,25 @@ impl Renderer {
         queue.write_buffer(&self.organ_buffer, 0, &data);
     }
 
-    fn draw(&self, pass: &mut wgpu::RenderPass, organ: usize) {
+    /// Index ranges of an organ to draw: the draw list's, or all of it. Returns triangles drawn.
+    fn ranges<'a>(&self, organ: usize, draw: Option<&'a DrawList>) -> std::borrow::Cow<'a, [std::ops::Range<u32>]> {
+        match draw.and_then(|d| d.ranges.get(organ)) {
+            Some(r) => std::borrow::Cow::Borrowed(r.as_slice()),
+            None => std::borrow::Cow::Owned(std::iter::once(0..self.meshes[organ].index_count).collect()),
+        }
+    }
+
+    fn draw(&self, pass: &mut wgpu::RenderPass, organ: usize, ranges: &[std::ops::Range<u32>]) {
+        if ranges.is_empty() {
+            return;
+        }
         let m = &self.meshes[organ];
         pass.set_bind_group(1, &self.organ_bind, &[(organ as u64 * ORGAN_STRIDE) as u32]);
         pass.set_vertex_buffer(0, m.vertices.slice(..));
         pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
-        pass.draw_indexed(0..m.index_count, 0, 0..1);
+        for r in ranges {
+            pass.draw_indexed(r.clone(), 0, 0..1);
+        }
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then translucent ones
@@ -292,19 +308,20 @@ impl Renderer {
             pass.set_bind_group(0, &self.frame_bind, &[]);
             pass.set_pipeline(&self.opaque);
             for &i in &opaque {
-                self.draw(&mut pass, i);
+                self.draw(&mut pass, i, &self.ranges(i, frame.draw));
             }
             pass.set_pipeline(&self.blend);
             for &(_, i) in &translucent {
-                self.draw(&mut pass, i);
+                self.draw(&mut pass, i, &self.ranges(i, frame.draw));
             }
         }
         queue.submit([encoder.finish()]);
         let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
         let mut stats = RenderStats::default();
         for i in drawn {
-            stats.organs_drawn += 1;
-            stats.triangles_drawn += self.meshes[i].index_count as usize / 3;
+            let triangles: u32 = self.ranges(i, frame.draw).iter().map(|r| (r.end - r.start) / 3).sum();
+            stats.organs_drawn += usize::from(triangles > 0);
+            stats.triangles_drawn += triangles as usize;
         }
         stats
     }
@@ -346,7 +363,7 @@ impl Renderer {
             pass.set_pipeline(&self.pick);
             for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
                 if s.is_drawn() && s.opacity >= min_opacity {
-                    self.draw(&mut pass, i);
+                    self.draw(&mut pass, i, &self.ranges(i, frame.draw));
                 }
             }
         }

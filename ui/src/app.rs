@@ -356,8 +356,13 @@ impl App {
                 }
                 ui.checkbox(&mut self.viewport.fly, "Walk-through camera (G)");
                 ui.separator();
+                ui.label("Culling of hidden tissue");
+                for mode in vbrain::cull::CullMode::ALL {
+                    ui.radio_value(&mut self.settings.cull, mode, mode.name());
+                }
+                ui.separator();
                 ui.checkbox(&mut self.settings.show_inspector, "Inspector");
-                ui.checkbox(&mut self.settings.show_stats, "Statistics");
+                ui.checkbox(&mut self.settings.show_stats, "Statistics (fps, culling overlay)");
                 ui.horizontal(|ui| {
                     ui.label("Background");
                     let r = ui.color_edit_button_rgb(&mut self.settings.background);
@@ -408,8 +413,10 @@ impl App {
                 return;
             };
             let stats = self.viewport.stats;
-            ui.label(format!("{:.0} fps", self.viewport.fps()));
-            ui.separator();
+            if self.settings.show_stats {
+                ui.label(format!("{:.0} fps", self.viewport.fps()));
+                ui.separator();
+            }
             ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set.triangle_count()));
             ui.separator();
             ui.label(format!("{} organs drawn", stats.organs_drawn));
@@ -418,7 +425,7 @@ impl App {
             ui.separator();
             ui.label("transparency: alpha blending (sorted by organ)");
             ui.separator();
-            ui.label("culling: off");
+            ui.label(format!("culling: {}", self.settings.cull.name()));
             if let Some(sel) = self.selected {
                 ui.separator();
                 ui.label(format!("selected: {}", scene.set.organs[sel].name));

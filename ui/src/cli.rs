@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use vbrain::camera::{Camera, View};
+use vbrain::cull::{self, CullMode, CullSettings};
 use vbrain::layout::Layout;
 use vbrain::organ_set::{self, import, scale, Loaded, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
@@ -88,6 +89,9 @@ pub struct RenderArgs {
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,
+    /// Culling: none, frustum or occlusion (the image is the same; only the work differs)
+    #[arg(long, default_value = "occlusion")]
+    pub cull: String,
     #[arg(long)]
     pub json: bool,
 }
@@ -209,14 +213,19 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let background = if args.transparent { [0.0; 4] } else { crate::BACKGROUND };
-    let stats =
-        renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &camera, layout: &layout, background });
+    let mode = CullMode::parse(&args.cull)
+        .ok_or_else(|| anyhow!("unknown culling \"{}\" (none, frustum, occlusion)", args.cull))?;
+    let (draw, cull) =
+        cull::cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode, ..Default::default() });
+    let input = FrameInput { camera: &camera, layout: &layout, draw: Some(&draw), background };
+    let stats = renderer.render(&gpu.device, &gpu.queue, &target, &input);
     let image = target.read_color(&gpu.device, &gpu.queue)?;
     write_png(&args.out, &image, true)?;
     if args.json {
         let out = json!({
             "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
+            "cull": mode.name(), "culled_percent": cull.culled_percent(), "cull_ms": cull.cull_ms,
             "adapter": gpu.adapter_description(), "seconds": started.elapsed().as_secs_f64(),
         });
         println!("{}", serde_json::to_string_pretty(&out)?);

@@ -57,7 +57,7 @@ pub fn export(
         bail!("screenshot size {w}x{h} outside 1..={MAX_SIDE}");
     }
     let target = Target::new(device, w, h)?;
-    renderer.render(device, queue, &target, &FrameInput { camera, layout, background });
+    renderer.render(device, queue, &target, &FrameInput { camera, layout, draw: None, background });
     let image = target.read_color(device, queue)?;
     let path = unused_path(path);
     crate::cli::write_png(&path, &image, false)?;

@@ -24,6 +24,8 @@ pub struct Settings {
     pub show_inspector: bool,
     pub show_stats: bool,
     pub export: ExportSettings,
+    /// Culling of hidden tissue in the viewport (the image is the same either way).
+    pub cull: vbrain::cull::CullMode,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -63,6 +65,7 @@ impl Default for Settings {
             show_inspector: true,
             show_stats: true,
             export: ExportSettings::default(),
+            cull: vbrain::cull::CullMode::Occlusion,
         }
     }
 }

@@ -9,6 +9,7 @@ use glam::{Quat, Vec2, Vec3};
 use std::collections::VecDeque;
 use std::time::Instant;
 use vbrain::camera::{Camera, View};
+use vbrain::cull::{CullSettings, CullStats};
 use vbrain::mesh::Bounds;
 use vbrain::navigation::Navigator;
 use vbrain::render::{FrameInput, RenderStats, Target};
@@ -18,6 +19,7 @@ pub struct Viewport {
     /// Walk-through camera: drag looks around, W/A/S/D/Q/E move.
     pub fly: bool,
     pub stats: RenderStats,
+    pub cull: CullStats,
     target: Option<(Target, egui::TextureId)>,
     /// The rectangle the viewport last occupied (points).
     pub rect: Rect,
@@ -30,6 +32,7 @@ impl Default for Viewport {
             nav: Navigator { target: Vec3::ZERO, distance: 400.0, azimuth: 0.0, elevation: 0.0 },
             fly: false,
             stats: RenderStats::default(),
+            cull: CullStats::default(),
             target: None,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
@@ -81,7 +84,7 @@ pub fn pick(app: &App, at: Pos2) -> Option<usize> {
     let rect = app.viewport.rect;
     let px = ((at.x - rect.min.x) / rect.width() * target.width as f32) as u32;
     let py = ((at.y - rect.min.y) / rect.height() * target.height as f32) as u32;
-    let input = FrameInput { camera: &camera, layout: &scene.layout, background: [0.0; 4] };
+    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
     scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
     match target.read_id_at(&rs.device, &rs.queue, px, py) {
         Ok(Some(id)) if id > 0 => Some(id as usize - 1),
@@ -229,12 +232,36 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
     let Some(scene) = &app.scene else { return };
     let Some((target, id)) = &app.viewport.target else { return };
     let background = app.settings.background_linear(false);
-    let input = FrameInput { camera: &camera, layout: &scene.layout, background };
+    let settings = CullSettings { mode: app.settings.cull, ..Default::default() };
+    let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &settings);
+    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: Some(&draw), background };
     let stats = scene.renderer.render(&rs.device, &rs.queue, target, &input);
     let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
     ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
+    if app.settings.show_stats && app.settings.cull != vbrain::cull::CullMode::None {
+        let text = format!(
+            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles\n{} nodes tested, {:.2} ms",
+            app.settings.cull.name(),
+            cull.culled_percent(),
+            cull.frustum_culled,
+            cull.occlusion_culled,
+            cull.occluder_leaves,
+            cull.occluder_triangles,
+            cull.nodes_tested,
+            cull.cull_ms
+        );
+        let font = egui::FontId::monospace(11.0);
+        ui.painter().text(
+            rect.min + egui::vec2(8.0, 8.0),
+            egui::Align2::LEFT_TOP,
+            text,
+            font,
+            egui::Color32::from_gray(200),
+        );
+    }
     let vp = &mut app.viewport;
     vp.stats = stats;
+    vp.cull = cull;
     let now = Instant::now();
     vp.frame_times.push_back(now);
     while vp.frame_times.front().is_some_and(|t| now.duration_since(*t).as_secs_f32() > 1.0) {
@@ -247,7 +274,7 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
 pub fn read_ids(app: &App) -> Option<(Vec<u32>, [u32; 2])> {
     let (scene, rs, (target, _)) = (app.scene.as_ref()?, app.gpu.as_ref()?, app.viewport.target.as_ref()?);
     let camera = camera(app)?;
-    let input = FrameInput { camera: &camera, layout: &scene.layout, background: [0.0; 4] };
+    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
     scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
     Some((target.read_ids(&rs.device, &rs.queue).ok()?, [target.width, target.height]))
 }

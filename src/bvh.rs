@@ -1,0 +1,280 @@
+//! The culling hierarchy of one organ (organ space, millimetres): a binary bounding-volume tree
+//! whose leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1), with the mesh's triangles
+//! reordered so each leaf is one contiguous range of the index buffer; and, per triangle, its
+//! neighbours across its three edges (by position, consistently wound), which the occluder
+//! rasteriser needs to find the outline of a set of triangles.
+
+use crate::mesh::{Bounds, Mesh};
+use glam::Vec3;
+use std::collections::HashMap;
+
+/// The most triangles in a leaf.
+pub const LEAF_TRIANGLES: usize = 256;
+/// No node, no neighbour.
+pub const NONE: u32 = u32::MAX;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    pub bounds: Bounds,
+    /// Children, or `[NONE, NONE]` for a leaf.
+    pub children: [u32; 2],
+    /// Triangles `first..first + count` (in triangle units) of everything below this node.
+    pub first: u32,
+    pub count: u32,
+    /// Leaf number for a leaf, else `NONE`.
+    pub leaf: u32,
+}
+
+impl Node {
+    pub fn is_leaf(&self) -> bool {
+        self.children[0] == NONE
+    }
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bvh {
+    /// Root first.
+    pub nodes: Vec<Node>,
+    /// The node of each leaf, in triangle order.
+    pub leaves: Vec<u32>,
+    /// Per triangle: the leaf it belongs to.
+    pub leaf_of: Vec<u32>,
+    /// Per leaf: the sum of its triangles' area-weighted normals (xyz, organ space) and their total
+    /// area (w). |xyz| / w near 1 means the leaf faces one way; occluder selection prefers such
+    /// leaves facing the camera.
+    pub leaf_normals: Vec<[f32; 4]>,
+    /// Per triangle and edge (a->b, b->c, c->a): the triangle across it, or `NONE` at a border, a
+    /// non-manifold edge, or a neighbour wound the other way.
+    pub neighbours: Vec<[u32; 3]>,
+}
+
+impl Bvh {
+    /// Builds the tree and reorders `mesh`'s triangles into leaf order. Splits at the median split
+    /// position along the longest axis of their bounds.
+    pub fn build(mesh: &mut Mesh) -> Bvh {
+        let tri_count = mesh.triangle_count();
+        let mut bvh = Bvh::default();
+        if tri_count == 0 {
+            return bvh;
+        }
+        let tri = |t: u32| {
+            let i = 3 * t as usize;
+            [mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]].map(|v| Vec3::from(mesh.positions[v as usize]))
+        };
+        // Split positions: centroids pushed along their face normals by a twentieth of the organ's
+        // size, so the two sides of a thin shell (skull, cortex ribbon) fall into different leaves
+        // and each leaf faces one way, which makes leaves good occluders.
+        let push = mesh.bounds().size().length() * 0.05;
+        let centroids: Vec<Vec3> = (0..tri_count as u32)
+            .map(|t| {
+                let [a, b, c] = tri(t);
+                (a + b + c) / 3.0 + (b - a).cross(c - a).normalize_or_zero() * push
+            })
+            .collect();
+        let mut order: Vec<u32> = (0..tri_count as u32).collect();
+        // Explicit stack of (node, first, count).
+        bvh.nodes.push(Node {
+            bounds: Bounds::EMPTY,
+            children: [NONE; 2],
+            first: 0,
+            count: tri_count as u32,
+            leaf: NONE,
+        });
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
+            let slice = &mut order[first..first + count];
+            let mut bounds = Bounds::EMPTY;
+            let mut cb = Bounds::EMPTY;
+            for &t in slice.iter() {
+                for p in tri(t) {
+                    bounds.include(p.to_array());
+                }
+                cb.include(centroids[t as usize].to_array());
+            }
+            bvh.nodes[n as usize].bounds = bounds;
+            if count <= LEAF_TRIANGLES {
+                continue;
+            }
+            let size = cb.size();
+            let axis = if size.x >= size.y && size.x >= size.z {
+                0
+            } else if size.y >= size.z {
+                1
+            } else {
+                2
+            };
+            let mid = count / 2;
+            slice.select_nth_unstable_by(mid, |&a, &b| {
+                centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
+            });
+            let left = bvh.nodes.len() as u32;
+            for (f, c) in [(first, mid), (first + mid, count - mid)] {
+                bvh.nodes.push(Node {
+                    bounds: Bounds::EMPTY,
+                    children: [NONE; 2],
+                    first: f as u32,
+                    count: c as u32,
+                    leaf: NONE,
+                });
+            }
+            bvh.nodes[n as usize].children = [left, left + 1];
+            stack.push(left + 1);
+            stack.push(left);
+        }
+        // Leaves in triangle order.
+        let mut leaves: Vec<u32> = (0..bvh.nodes.len() as u32).filter(|&n| bvh.nodes[n as usize].is_leaf()).collect();
+        leaves.sort_by_key(|&n| bvh.nodes[n as usize].first);
+        bvh.leaf_of = vec![0; tri_count];
+        for (l, &n) in leaves.iter().enumerate() {
+            let node = &mut bvh.nodes[n as usize];
+            node.leaf = l as u32;
+            bvh.leaf_of[node.first as usize..(node.first + node.count) as usize].fill(l as u32);
+        }
+        bvh.leaves = leaves;
+        bvh.leaf_normals = vec![[0.0; 4]; bvh.leaves.len()];
+        for (&old, &l) in order.iter().zip(&bvh.leaf_of) {
+            let [a, b, c] = tri(old);
+            let n = (b - a).cross(c - a) * 0.5;
+            let acc = &mut bvh.leaf_normals[l as usize];
+            *acc = [acc[0] + n.x, acc[1] + n.y, acc[2] + n.z, acc[3] + n.length()];
+        }
+        mesh.indices =
+            order.iter().flat_map(|&t| (0..3).map(move |k| 3 * t as usize + k)).map(|i| mesh.indices[i]).collect();
+        bvh.neighbours = neighbours(mesh);
+        bvh
+    }
+
+    /// Index-buffer range (in indices) of a leaf.
+    pub fn leaf_range(&self, leaf: u32) -> std::ops::Range<u32> {
+        let n = &self.nodes[self.leaves[leaf as usize] as usize];
+        3 * n.first..3 * (n.first + n.count)
+    }
+}
+
+/// Neighbours across edges, matching vertices by position so split vertices (seams of normals)
+/// still connect.
+fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
+    let mut weld: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
+    let ids: Vec<u32> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            let n = weld.len() as u32;
+            *weld.entry(p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).or_insert(n)
+        })
+        .collect();
+    let tris = mesh.triangle_count();
+    let corner = |t: usize, k: usize| ids[mesh.indices[3 * t + k] as usize];
+    // Directed edge -> triangle, and how often each undirected edge occurs.
+    let mut directed: HashMap<(u32, u32), u32> = HashMap::with_capacity(tris * 3);
+    let mut undirected: HashMap<(u32, u32), u8> = HashMap::with_capacity(tris * 3 / 2);
+    for t in 0..tris {
+        for k in 0..3 {
+            let (a, b) = (corner(t, k), corner(t, (k + 1) % 3));
+            if a == b {
+                continue;
+            }
+            if directed.insert((a, b), t as u32).is_some() {
+                // The same directed edge twice: inconsistent winding; make it a border for both.
+                directed.insert((a, b), NONE);
+            }
+            let c = undirected.entry((a.min(b), a.max(b))).or_insert(0);
+            *c = c.saturating_add(1);
+        }
+    }
+    (0..tris)
+        .map(|t| {
+            std::array::from_fn(|k| {
+                let (a, b) = (corner(t, k), corner(t, (k + 1) % 3));
+                let manifold = undirected.get(&(a.min(b), a.max(b))) == Some(&2);
+                let me = directed.get(&(a, b)).copied();
+                match (manifold && me != Some(NONE), directed.get(&(b, a))) {
+                    (true, Some(&n)) if n != NONE && n != t as u32 => n,
+                    _ => NONE,
+                }
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::organ_set::scale::subdivide;
+
+    fn icosphere(level: usize) -> Mesh {
+        // An octahedron subdivided: closed, consistently wound.
+        let mut m = Mesh {
+            positions: vec![[1., 0., 0.], [-1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.], [0., 0., -1.]],
+            normals: vec![],
+            indices: vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5],
+        };
+        m.compute_normals();
+        subdivide(&m, level)
+    }
+
+    #[test]
+    fn leaves_are_small_contiguous_and_bounded() {
+        let mut m = icosphere(12); // 8 * 144 = 1152 triangles
+        let before: std::collections::HashSet<[u32; 3]> =
+            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        let bvh = Bvh::build(&mut m);
+        let after: std::collections::HashSet<[u32; 3]> =
+            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+        assert_eq!(before, after, "same triangles, reordered");
+        let mut covered = 0;
+        for (l, &n) in bvh.leaves.iter().enumerate() {
+            let node = &bvh.nodes[n as usize];
+            assert!(node.count as usize <= LEAF_TRIANGLES && node.count > 0);
+            assert_eq!(node.first, covered, "leaves tile the triangles in order");
+            covered += node.count;
+            assert_eq!(bvh.leaf_range(l as u32), 3 * node.first..3 * (node.first + node.count));
+            for t in node.first..node.first + node.count {
+                assert_eq!(bvh.leaf_of[t as usize], l as u32);
+                for k in 0..3 {
+                    let p = m.positions[m.indices[3 * t as usize + k] as usize];
+                    let b = node.bounds;
+                    assert!((0..3).all(|i| b.min[i] <= p[i] && p[i] <= b.max[i]));
+                }
+            }
+        }
+        assert_eq!(covered as usize, m.triangle_count());
+        // Parents contain children.
+        for n in &bvh.nodes {
+            for &c in n.children.iter().filter(|&&c| c != NONE) {
+                let cb = bvh.nodes[c as usize].bounds;
+                assert!((0..3).all(|i| n.bounds.min[i] <= cb.min[i] && cb.max[i] <= n.bounds.max[i]));
+            }
+        }
+    }
+
+    #[test]
+    fn neighbours_of_a_closed_mesh_are_mutual() {
+        let mut m = icosphere(3);
+        let bvh = Bvh::build(&mut m);
+        for (t, ns) in bvh.neighbours.iter().enumerate() {
+            for &n in ns {
+                assert_ne!(n, NONE, "a closed mesh has no border");
+                assert!(bvh.neighbours[n as usize].contains(&(t as u32)));
+            }
+        }
+        // Split every vertex (as per-face normals do): neighbours still found by position.
+        let mut split = Mesh::default();
+        for t in m.indices.chunks_exact(3) {
+            let base = split.positions.len() as u32;
+            for &i in t {
+                split.positions.push(m.positions[i as usize]);
+                split.normals.push(m.normals[i as usize]);
+            }
+            split.indices.extend([base, base + 1, base + 2]);
+        }
+        let b2 = Bvh::build(&mut split);
+        assert!(b2.neighbours.iter().flatten().all(|&n| n != NONE));
+        // Open a hole: its rim becomes border.
+        let mut open = m.clone();
+        open.indices.truncate(open.indices.len() - 3);
+        let b3 = Bvh::build(&mut open);
+        assert_eq!(b3.neighbours.iter().flatten().filter(|&&n| n == NONE).count(), 3);
+    }
+}

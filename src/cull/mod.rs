@@ -1,0 +1,430 @@
+//! Occlusion culling (thesis chapter 3), per frame on the CPU. Spaces: node bounds in organ space,
+//! moved by each organ's model matrix into world space, projected by the camera into clip space and
+//! then into culling pixels (a low-resolution grid over the viewport, x right, y down; depth = NDC z,
+//! larger is farther).
+//!
+//! 1. View-frustum culling of each drawn organ's hierarchy ([`crate::bvh`]).
+//! 2. Occluders: leaves of opaque, visible organs, largest projected size first, up to a triangle
+//!    budget (no pre-processing, so organs may move).
+//! 3. [`raster`]: their front triangles rasterised conservatively into coverage and depth.
+//! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
+//!    [`sparse_depth`] for the depth comparison over peaks only.
+//! 5. Hierarchical traversal: a node is culled when its outward-rounded rectangle is wholly covered
+//!    and its nearest depth is behind every occluder depth there; a node whose coverage ratio is below
+//!    the adaptive threshold is drawn whole without testing its descendants.
+//!
+//! The result is a [`DrawList`]: per organ, the index ranges to draw.
+
+pub mod opacity_map;
+pub mod raster;
+pub mod sparse_depth;
+
+use crate::bvh::{Bvh, NONE};
+use crate::camera::Camera;
+use crate::layout::Layout;
+use crate::mesh::Bounds;
+use crate::organ_set::OrganSet;
+use glam::{Mat4, Vec3, Vec4};
+use opacity_map::OpacityMap;
+use raster::{OccluderMaps, OccluderRaster};
+use sparse_depth::SparseDepth;
+use std::ops::Range;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CullMode {
+    /// Draw every drawn organ whole.
+    None,
+    /// View-frustum culling of the hierarchy only.
+    Frustum,
+    /// Frustum and occlusion culling.
+    Occlusion,
+}
+
+impl CullMode {
+    pub const ALL: [CullMode; 3] = [CullMode::None, CullMode::Frustum, CullMode::Occlusion];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            CullMode::None => "none",
+            CullMode::Frustum => "frustum",
+            CullMode::Occlusion => "occlusion",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<CullMode> {
+        CullMode::ALL.into_iter().find(|m| m.name() == s)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CullSettings {
+    pub mode: CullMode,
+    /// Culling raster size in pixels.
+    pub width: usize,
+    pub height: usize,
+    /// Most occluder triangles rasterised per frame.
+    pub occluder_triangles: usize,
+    /// Stop descending below this coverage ratio (thesis: 0.2); 0 disables the adaptive stop.
+    pub adaptive_ratio: f32,
+    /// Approximate overlap test: tolerate this fraction of uncovered pixels. Not conservative;
+    /// `None` (the default) keeps culling exact.
+    pub hole_tolerance: Option<f32>,
+}
+
+impl Default for CullSettings {
+    fn default() -> Self {
+        CullSettings {
+            mode: CullMode::Occlusion,
+            width: 128,
+            height: 128,
+            occluder_triangles: 24_576,
+            adaptive_ratio: 0.2,
+            hole_tolerance: None,
+        }
+    }
+}
+
+/// Per organ, the index ranges (in indices, contiguous ones merged) to draw.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DrawList {
+    pub ranges: Vec<Vec<Range<u32>>>,
+}
+
+impl DrawList {
+    fn push(&mut self, organ: usize, r: Range<u32>) {
+        let list = &mut self.ranges[organ];
+        match list.last_mut() {
+            Some(last) if last.end == r.start => last.end = r.end,
+            _ => list.push(r),
+        }
+    }
+
+    pub fn triangles(&self) -> usize {
+        self.ranges.iter().flatten().map(|r| (r.end - r.start) as usize / 3).sum()
+    }
+}
+
+/// What one frame's culling did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CullStats {
+    /// Triangles of the drawn organs.
+    pub triangles: usize,
+    pub drawn: usize,
+    pub frustum_culled: usize,
+    pub occlusion_culled: usize,
+    pub nodes_tested: usize,
+    pub occluder_leaves: usize,
+    pub occluder_triangles: usize,
+    pub cull_ms: f64,
+}
+
+impl CullStats {
+    pub fn culled_percent(&self) -> f64 {
+        if self.triangles == 0 {
+            0.0
+        } else {
+            100.0 * (self.triangles - self.drawn) as f64 / self.triangles as f64
+        }
+    }
+}
+
+/// A box seen from the camera.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Seen {
+    /// Wholly outside one frustum plane.
+    Outside,
+    /// Reaches behind the eye: cannot be placed on screen.
+    Straddles,
+    /// Inclusive pixel rectangle (rounded outward, clamped) and nearest NDC depth.
+    Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32 },
+}
+
+fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
+    let mut out = [true; 6];
+    let mut behind = false;
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for c in b.corners() {
+        let p: Vec4 = *mvp * c.extend(1.0);
+        let tests = [p.x < -p.w, p.x > p.w, p.y < -p.w, p.y > p.w, p.z < 0.0, p.z > p.w];
+        for k in 0..6 {
+            out[k] &= tests[k];
+        }
+        if p.w <= 1e-5 {
+            behind = true;
+            continue;
+        }
+        let ndc = p.truncate() / p.w;
+        lo = lo.min(ndc);
+        hi = hi.max(ndc);
+    }
+    if out.iter().any(|&o| o) {
+        return Seen::Outside;
+    }
+    if behind || !lo.is_finite() || !hi.is_finite() {
+        return Seen::Straddles;
+    }
+    let (wf, hf) = (w as f32, h as f32);
+    let (px0, px1) = ((lo.x + 1.0) * 0.5 * wf, (hi.x + 1.0) * 0.5 * wf);
+    let (py0, py1) = ((1.0 - hi.y) * 0.5 * hf, (1.0 - lo.y) * 0.5 * hf);
+    let clamp = |v: f32, n: f32| v.clamp(0.0, n - 1.0) as usize;
+    Seen::Rect {
+        x0: clamp(px0.floor(), wf),
+        x1: clamp(px1.ceil() - 1.0, wf),
+        y0: clamp(py0.floor(), hf),
+        y1: clamp(py1.ceil() - 1.0, hf),
+        z: lo.z,
+    }
+}
+
+/// The occluder maps and look-up structures of one frame.
+pub struct Occluders {
+    pub maps: OccluderMaps,
+    pub opacity: OpacityMap,
+    pub sparse: SparseDepth,
+    pub leaves: usize,
+    pub triangles: usize,
+}
+
+/// Selects occluder leaves by projected size and rasterises them. A leaf's score is its projected
+/// area in culling pixels, weighted by how much its surface faces the eye (so the near side of a
+/// closed organ wins over its far side) and by its nearness.
+pub fn occluders(
+    set: &OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    view_proj: &Mat4,
+    settings: &CullSettings,
+) -> Occluders {
+    let (w, h) = (settings.width, settings.height);
+    let mut candidates: Vec<(f32, usize, u32)> = Vec::new(); // (score, organ, leaf)
+    for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
+        if !state.is_opaque() {
+            continue;
+        }
+        let model = state.transform.matrix();
+        let mvp = *view_proj * model;
+        for (l, &n) in organ.bvh.leaves.iter().enumerate() {
+            let bounds = &organ.bvh.nodes[n as usize].bounds;
+            let Seen::Rect { x0, y0, x1, y1, .. } = see(&mvp, bounds, w, h) else { continue };
+            let [nx, ny, nz, area] = organ.bvh.leaf_normals[l];
+            let centre = model.transform_point3(bounds.center());
+            let to_eye = camera.eye - centre;
+            let facing =
+                model.transform_vector3(Vec3::new(nx, ny, nz)).dot(to_eye.normalize_or_zero()) / area.max(1e-12);
+            if facing <= 0.05 {
+                continue;
+            }
+            let score = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32 * facing / to_eye.length_squared().max(1e-6);
+            candidates.push((score, o, l as u32));
+        }
+    }
+    candidates.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    let leaf_node = |o: usize, l: u32| &set.organs[o].bvh.nodes[set.organs[o].bvh.leaves[l as usize] as usize];
+    // Round one: the best half of the budget. Round two: fill the budget, passing over leaves the
+    // first round already hides (the thesis drops hidden occluders the same way, by ID rendering).
+    let mut chosen: Vec<Vec<u32>> = vec![Vec::new(); set.organs.len()];
+    let (mut leaves, mut triangles) = (0, 0);
+    let mut taken = vec![false; candidates.len()];
+    let mut first_round = None;
+    for round in 0..2 {
+        let limit = if round == 0 { settings.occluder_triangles / 2 } else { settings.occluder_triangles };
+        for (k, &(_, o, l)) in candidates.iter().enumerate() {
+            let count = leaf_node(o, l).count as usize;
+            if taken[k] || triangles + count > limit {
+                continue;
+            }
+            if let Some(first) = &first_round {
+                let mvp = *view_proj * layout.organs[o].transform.matrix();
+                if hidden(first, see(&mvp, &leaf_node(o, l).bounds, w, h)) {
+                    continue;
+                }
+            }
+            taken[k] = true;
+            chosen[o].push(l);
+            leaves += 1;
+            triangles += count;
+        }
+        if round == 0 {
+            first_round = Some(rasterise(set, layout, view_proj, &chosen, w, h));
+        }
+    }
+    let mut occ = rasterise(set, layout, view_proj, &chosen, w, h);
+    (occ.leaves, occ.triangles) = (leaves, triangles);
+    occ
+}
+
+/// Is a box seen as `seen` wholly behind the occluders?
+fn hidden(o: &Occluders, seen: Seen) -> bool {
+    match seen {
+        Seen::Rect { x0, y0, x1, y1, z } => {
+            o.opacity.covered(x0, y0, x1, y1) as usize == (x1 - x0 + 1) * (y1 - y0 + 1)
+                && o.sparse.all_in_front_of(&o.maps.depth, x0, y0, x1, y1, z)
+        }
+        _ => false,
+    }
+}
+
+/// Rasterises the chosen leaves of every organ into occluder maps with their look-up structures.
+fn rasterise(set: &OrganSet, layout: &Layout, view_proj: &Mat4, chosen: &[Vec<u32>], w: usize, h: usize) -> Occluders {
+    let mut raster = OccluderRaster::new(w, h);
+    for (o, list) in chosen.iter().enumerate() {
+        if !list.is_empty() {
+            let mvp = *view_proj * layout.organs[o].transform.matrix();
+            rasterise_organ(&mut raster, &set.organs[o].mesh, &set.organs[o].bvh, list, &mvp, w, h);
+        }
+    }
+    let maps = raster.finish();
+    let opacity = OpacityMap::new(&maps.covered, w, h);
+    let sparse = SparseDepth::new(&maps.depth, w, h);
+    Occluders { maps, opacity, sparse, leaves: 0, triangles: 0 }
+}
+
+/// Rasterises the positively wound triangles of the chosen leaves of one organ, with the outline of
+/// that set (edges whose neighbour is not in it).
+fn rasterise_organ(
+    raster: &mut OccluderRaster,
+    mesh: &crate::mesh::Mesh,
+    bvh: &Bvh,
+    leaves: &[u32],
+    mvp: &Mat4,
+    w: usize,
+    h: usize,
+) {
+    // Per chosen leaf, where its triangles' projections start in `projected`.
+    let mut slot = vec![NONE; bvh.leaves.len()];
+    let mut projected: Vec<Option<[Vec3; 3]>> = Vec::new();
+    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
+    for &l in leaves {
+        slot[l as usize] = projected.len() as u32;
+        let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
+        for t in node.first..node.first + node.count {
+            let corner = |k: usize| {
+                let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
+                let c = *mvp * p.extend(1.0);
+                (c.w > 1e-5).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
+            };
+            let tri = match (corner(0), corner(1), corner(2)) {
+                (Some(a), Some(b), Some(c)) => {
+                    // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
+                    let area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+                    (area < 0.0).then_some([a, b, c])
+                }
+                _ => None,
+            };
+            projected.push(tri);
+        }
+    }
+    // Index into `projected` of a triangle, if it is in S (chosen leaf, positive winding).
+    let index = |t: u32| -> Option<usize> {
+        if t == NONE {
+            return None;
+        }
+        let l = bvh.leaf_of[t as usize];
+        let s = slot[l as usize];
+        let i = (s != NONE).then(|| (s + t - bvh.nodes[bvh.leaves[l as usize] as usize].first) as usize)?;
+        projected[i].is_some().then_some(i)
+    };
+    // Patches: connected components of S across shared edges (union-find over `projected`).
+    let mut parent: Vec<u32> = (0..projected.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    let mut triangles_of = Vec::with_capacity(projected.len());
+    for &l in leaves {
+        let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
+        for t in node.first..node.first + node.count {
+            if let Some(i) = index(t) {
+                triangles_of.push((t, i));
+                for &n in &bvh.neighbours[t as usize] {
+                    if let Some(j) = index(n) {
+                        let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j as u32));
+                        parent[a as usize] = b;
+                    }
+                }
+            }
+        }
+    }
+    let mut patches: std::collections::HashMap<u32, (Vec<raster::Triangle>, Vec<[Vec3; 2]>)> = Default::default();
+    for &(t, i) in &triangles_of {
+        let Some(tri) = projected[i] else { continue };
+        let (tris, outline) = patches.entry(root(&mut parent, i as u32)).or_default();
+        tris.push(tri);
+        for k in 0..3 {
+            if index(bvh.neighbours[t as usize][k]).is_none() {
+                outline.push([tri[k], tri[(k + 1) % 3]]);
+            }
+        }
+    }
+    for (tris, outline) in patches.values() {
+        raster.patch(tris, outline);
+    }
+}
+
+/// Culls the drawn organs of `layout` for `camera` at `aspect`; returns the draw list and counts.
+pub fn cull(
+    set: &OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    aspect: f32,
+    settings: &CullSettings,
+) -> (DrawList, CullStats) {
+    let started = std::time::Instant::now();
+    let view_proj = camera.view_projection(aspect);
+    let (w, h) = (settings.width.max(1), settings.height.max(1));
+    let settings = CullSettings { width: w, height: h, ..*settings };
+    let occ = (settings.mode == CullMode::Occlusion).then(|| occluders(set, layout, camera, &view_proj, &settings));
+    let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
+    let mut stats = CullStats::default();
+    if let Some(o) = &occ {
+        (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
+    }
+    for (i, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
+        if !state.is_drawn() || organ.bvh.nodes.is_empty() {
+            continue;
+        }
+        stats.triangles += organ.mesh.triangle_count();
+        if settings.mode == CullMode::None {
+            list.push(i, 0..organ.mesh.indices.len() as u32);
+            continue;
+        }
+        let mvp = view_proj * state.transform.matrix();
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let node = &organ.bvh.nodes[n as usize];
+            let range = 3 * node.first..3 * (node.first + node.count);
+            let seen = see(&mvp, &node.bounds, w, h);
+            if seen == Seen::Outside {
+                stats.frustum_culled += node.count as usize;
+                continue;
+            }
+            if let (Seen::Rect { x0, y0, x1, y1, z }, Some(o)) = (seen, &occ) {
+                stats.nodes_tested += 1;
+                let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
+                let covered = o.opacity.covered(x0, y0, x1, y1);
+                let holes = settings.hole_tolerance.map_or(0, |t| (t.clamp(0.0, 1.0) * area as f32) as u32);
+                if covered + holes >= area && o.sparse.all_in_front_of(&o.maps.depth, x0, y0, x1, y1, z) {
+                    stats.occlusion_culled += node.count as usize;
+                    continue;
+                }
+                if (covered as f32) < settings.adaptive_ratio * area as f32 {
+                    list.push(i, range);
+                    continue;
+                }
+            }
+            if node.is_leaf() {
+                list.push(i, range);
+            } else {
+                stack.push(node.children[1]);
+                stack.push(node.children[0]);
+            }
+        }
+    }
+    stats.drawn = list.triangles();
+    stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
+    (list, stats)
+}

@@ -1,0 +1,156 @@
+//! Culling is conservative: over hundreds of random camera poses and organ layouts (moved, rotated,
+//! scaled, hidden and faded organs), images with occlusion culling on and off are identical, pixel
+//! for pixel, on the default brain and on a synthetic scene of high depth complexity. And it does
+//! cull: the test also requires a real share of triangles culled.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
+
+use glam::Vec3;
+use vbrain::camera::Camera;
+use vbrain::cull::{cull, CullMode, CullSettings};
+use vbrain::layout::Layout;
+use vbrain::mesh::Mesh;
+use vbrain::navigation::Navigator;
+use vbrain::organ_set::{self, scale::subdivide, Organ, OrganSet};
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> f32 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        (self.0 % 1_000_000) as f32 / 1_000_000.0
+    }
+    fn range(&mut self, a: f32, b: f32) -> f32 {
+        a + (b - a) * self.next()
+    }
+}
+
+fn cube(center: Vec3, half: Vec3, level: usize) -> Mesh {
+    let c = |x: f32, y: f32, z: f32| (center + half * Vec3::new(x, y, z)).to_array();
+    let mut m = Mesh {
+        positions: vec![
+            c(-1., -1., -1.),
+            c(1., -1., -1.),
+            c(1., 1., -1.),
+            c(-1., 1., -1.),
+            c(-1., -1., 1.),
+            c(1., -1., 1.),
+            c(1., 1., 1.),
+            c(-1., 1., 1.),
+        ],
+        normals: vec![],
+        indices: vec![
+            0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7,
+        ],
+    };
+    m.compute_normals();
+    subdivide(&m, level)
+}
+
+/// Nested closed shells with boxes between them and inside: every ray crosses many surfaces.
+fn depth_complex_scene() -> OrganSet {
+    let mut set = OrganSet { title: "nested shells".into(), ..Default::default() };
+    let mut add = |name: String, mesh: Mesh| {
+        let colour = organ_set::distinct_colour(set.organs.len());
+        set.organs.push(Organ::new(name.clone(), name, colour, mesh));
+    };
+    for (k, half) in [80.0f32, 60.0, 40.0, 20.0].into_iter().enumerate() {
+        add(format!("shell{k}"), cube(Vec3::ZERO, Vec3::splat(half), 10));
+        // Eight boxes in the gap inside this shell.
+        let r = half - 10.0;
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { -r } else { r },
+                if i & 2 == 0 { -r } else { r },
+                if i & 4 == 0 { -r } else { r },
+            ) * 0.9;
+            add(format!("box{k}_{i}"), cube(c, Vec3::splat(4.0), 3));
+        }
+    }
+    for i in 0..27 {
+        let c = Vec3::new((i % 3) as f32 - 1.0, ((i / 3) % 3) as f32 - 1.0, (i / 9) as f32 - 1.0) * 8.0;
+        add(format!("core{i}"), cube(c, Vec3::splat(2.5), 2));
+    }
+    set
+}
+
+fn random_layout(set: &OrganSet, rng: &mut Rng, skull_opaque: bool) -> Layout {
+    let mut layout = Layout::new(set);
+    for (o, s) in set.organs.iter().zip(layout.organs.iter_mut()) {
+        s.visible = rng.next() < 0.85;
+        s.opacity = if rng.next() < 0.75 { 1.0 } else { rng.range(0.2, 0.9) };
+        if skull_opaque && (o.id == "skull" || o.id == "scalp") {
+            s.visible = o.id == "skull" || rng.next() < 0.3;
+            s.opacity = 1.0;
+        }
+        if rng.next() < 0.3 {
+            s.transform.translation = Vec3::new(rng.range(-30.0, 30.0), rng.range(-30.0, 30.0), rng.range(-30.0, 30.0));
+            s.transform.rotation_deg =
+                Vec3::new(rng.range(-40.0, 40.0), rng.range(-40.0, 40.0), rng.range(-40.0, 40.0));
+            s.transform.scale = rng.range(0.7, 1.3);
+        }
+    }
+    layout
+}
+
+fn random_camera(set: &OrganSet, layout: &Layout, rng: &mut Rng) -> Camera {
+    let home = Layout::new(set).bounds(set);
+    let mut nav = Navigator::framing(&home, rng.range(0.0, 360.0), rng.range(-80.0, 80.0));
+    nav.target += Vec3::new(rng.range(-20.0, 20.0), rng.range(-20.0, 20.0), rng.range(-20.0, 20.0));
+    // Sometimes close, sometimes inside the scene.
+    nav.distance *= rng.range(0.15, 1.3);
+    nav.camera(&layout.bounds(set).union(home))
+}
+
+/// Renders every pose with culling off and on and counts differing images; returns the share of
+/// triangles occlusion culling removed.
+fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool) -> f64 {
+    let gpu = GpuContext::headless().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"));
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let target = Target::new(&gpu.device, 160, 120).unwrap();
+    let mut rng = Rng(seed);
+    let (mut culled, mut total) = (0usize, 0usize);
+    for pose in 0..poses {
+        let layout = random_layout(set, &mut rng, skull_opaque);
+        let camera = random_camera(set, &layout, &mut rng);
+        let settings = CullSettings { width: 64 + (pose % 3) * 32, height: 64 + (pose % 2) * 64, ..Default::default() };
+        let mut images = Vec::new();
+        for mode in [CullMode::None, CullMode::Occlusion] {
+            let (draw, stats) = cull(set, &layout, &camera, target.aspect(), &CullSettings { mode, ..settings });
+            if mode == CullMode::Occlusion {
+                culled += stats.occlusion_culled;
+                total += stats.triangles;
+            }
+            let frame =
+                FrameInput { camera: &camera, layout: &layout, draw: Some(&draw), background: [0.0, 0.0, 0.0, 1.0] };
+            renderer.render(&gpu.device, &gpu.queue, &target, &frame);
+            images.push(target.read_color(&gpu.device, &gpu.queue).unwrap());
+        }
+        if images[0] != images[1] {
+            let diff = images[0].pixels().zip(images[1].pixels()).filter(|(a, b)| a != b).count();
+            let dir = std::env::temp_dir();
+            images[0].save(dir.join(format!("cull-off-{pose}.png"))).unwrap();
+            images[1].save(dir.join(format!("cull-on-{pose}.png"))).unwrap();
+            panic!("pose {pose}: {diff} pixels differ with culling on (images in {})", dir.display());
+        }
+    }
+    culled as f64 / total.max(1) as f64
+}
+
+#[test]
+fn default_brain_culling_changes_no_pixel() {
+    let set = organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set;
+    let share = identical_images(&set, 120, 0x5eed, true);
+    assert!(share > 0.3, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
+    identical_images(&set, 40, 0xbeef, false);
+}
+
+#[test]
+fn depth_complex_scene_culling_changes_no_pixel() {
+    let set = depth_complex_scene();
+    let share = identical_images(&set, 80, 0xfeed, false);
+    assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
+}
