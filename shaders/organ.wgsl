@@ -1,6 +1,7 @@
 // Organ shading: world-space vertices (model matrix applied here), headlight lighting.
 // Entry points: vs_main (all organ pipelines), fs_shade (the "organ opaque" and "organ blend"
-// pipelines), fs_pick (the "organ pick" pipeline writing organ IDs).
+// pipelines), fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the
+// "leaf pick" pipeline writing the instance index, which the benchmark sets to a leaf number).
 // Keep in sync with FrameUniform and OrganUniform in src/render/renderer.rs.
 
 struct Frame {
@@ -32,11 +33,13 @@ struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) @interpolate(flat) instance: u32,
 };
 
 @vertex
-fn vs_main(in: VsIn) -> VsOut {
+fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
     var out: VsOut;
+    out.instance = instance;
     let world = organ.model * vec4<f32>(in.position, 1.0);
     out.clip = frame.view_proj * world;
     out.world = world.xyz;
@@ -58,4 +61,9 @@ fn fs_shade(in: VsOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_pick(in: VsOut) -> @location(0) u32 {
     return organ.id.x;
+}
+
+@fragment
+fn fs_pick_instance(in: VsOut) -> @location(0) u32 {
+    return in.instance;
 }

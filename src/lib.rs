@@ -16,6 +16,7 @@
 //! Nothing here panics on bad input: every file error names its file (and line).
 
 pub mod atomic;
+pub mod bench;
 pub mod bvh;
 pub mod camera;
 pub mod cull;

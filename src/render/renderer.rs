@@ -68,6 +68,7 @@ pub struct Renderer {
     opaque: wgpu::RenderPipeline,
     blend: wgpu::RenderPipeline,
     pick: wgpu::RenderPipeline,
+    pick_leaf: wgpu::RenderPipeline,
 }
 
 /// sRGB component to linear.
@@ -215,7 +216,8 @@ impl Renderer {
         let blend =
             pipeline("organ blend", "fs_shade", COLOR_FORMAT, Some(over), false, Some(wgpu::Face::Back), SAMPLE_COUNT);
         let pick = pipeline("organ pick", "fs_pick", ID_FORMAT, None, true, None, 1);
-        Ok(Renderer { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, opaque, blend, pick })
+        let pick_leaf = pipeline("leaf pick", "fs_pick_instance", ID_FORMAT, None, true, None, 1);
+        Ok(Renderer { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, opaque, blend, pick, pick_leaf })
     }
 
     fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
@@ -364,6 +366,61 @@ impl Renderer {
             for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
                 if s.is_drawn() && s.opacity >= min_opacity {
                     self.draw(&mut pass, i, &self.ranges(i, frame.draw));
+                }
+            }
+        }
+        queue.submit([encoder.finish()]);
+    }
+
+    /// Draws leaf numbers into `target`'s ID buffer: `leaf_ids[organ][leaf] + 1` of the nearest
+    /// leaf of a drawn organ per pixel (0 = background), for measuring exact visibility. Every leaf
+    /// is drawn, with `bvh` giving each organ's leaf ranges.
+    pub fn render_leaf_ids(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+        frame: &FrameInput,
+        set: &crate::organ_set::OrganSet,
+        first_id: &[u32],
+    ) {
+        self.upload(queue, frame, target.aspect());
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("leaf ids"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.ids_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.ids_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_bind, &[]);
+            pass.set_pipeline(&self.pick_leaf);
+            for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
+                if !s.is_drawn() {
+                    continue;
+                }
+                let m = &self.meshes[i];
+                pass.set_bind_group(1, &self.organ_bind, &[(i as u64 * ORGAN_STRIDE) as u32]);
+                pass.set_vertex_buffer(0, m.vertices.slice(..));
+                pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+                let bvh = &set.organs[i].bvh;
+                for l in 0..bvh.leaves.len() as u32 {
+                    let id = first_id[i] + l + 1;
+                    pass.draw_indexed(bvh.leaf_range(l), 0, id..id + 1);
                 }
             }
         }

@@ -52,6 +52,39 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
+    Bench {
+        path: PathBuf,
+        /// Frames of the orbit (the thesis: 475)
+        #[arg(long, default_value_t = 475)]
+        frames: usize,
+        /// Image size, WxH
+        #[arg(long, default_value = "512x512")]
+        size: String,
+        /// Culling modes to compare, comma-separated
+        #[arg(long, default_value = "none,frustum,occlusion")]
+        cull: String,
+        /// Show organs hidden by default (e.g. skull), by id
+        #[arg(long, num_args = 1..)]
+        show: Vec<String>,
+        /// Hide organs by id
+        #[arg(long, num_args = 1..)]
+        hide: Vec<String>,
+        /// Set opacity, ID=A or all=A
+        #[arg(long, num_args = 1..)]
+        opacity: Vec<String>,
+        /// Occluder triangle budget per frame
+        #[arg(long, default_value_t = CullSettings::default().occluder_triangles)]
+        occluder_triangles: usize,
+        /// Culling raster size, WxH
+        #[arg(long, default_value = "128x128")]
+        raster: String,
+        /// Folder for bench.csv and bench.png
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// Write a denser copy of a set (each triangle subdivided), for benchmarks
     Scale {
         set: PathBuf,
@@ -116,6 +149,28 @@ fn run_command(command: Command) -> Result<bool> {
             import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
         }
         Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+        Command::Bench { path, frames, size, cull, show, hide, opacity, occluder_triangles, raster, out, json } => {
+            let (set, ok) = open_reporting(&path)?;
+            let mut layout = Layout::new(&set);
+            for id in &show {
+                let i = set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"))?;
+                layout.organs[i].visible = true;
+            }
+            apply_overrides(&set, &mut layout, &hide, &opacity)?;
+            let (rw, rh) = parse_size(&raster)?;
+            let settings =
+                CullSettings { width: rw as usize, height: rh as usize, occluder_triangles, ..Default::default() };
+            let opts = crate::bench::BenchOptions {
+                frames,
+                size: parse_size(&size)?,
+                modes: &cull,
+                json,
+                out: &out,
+                settings,
+            };
+            crate::bench::run(&set, &layout, &opts)?;
+            Ok(ok)
+        }
     }
 }
 

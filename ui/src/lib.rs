@@ -7,6 +7,7 @@
 //! (screenshots), `jobs` (work off the UI thread), `settings` (what persists), [`cli`] (headless).
 
 pub mod app;
+pub mod bench;
 pub mod cli;
 pub mod export;
 pub mod files;

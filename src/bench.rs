@@ -1,0 +1,199 @@
+//! The culling benchmark (thesis §5, Figure 22): the camera orbits the set (world space, its
+//! centre), each culling mode runs over the same frames in the same process, and each frame records
+//! CPU cull time, frame time (wall time until the GPU queue has finished), triangles drawn and the
+//! share culled. Once per frame it also renders every leaf's number at full resolution to find the
+//! leaves exact visibility could cull, and how many of those the culler culled.
+
+use crate::camera::Camera;
+use crate::cull::{cull, CullMode, CullSettings, DrawList};
+use crate::error::{Error, Result};
+use crate::layout::Layout;
+use crate::organ_set::OrganSet;
+use crate::render::{FrameInput, GpuContext, Renderer, Target};
+use std::time::Instant;
+
+/// One frame of one mode.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FrameRecord {
+    pub mode: CullMode,
+    pub frame: usize,
+    pub cull_ms: f64,
+    pub frame_ms: f64,
+    pub triangles: usize,
+    pub triangles_drawn: usize,
+    pub culled_percent: f64,
+    pub occluder_triangles: usize,
+    pub nodes_tested: usize,
+    /// Leaves hidden in an exact visibility pass, and how many of them this mode culled.
+    pub exact_hidden_leaves: usize,
+    pub culled_hidden_leaves: usize,
+}
+
+/// The camera of frame `i` of `n`: a full turn around the set at 15 degrees elevation.
+pub fn orbit_camera(home: &crate::mesh::Bounds, i: usize, n: usize) -> Camera {
+    Camera::orbit(home, 360.0 * i as f32 / n.max(1) as f32, 15.0)
+}
+
+/// Runs the benchmark; `progress(done, total)` hears of every frame.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    gpu: &GpuContext,
+    set: &OrganSet,
+    layout: &Layout,
+    size: [u32; 2],
+    frames: usize,
+    modes: &[CullMode],
+    settings: &CullSettings,
+    progress: &mut dyn FnMut(usize, usize),
+) -> Result<Vec<FrameRecord>> {
+    let renderer = Renderer::new(&gpu.device, set)?;
+    let target = Target::new(&gpu.device, size[0], size[1])?;
+    let home = layout.bounds(set);
+    let first_id: Vec<u32> = set
+        .organs
+        .iter()
+        .scan(0u32, |acc, o| {
+            let first = *acc;
+            *acc += o.bvh.leaves.len() as u32;
+            Some(first)
+        })
+        .collect();
+    let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Other(format!("GPU: {e}")));
+    // Exact visibility per frame, shared by all modes.
+    let mut hidden: Vec<Vec<bool>> = Vec::with_capacity(frames);
+    let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
+    for i in 0..frames {
+        let camera = orbit_camera(&home, i, frames);
+        let frame = FrameInput { camera: &camera, layout, draw: None, background: [0.0; 4] };
+        renderer.render_leaf_ids(&gpu.device, &gpu.queue, &target, &frame, set, &first_id);
+        let ids = target.read_ids(&gpu.device, &gpu.queue)?;
+        let mut h = vec![true; total_leaves];
+        for id in ids.into_iter().filter(|&id| id > 0) {
+            if let Some(x) = h.get_mut(id as usize - 1) {
+                *x = false;
+            }
+        }
+        hidden.push(h);
+    }
+    let mut records = Vec::new();
+    let total = frames * modes.len();
+    for (m, &mode) in modes.iter().enumerate() {
+        let settings = CullSettings { mode, ..*settings };
+        // Warm up pipelines and caches.
+        for i in 0..3.min(frames) {
+            let camera = orbit_camera(&home, i, frames);
+            let (draw, _) = cull(set, layout, &camera, target.aspect(), &settings);
+            renderer.render(
+                &gpu.device,
+                &gpu.queue,
+                &target,
+                &FrameInput { camera: &camera, layout, draw: Some(&draw), background: [0.0; 4] },
+            );
+            wait()?;
+        }
+        for (i, hidden) in hidden.iter().enumerate() {
+            let camera = orbit_camera(&home, i, frames);
+            let started = Instant::now();
+            let (draw, stats) = cull(set, layout, &camera, target.aspect(), &settings);
+            let input = FrameInput { camera: &camera, layout, draw: Some(&draw), background: [0.0; 4] };
+            renderer.render(&gpu.device, &gpu.queue, &target, &input);
+            wait()?;
+            let frame_ms = started.elapsed().as_secs_f64() * 1000.0;
+            let (exact, culled) = hidden_leaves_culled(set, layout, &draw, hidden, &first_id);
+            records.push(FrameRecord {
+                mode,
+                frame: i,
+                cull_ms: stats.cull_ms,
+                frame_ms,
+                triangles: stats.triangles,
+                triangles_drawn: stats.drawn,
+                culled_percent: stats.culled_percent(),
+                occluder_triangles: stats.occluder_triangles,
+                nodes_tested: stats.nodes_tested,
+                exact_hidden_leaves: exact,
+                culled_hidden_leaves: culled,
+            });
+            progress(m * frames + i + 1, total);
+        }
+    }
+    Ok(records)
+}
+
+/// Of the drawn organs' leaves that exact visibility hides, how many are there and how many did
+/// the draw list leave out?
+fn hidden_leaves_culled(
+    set: &OrganSet,
+    layout: &Layout,
+    draw: &DrawList,
+    hidden: &[bool],
+    first_id: &[u32],
+) -> (usize, usize) {
+    let (mut exact, mut culled) = (0, 0);
+    for (o, organ) in set.organs.iter().enumerate() {
+        if !layout.organs[o].is_drawn() {
+            continue;
+        }
+        let ranges = &draw.ranges[o];
+        for l in 0..organ.bvh.leaves.len() as u32 {
+            if !hidden[(first_id[o] + l) as usize] {
+                continue;
+            }
+            exact += 1;
+            let r = organ.bvh.leaf_range(l);
+            if !ranges.iter().any(|d| d.start < r.end && r.start < d.end) {
+                culled += 1;
+            }
+        }
+    }
+    (exact, culled)
+}
+
+/// Summary of one mode over all frames.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct Summary {
+    pub median_frame_ms: f64,
+    pub median_cull_ms: f64,
+    pub mean_culled_percent: f64,
+    pub max_culled_percent: f64,
+    /// Share (percent) of the exactly hidden leaves that were culled, over all frames.
+    pub hidden_leaves_culled_percent: f64,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
+    let r: Vec<&FrameRecord> = records.iter().filter(|r| r.mode == mode).collect();
+    let n = r.len().max(1) as f64;
+    let exact: usize = r.iter().map(|r| r.exact_hidden_leaves).sum();
+    let culled: usize = r.iter().map(|r| r.culled_hidden_leaves).sum();
+    Summary {
+        median_frame_ms: median(r.iter().map(|r| r.frame_ms).collect()),
+        median_cull_ms: median(r.iter().map(|r| r.cull_ms).collect()),
+        mean_culled_percent: r.iter().map(|r| r.culled_percent).sum::<f64>() / n,
+        max_culled_percent: r.iter().map(|r| r.culled_percent).fold(0.0, f64::max),
+        hidden_leaves_culled_percent: if exact == 0 { 100.0 } else { 100.0 * culled as f64 / exact as f64 },
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn medians() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(vec![4.0, 1.0, 2.0, 3.0]), 2.5);
+        assert_eq!(median(vec![]), 0.0);
+    }
+}

@@ -1,0 +1,185 @@
+//! `vbrain bench`: the thesis's Virtual Brain run (camera orbiting the set) over the listed culling
+//! modes, with a summary, a CSV of every frame, a PNG plot like thesis Figure 22 (culled % and frame
+//! time per frame) and, with `--json`, a machine-readable summary keyed by mode.
+
+use anyhow::{anyhow, bail, Result};
+use plotters::prelude::*;
+use serde_json::json;
+use std::path::Path;
+use vbrain::bench::{self, FrameRecord};
+use vbrain::cull::{CullMode, CullSettings};
+
+pub struct BenchOptions<'a> {
+    pub frames: usize,
+    pub size: (u32, u32),
+    pub modes: &'a str,
+    pub json: bool,
+    pub out: &'a Path,
+    pub settings: CullSettings,
+}
+
+pub fn parse_modes(list: &str) -> Result<Vec<CullMode>> {
+    let modes: Vec<CullMode> = list
+        .split(',')
+        .map(|m| {
+            CullMode::parse(m.trim()).ok_or_else(|| anyhow!("unknown culling mode \"{m}\" (none, frustum, occlusion)"))
+        })
+        .collect::<Result<_>>()?;
+    if modes.is_empty() {
+        bail!("no culling mode given");
+    }
+    Ok(modes)
+}
+
+pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, opts: &BenchOptions) -> Result<()> {
+    let modes = parse_modes(opts.modes)?;
+    if opts.frames == 0 {
+        bail!("--frames must be at least 1");
+    }
+    let gpu = vbrain::render::GpuContext::headless()?;
+    let bar = indicatif::ProgressBar::new((opts.frames * modes.len()) as u64);
+    let records =
+        bench::run(&gpu, set, layout, [opts.size.0, opts.size.1], opts.frames, &modes, &opts.settings, &mut |d, _| {
+            bar.set_position(d as u64)
+        })?;
+    bar.finish_and_clear();
+    std::fs::create_dir_all(opts.out).map_err(|e| anyhow!("{}: {e}", opts.out.display()))?;
+    let csv = opts.out.join("bench.csv");
+    vbrain::atomic::write(&csv, |w| write_csv(&records, w))?;
+    let plot = opts.out.join("bench.png");
+    write_plot(&records, &modes, &plot)?;
+    let triangles = set.triangle_count();
+    let drawn_triangles = records.first().map(|r| r.triangles).unwrap_or(0);
+    if opts.json {
+        let mut out = serde_json::Map::new();
+        for &m in &modes {
+            out.insert(m.name().into(), serde_json::to_value(bench::summarise(&records, m))?);
+        }
+        out.insert("triangles".into(), json!(triangles));
+        out.insert("triangles_drawn_organs".into(), json!(drawn_triangles));
+        out.insert("frames".into(), json!(opts.frames));
+        out.insert("size".into(), json!([opts.size.0, opts.size.1]));
+        out.insert("adapter".into(), json!(gpu.adapter_description()));
+        out.insert("csv".into(), json!(csv));
+        out.insert("plot".into(), json!(plot));
+        println!("{}", serde_json::to_string_pretty(&serde_json::Value::Object(out))?);
+    } else {
+        println!(
+            "{} frames at {}x{}, {} triangles in drawn organs, on {}",
+            opts.frames,
+            opts.size.0,
+            opts.size.1,
+            drawn_triangles,
+            gpu.adapter_description()
+        );
+        println!(
+            "{:<10} {:>14} {:>13} {:>12} {:>11} {:>15}",
+            "mode", "median frame", "median cull", "mean culled", "max culled", "hidden culled"
+        );
+        for &m in &modes {
+            let s = bench::summarise(&records, m);
+            println!(
+                "{:<10} {:>11.2} ms {:>10.3} ms {:>10.1} % {:>9.1} % {:>13.1} %",
+                m.name(),
+                s.median_frame_ms,
+                s.median_cull_ms,
+                s.mean_culled_percent,
+                s.max_culled_percent,
+                s.hidden_leaves_culled_percent
+            );
+        }
+        println!("wrote {} and {}", csv.display(), plot.display());
+    }
+    Ok(())
+}
+
+fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
+    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_triangles,nodes_tested,exact_hidden_leaves,culled_hidden_leaves")?;
+    for r in records {
+        writeln!(
+            w,
+            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{}",
+            r.mode.name(),
+            r.frame,
+            r.cull_ms,
+            r.frame_ms,
+            r.triangles,
+            r.triangles_drawn,
+            r.culled_percent,
+            r.occluder_triangles,
+            r.nodes_tested,
+            r.exact_hidden_leaves,
+            r.culled_hidden_leaves
+        )?;
+    }
+    Ok(())
+}
+
+fn colour(mode: CullMode) -> RGBColor {
+    match mode {
+        CullMode::None => RGBColor(90, 90, 90),
+        CullMode::Frustum => RGBColor(40, 110, 200),
+        CullMode::Occlusion => RGBColor(220, 70, 40),
+    }
+}
+
+/// Two panels over the frames: culled percent (top) and frame time (bottom), one line per mode.
+fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Result<()> {
+    static FONT: std::sync::Once = std::sync::Once::new();
+    FONT.call_once(|| {
+        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
+    });
+    let (w, h) = (1000u32, 720u32);
+    let mut buf = vec![255u8; (w * h * 3) as usize];
+    {
+        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| anyhow!("plot: {e}"))?;
+        let (top, bottom) = root.split_vertically(h / 2);
+        let frames = records.iter().map(|r| r.frame).max().unwrap_or(0) + 1;
+        let max_ms = records.iter().map(|r| r.frame_ms).fold(1.0, f64::max) * 1.1;
+        type Value = fn(&FrameRecord) -> f64;
+        let panels: [(&DrawingArea<_, _>, &str, f64, Value); 2] = [
+            (&top, "culled triangles (%)", 100.0, |r| r.culled_percent),
+            (&bottom, "frame time (ms)", max_ms, |r| r.frame_ms),
+        ];
+        for (area, label, max, value) in panels {
+            let mut chart = ChartBuilder::on(area)
+                .margin(12)
+                .x_label_area_size(36)
+                .y_label_area_size(56)
+                .caption(label, ("sans-serif", 20))
+                .build_cartesian_2d(0..frames, 0.0..max)
+                .map_err(|e| anyhow!("plot: {e}"))?;
+            chart
+                .configure_mesh()
+                .x_desc("frame")
+                .label_style(("sans-serif", 14))
+                .draw()
+                .map_err(|e| anyhow!("plot: {e}"))?;
+            for &m in modes {
+                let c = colour(m);
+                chart
+                    .draw_series(LineSeries::new(
+                        records.iter().filter(|r| r.mode == m).map(|r| (r.frame, value(r))),
+                        c.stroke_width(2),
+                    ))
+                    .map_err(|e| anyhow!("plot: {e}"))?
+                    .label(m.name())
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
+            }
+            chart
+                .configure_series_labels()
+                .background_style(WHITE.mix(0.8))
+                .border_style(BLACK)
+                .label_font(("sans-serif", 14))
+                .draw()
+                .map_err(|e| anyhow!("plot: {e}"))?;
+        }
+        root.present().map_err(|e| anyhow!("plot: {e}"))?;
+    }
+    let img = image::RgbImage::from_raw(w, h, buf).ok_or_else(|| anyhow!("plot buffer"))?;
+    let mut png = Vec::new();
+    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+    vbrain::atomic::write(path, |w| w.write_all(&png))?;
+    Ok(())
+}
