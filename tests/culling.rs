@@ -144,7 +144,7 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
 fn default_brain_culling_changes_no_pixel() {
     let set = organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set;
     let share = identical_images(&set, 120, 0x5eed, true);
-    assert!(share > 0.3, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
+    assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
     identical_images(&set, 40, 0xbeef, false);
 }
 

@@ -186,9 +186,11 @@ pub struct Occluders {
     pub triangles: usize,
 }
 
-/// Selects occluder leaves by projected size and rasterises them. A leaf's score is its projected
-/// area in culling pixels, weighted by how much its surface faces the eye (so the near side of a
-/// closed organ wins over its far side) and by its nearness.
+/// Selects occluders by projected size and rasterises them. Opaque, visible organs are taken in
+/// order of the projected area of their bounds (largest first); of each, the leaves whose surface
+/// faces the eye (area-weighted normal toward the eye), until the triangle budget is spent. Taking
+/// an organ's whole facing side keeps the occluder patches large and whole, so their coverage has
+/// few outline pixels inside.
 pub fn occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -197,72 +199,53 @@ pub fn occluders(
     settings: &CullSettings,
 ) -> Occluders {
     let (w, h) = (settings.width, settings.height);
-    let mut candidates: Vec<(f32, usize, u32)> = Vec::new(); // (score, organ, leaf)
+    let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
     for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
-        if !state.is_opaque() {
+        if !state.is_opaque() || organ.bvh.nodes.is_empty() {
             continue;
         }
-        let model = state.transform.matrix();
-        let mvp = *view_proj * model;
-        for (l, &n) in organ.bvh.leaves.iter().enumerate() {
-            let bounds = &organ.bvh.nodes[n as usize].bounds;
-            let Seen::Rect { x0, y0, x1, y1, .. } = see(&mvp, bounds, w, h) else { continue };
-            let [nx, ny, nz, area] = organ.bvh.leaf_normals[l];
-            let centre = model.transform_point3(bounds.center());
-            let to_eye = camera.eye - centre;
-            let facing =
-                model.transform_vector3(Vec3::new(nx, ny, nz)).dot(to_eye.normalize_or_zero()) / area.max(1e-12);
-            if facing <= 0.05 {
-                continue;
-            }
-            let score = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32 * facing / to_eye.length_squared().max(1e-6);
-            candidates.push((score, o, l as u32));
+        let mvp = *view_proj * state.transform.matrix();
+        if let Seen::Rect { x0, y0, x1, y1, .. } = see(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
+            organs.push(((x1 - x0 + 1) * (y1 - y0 + 1), o));
         }
     }
-    candidates.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-    let leaf_node = |o: usize, l: u32| &set.organs[o].bvh.nodes[set.organs[o].bvh.leaves[l as usize] as usize];
-    // Round one: the best half of the budget. Round two: fill the budget, passing over leaves the
-    // first round already hides (the thesis drops hidden occluders the same way, by ID rendering).
+    organs.sort_unstable_by_key(|&(area, _)| std::cmp::Reverse(area));
     let mut chosen: Vec<Vec<u32>> = vec![Vec::new(); set.organs.len()];
     let (mut leaves, mut triangles) = (0, 0);
-    let mut taken = vec![false; candidates.len()];
-    let mut first_round = None;
-    for round in 0..2 {
-        let limit = if round == 0 { settings.occluder_triangles / 2 } else { settings.occluder_triangles };
-        for (k, &(_, o, l)) in candidates.iter().enumerate() {
-            let count = leaf_node(o, l).count as usize;
-            if taken[k] || triangles + count > limit {
+    for &(_, o) in &organs {
+        let (organ, state) = (&set.organs[o], &layout.organs[o]);
+        let model = state.transform.matrix();
+        let mvp = *view_proj * model;
+        // Facing leaves on screen, most facing first.
+        let mut facing: Vec<(f32, u32)> = Vec::new();
+        for (l, &n) in organ.bvh.leaves.iter().enumerate() {
+            let bounds = &organ.bvh.nodes[n as usize].bounds;
+            if !matches!(see(&mvp, bounds, w, h), Seen::Rect { .. }) {
                 continue;
             }
-            if let Some(first) = &first_round {
-                let mvp = *view_proj * layout.organs[o].transform.matrix();
-                if hidden(first, see(&mvp, &leaf_node(o, l).bounds, w, h)) {
-                    continue;
-                }
+            let [nx, ny, nz, area] = organ.bvh.leaf_normals[l];
+            let to_eye = (camera.eye - model.transform_point3(bounds.center())).normalize_or_zero();
+            let f = model.transform_vector3(Vec3::new(nx, ny, nz)).dot(to_eye) / area.max(1e-12);
+            if f > 0.0 {
+                facing.push((f, l as u32));
             }
-            taken[k] = true;
-            chosen[o].push(l);
-            leaves += 1;
-            triangles += count;
         }
-        if round == 0 {
-            first_round = Some(rasterise(set, layout, view_proj, &chosen, w, h));
+        facing.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+        for (_, l) in facing {
+            let count = organ.bvh.nodes[organ.bvh.leaves[l as usize] as usize].count as usize;
+            if triangles + count <= settings.occluder_triangles {
+                chosen[o].push(l);
+                leaves += 1;
+                triangles += count;
+            }
+        }
+        if triangles >= settings.occluder_triangles {
+            break;
         }
     }
     let mut occ = rasterise(set, layout, view_proj, &chosen, w, h);
     (occ.leaves, occ.triangles) = (leaves, triangles);
     occ
-}
-
-/// Is a box seen as `seen` wholly behind the occluders?
-fn hidden(o: &Occluders, seen: Seen) -> bool {
-    match seen {
-        Seen::Rect { x0, y0, x1, y1, z } => {
-            o.opacity.covered(x0, y0, x1, y1) as usize == (x1 - x0 + 1) * (y1 - y0 + 1)
-                && o.sparse.all_in_front_of(&o.maps.depth, x0, y0, x1, y1, z)
-        }
-        _ => false,
-    }
 }
 
 /// Rasterises the chosen leaves of every organ into occluder maps with their look-up structures.
