@@ -27,5 +27,7 @@ pub mod navigation;
 pub mod organ_set;
 pub mod render;
 pub mod surface;
+#[cfg(test)]
+mod test_rng;
 
 pub use error::{Error, Result};

@@ -102,6 +102,19 @@ impl Mesh {
         self.normals = acc.into_iter().map(|n| n.try_normalize().unwrap_or(Vec3::Z).to_array()).collect();
     }
 
+    /// The enclosed volume (mm³) of a closed mesh: positive when its triangles wind counter-clockwise
+    /// seen from outside, negative when inside out.
+    pub fn signed_volume(&self) -> f32 {
+        let c = self.bounds().center();
+        self.indices
+            .chunks_exact(3)
+            .map(|t| {
+                let [a, b, d] = [t[0], t[1], t[2]].map(|i| Vec3::from(self.positions[i as usize]) - c);
+                a.dot(b.cross(d)) / 6.0
+            })
+            .sum()
+    }
+
     /// Appends another mesh (indices shifted).
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;

@@ -251,14 +251,7 @@ mod tests {
             assert!((d - 8.0).abs() < 0.6, "vertex at radius {d}");
         }
         // Outward winding: the signed volume is positive and close to the sphere's.
-        let vol: f32 = m
-            .indices
-            .chunks_exact(3)
-            .map(|t| {
-                let [a, b, cc] = [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
-                a.dot(b.cross(cc)) / 6.0
-            })
-            .sum();
+        let vol = m.signed_volume();
         let exact = 4.0 / 3.0 * std::f32::consts::PI * 512.0;
         assert!((vol - exact).abs() / exact < 0.05, "volume {vol} vs {exact}");
         taubin_smooth(&mut m, 10);

@@ -89,13 +89,8 @@ mod tests {
 
     #[test]
     fn matches_brute_force_on_random_bitmaps() {
-        let mut seed = 12345u64;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rng = crate::test_rng::XorShift(12345);
+        let mut rand = || rng.next_u64();
         for _ in 0..50 {
             let (w, h) = (1 + rand() as usize % 40, 1 + rand() as usize % 40);
             let bitmap: Vec<u8> = (0..w * h).map(|_| (rand() % 3 == 0) as u8).collect();

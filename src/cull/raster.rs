@@ -213,13 +213,8 @@ mod tests {
 
     #[test]
     fn coverage_never_exceeds_a_fine_reference() {
-        let mut seed = 7u64;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            (seed % 10_000) as f32 / 10_000.0
-        };
+        let mut rng = crate::test_rng::XorShift(7);
+        let mut rand = || rng.unit();
         for _ in 0..30 {
             let (tris, rim) =
                 fan(4.0 + 24.0 * rand(), 4.0 + 24.0 * rand(), 2.0 + 12.0 * rand(), 5 + (rand() * 20.0) as usize, 0.5);

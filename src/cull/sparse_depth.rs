@@ -71,13 +71,8 @@ mod tests {
 
     #[test]
     fn row_maxima_match_brute_force() {
-        let mut seed = 99u64;
-        let mut rand = move || {
-            seed ^= seed << 13;
-            seed ^= seed >> 7;
-            seed ^= seed << 17;
-            seed
-        };
+        let mut rng = crate::test_rng::XorShift(99);
+        let mut rand = || rng.next_u64();
         for _ in 0..100 {
             let (w, h) = (1 + rand() as usize % 50, 1 + rand() as usize % 6);
             // Smooth runs with plateaus and jumps, like occluder depths.

@@ -382,15 +382,7 @@ mod tests {
         // Outward winding survives the mirroring affine: positive signed volume.
         for o in &set.organs {
             let m = &o.mesh;
-            let c = m.bounds().center();
-            let vol: f32 = m
-                .indices
-                .chunks_exact(3)
-                .map(|t| {
-                    let [a, b, cc] = [t[0], t[1], t[2]].map(|i| Vec3::from(m.positions[i as usize]) - c);
-                    a.dot(b.cross(cc)) / 6.0
-                })
-                .sum();
+            let vol = m.signed_volume();
             assert!(vol > 500.0, "{}: signed volume {vol}", o.name);
             assert!(m.validate().is_ok());
         }

@@ -71,15 +71,6 @@ pub struct Renderer {
     pick_leaf: wgpu::RenderPipeline,
 }
 
-/// sRGB component to linear.
-fn linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 impl Renderer {
     /// Creates the pipelines and uploads the set's meshes.
     pub fn new(device: &wgpu::Device, set: &OrganSet) -> Result<Renderer> {
@@ -228,7 +219,7 @@ impl Renderer {
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
-            let c = s.colour.map(linear);
+            let c = s.colour.map(super::srgb_to_linear);
             let u = OrganUniform {
                 model: model.to_cols_array_2d(),
                 normal_matrix: normal.to_cols_array_2d(),
@@ -328,6 +319,46 @@ impl Renderer {
         stats
     }
 
+    /// Runs one pass into `target`'s ID buffer (cleared to 0, with its own depth) after uploading
+    /// the frame's uniforms; `draw` records the draws with the frame bind group set.
+    fn id_pass(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+        frame: &FrameInput,
+        label: &str,
+        draw: impl FnOnce(&mut wgpu::RenderPass),
+    ) {
+        self.upload(queue, frame, target.aspect());
+        let mut encoder = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &target.ids_view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.ids_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.frame_bind, &[]);
+            draw(&mut pass);
+        }
+        queue.submit([encoder.finish()]);
+    }
+
     /// Draws organ IDs into `target`'s ID buffer: for each pixel the nearest drawn organ whose
     /// opacity is at least `min_opacity` (so clicking through a faded organ reaches what is inside).
     pub fn render_ids(
@@ -338,43 +369,19 @@ impl Renderer {
         frame: &FrameInput,
         min_opacity: f32,
     ) {
-        self.upload(queue, frame, target.aspect());
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("organ ids"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.ids_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.ids_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.frame_bind, &[]);
+        self.id_pass(device, queue, target, frame, "organ ids", |pass| {
             pass.set_pipeline(&self.pick);
             for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
                 if s.is_drawn() && s.opacity >= min_opacity {
-                    self.draw(&mut pass, i, &self.ranges(i, frame.draw));
+                    self.draw(pass, i, &self.ranges(i, frame.draw));
                 }
             }
-        }
-        queue.submit([encoder.finish()]);
+        });
     }
 
-    /// Draws leaf numbers into `target`'s ID buffer: `leaf_ids[organ][leaf] + 1` of the nearest
+    /// Draws leaf numbers into `target`'s ID buffer: `first_id[organ] + leaf + 1` of the nearest
     /// leaf of a drawn organ per pixel (0 = background), for measuring exact visibility. Every leaf
-    /// is drawn, with `bvh` giving each organ's leaf ranges.
+    /// of every drawn organ is drawn, as one instance numbered by the leaf.
     pub fn render_leaf_ids(
         &self,
         device: &wgpu::Device,
@@ -384,30 +391,7 @@ impl Renderer {
         set: &crate::organ_set::OrganSet,
         first_id: &[u32],
     ) {
-        self.upload(queue, frame, target.aspect());
-        let mut encoder = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("leaf ids"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.ids_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.ids_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.frame_bind, &[]);
+        self.id_pass(device, queue, target, frame, "leaf ids", |pass| {
             pass.set_pipeline(&self.pick_leaf);
             for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
                 if !s.is_drawn() {
@@ -423,7 +407,6 @@ impl Renderer {
                     pass.draw_indexed(bvh.leaf_range(l), 0, id..id + 1);
                 }
             }
-        }
-        queue.submit([encoder.finish()]);
+        });
     }
 }

@@ -55,7 +55,7 @@ impl Default for ExportSettings {
 impl Default for Settings {
     fn default() -> Self {
         let bg = crate::BACKGROUND;
-        let srgb = |c: f32| if c <= 0.003_130_8 { c * 12.92 } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
+        let srgb = vbrain::render::linear_to_srgb;
         Settings {
             recent: Vec::new(),
             last_set: None,
@@ -91,7 +91,7 @@ impl Settings {
 
     /// The background as linear RGBA for the renderer.
     pub fn background_linear(&self, transparent: bool) -> [f32; 4] {
-        let lin = |c: f32| if c <= 0.04045 { c / 12.92 } else { ((c + 0.055) / 1.055).powf(2.4) };
+        let lin = vbrain::render::srgb_to_linear;
         let b = self.background;
         [lin(b[0]), lin(b[1]), lin(b[2]), if transparent { 0.0 } else { 1.0 }]
     }
