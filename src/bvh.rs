@@ -39,10 +39,6 @@ pub struct Bvh {
     pub leaves: Vec<u32>,
     /// Per triangle: the leaf it belongs to.
     pub leaf_of: Vec<u32>,
-    /// Per leaf: the sum of its triangles' area-weighted normals (xyz, organ space) and their total
-    /// area (w). |xyz| / w near 1 means the leaf faces one way; occluder selection prefers such
-    /// leaves facing the camera.
-    pub leaf_normals: Vec<[f32; 4]>,
     /// Per triangle and edge (a->b, b->c, c->a): the triangle across it, or `NONE` at a border, a
     /// non-manifold edge, or a neighbour wound the other way.
     pub neighbours: Vec<[u32; 3]>,
@@ -61,16 +57,7 @@ impl Bvh {
             let i = 3 * t as usize;
             [mesh.indices[i], mesh.indices[i + 1], mesh.indices[i + 2]].map(|v| Vec3::from(mesh.positions[v as usize]))
         };
-        // Split positions: centroids pushed along their face normals by a twentieth of the organ's
-        // size, so the two sides of a thin shell (skull, cortex ribbon) fall into different leaves
-        // and each leaf faces one way, which makes leaves good occluders.
-        let push = mesh.bounds().size().length() * 0.05;
-        let centroids: Vec<Vec3> = (0..tri_count as u32)
-            .map(|t| {
-                let [a, b, c] = tri(t);
-                (a + b + c) / 3.0 + (b - a).cross(c - a).normalize_or_zero() * push
-            })
-            .collect();
+        let centroids: Vec<Vec3> = (0..tri_count as u32).map(|t| tri(t).iter().sum::<Vec3>() / 3.0).collect();
         let mut order: Vec<u32> = (0..tri_count as u32).collect();
         // Explicit stack of (node, first, count).
         bvh.nodes.push(Node {
@@ -132,13 +119,6 @@ impl Bvh {
             bvh.leaf_of[node.first as usize..(node.first + node.count) as usize].fill(l as u32);
         }
         bvh.leaves = leaves;
-        bvh.leaf_normals = vec![[0.0; 4]; bvh.leaves.len()];
-        for (&old, &l) in order.iter().zip(&bvh.leaf_of) {
-            let [a, b, c] = tri(old);
-            let n = (b - a).cross(c - a) * 0.5;
-            let acc = &mut bvh.leaf_normals[l as usize];
-            *acc = [acc[0] + n.x, acc[1] + n.y, acc[2] + n.z, acc[3] + n.length()];
-        }
         mesh.indices =
             order.iter().flat_map(|&t| (0..3).map(move |k| 3 * t as usize + k)).map(|i| mesh.indices[i]).collect();
         bvh.neighbours = neighbours(mesh);

@@ -9,8 +9,8 @@ What it does (all coordinates millimetres, RAS, MNI152 space):
     mapped to MNI152 with FreeSurfer's published MNI305->MNI152 affine).
  2. Builds one 1 mm label volume on a head-sized grid: cortical parcels merged into lobes per
     hemisphere, subcortical structures, ventricles, brainstem, cerebellum, corpus callosum, and a skull
-    shell made from the inner-skull surface (grown to enclose every brain label) dilated by 6 mm and
-    kept 3 mm inside the skin. A second volume holds the whole head, whose surface is the scalp.
+    shell made from the inner-skull surface (grown to enclose every brain label, its gyral imprints
+    closed) dilated by 6 mm, smoothed, and kept 3 mm inside the skin. A second volume holds the whole head, whose surface is the scalp.
  3. Runs `vbrain import` on both (surface nets, smoothing, meshoptimizer decimation), then merges the
     two sets and writes names, groups, colours, default visibility and the students' info texts.
 
@@ -225,8 +225,11 @@ def main():
     inner = voxelize(*read_surface(DATA["inner_skull"]), grid_affine, shape)
     # The cranial cavity must hold every brain label (the atlases come from different subjects).
     inner |= ndimage.binary_dilation(dk_grid > 0, ball(2))
-    inner = ndimage.binary_fill_holes(inner)
-    skull = ndimage.binary_dilation(inner, ball(6)) & ndimage.binary_erosion(head, ball(3)) & ~inner
+    # Close the imprints of the gyri: the cranial cavity is smooth at this scale.
+    inner = ndimage.binary_fill_holes(ndimage.binary_closing(ndimage.binary_fill_holes(inner), ball(5)))
+    # The outer table: 6 mm out, smoothed (a bone surface, not voxel steps), 3 mm inside the skin.
+    outer = ndimage.gaussian_filter(ndimage.binary_dilation(inner, ball(6)).astype(np.float32), 2.0) > 0.5
+    skull = outer & ndimage.binary_erosion(head, ball(3)) & ~inner
     skull_n = [o[0] for o in organs].index("skull") + 1
     labels[skull] = skull_n
 

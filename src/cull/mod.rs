@@ -78,7 +78,7 @@ impl Default for CullSettings {
             mode: CullMode::Occlusion,
             width: 128,
             height: 128,
-            occluder_triangles: 24_576,
+            occluder_triangles: 16_384,
             adaptive_ratio: 0.2,
             hole_tolerance: None,
         }
@@ -187,10 +187,10 @@ pub struct Occluders {
 }
 
 /// Selects occluders by projected size and rasterises them. Opaque, visible organs are taken in
-/// order of the projected area of their bounds (largest first); of each, the leaves whose surface
-/// faces the eye (area-weighted normal toward the eye), until the triangle budget is spent. Taking
-/// an organ's whole facing side keeps the occluder patches large and whole, so their coverage has
-/// few outline pixels inside.
+/// order of the projected area of their bounds (largest first); of each, its leaves on screen,
+/// nearest first, until the triangle budget is spent. Taking an organ's near side whole keeps the
+/// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
+/// only the triangles that face the eye.
 pub fn occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -216,22 +216,16 @@ pub fn occluders(
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
         let mvp = *view_proj * model;
-        // Facing leaves on screen, most facing first.
-        let mut facing: Vec<(f32, u32)> = Vec::new();
+        // Its leaves on screen, nearest first: the near side of a shell before its far wall.
+        let mut near: Vec<(f32, u32)> = Vec::new();
         for (l, &n) in organ.bvh.leaves.iter().enumerate() {
             let bounds = &organ.bvh.nodes[n as usize].bounds;
-            if !matches!(see(&mvp, bounds, w, h), Seen::Rect { .. }) {
-                continue;
-            }
-            let [nx, ny, nz, area] = organ.bvh.leaf_normals[l];
-            let to_eye = (camera.eye - model.transform_point3(bounds.center())).normalize_or_zero();
-            let f = model.transform_vector3(Vec3::new(nx, ny, nz)).dot(to_eye) / area.max(1e-12);
-            if f > 0.0 {
-                facing.push((f, l as u32));
+            if matches!(see(&mvp, bounds, w, h), Seen::Rect { .. }) {
+                near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
             }
         }
-        facing.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-        for (_, l) in facing {
+        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        for (_, l) in near {
             let count = organ.bvh.nodes[organ.bvh.leaves[l as usize] as usize].count as usize;
             if triangles + count <= settings.occluder_triangles {
                 chosen[o].push(l);
