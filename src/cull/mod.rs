@@ -4,8 +4,8 @@
 //! larger is farther).
 //!
 //! 1. View-frustum culling of each drawn organ's hierarchy ([`crate::bvh`]).
-//! 2. Occluders: leaves of opaque, visible organs, largest projected size first, up to a triangle
-//!    budget (no pre-processing, so organs may move).
+//! 2. Occluders: opaque, visible organs by projected size, largest first; of each, its on-screen
+//!    leaves nearest first, up to a triangle budget (no pre-processing, so organs may move).
 //! 3. [`raster`]: their front triangles rasterised conservatively into coverage and depth.
 //! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
 //!    [`sparse_depth`] for the depth comparison over peaks only.
@@ -237,13 +237,6 @@ pub fn occluders(
             break;
         }
     }
-    let mut occ = rasterise(set, layout, view_proj, &chosen, w, h);
-    (occ.leaves, occ.triangles) = (leaves, triangles);
-    occ
-}
-
-/// Rasterises the chosen leaves of every organ into occluder maps with their look-up structures.
-fn rasterise(set: &OrganSet, layout: &Layout, view_proj: &Mat4, chosen: &[Vec<u32>], w: usize, h: usize) -> Occluders {
     let mut raster = OccluderRaster::new(w, h);
     for (o, list) in chosen.iter().enumerate() {
         if !list.is_empty() {
@@ -254,7 +247,7 @@ fn rasterise(set: &OrganSet, layout: &Layout, view_proj: &Mat4, chosen: &[Vec<u3
     let maps = raster.finish();
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
-    Occluders { maps, opacity, sparse, leaves: 0, triangles: 0 }
+    Occluders { maps, opacity, sparse, leaves, triangles }
 }
 
 /// Rasterises the positively wound triangles of the chosen leaves of one organ, with the outline of
