@@ -57,7 +57,8 @@ impl CullMode {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
 pub struct CullSettings {
     pub mode: CullMode,
     /// Culling raster size in pixels.

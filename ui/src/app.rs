@@ -356,10 +356,35 @@ impl App {
                 }
                 ui.checkbox(&mut self.viewport.fly, "Walk-through camera (G)");
                 ui.separator();
-                ui.label("Culling of hidden tissue");
-                for mode in vbrain::cull::CullMode::ALL {
-                    ui.radio_value(&mut self.settings.cull, mode, mode.name());
-                }
+                ui.menu_button("Culling of hidden tissue", |ui| {
+                    let c = &mut self.settings.cull;
+                    for mode in vbrain::cull::CullMode::ALL {
+                        ui.radio_value(&mut c.mode, mode, mode.name());
+                    }
+                    ui.separator();
+                    let r = ui.add(egui::Slider::new(&mut c.width, 32..=512).text("culling raster (pixels)"));
+                    crate::accessible(&r, "Culling raster size");
+                    c.height = c.width;
+                    let r = ui.add(
+                        egui::Slider::new(&mut c.occluder_triangles, 1024..=131_072)
+                            .logarithmic(true)
+                            .text("occluder triangles"),
+                    );
+                    crate::accessible(&r, "Occluder triangle budget");
+                    let r = ui
+                        .add(egui::Slider::new(&mut c.adaptive_ratio, 0.0..=1.0).text("adaptive stop below coverage"));
+                    crate::accessible(&r, "Adaptive stop ratio");
+                    let mut approximate = c.hole_tolerance.is_some();
+                    if ui.checkbox(&mut approximate, "approximate overlap test (not exact)").changed() {
+                        c.hole_tolerance = approximate.then_some(0.05);
+                    }
+                    if let Some(t) = &mut c.hole_tolerance {
+                        ui.add(egui::Slider::new(t, 0.0..=0.5).text("hole tolerance"));
+                    }
+                    if ui.button("Defaults").clicked() {
+                        *c = vbrain::cull::CullSettings::default();
+                    }
+                });
                 ui.separator();
                 ui.checkbox(&mut self.settings.show_inspector, "Inspector");
                 ui.checkbox(&mut self.settings.show_stats, "Statistics (fps, culling overlay)");
@@ -425,7 +450,7 @@ impl App {
             ui.separator();
             ui.label("transparency: alpha blending (sorted by organ)");
             ui.separator();
-            ui.label(format!("culling: {}", self.settings.cull.name()));
+            ui.label(format!("culling: {}", self.settings.cull.mode.name()));
             if let Some(sel) = self.selected {
                 ui.separator();
                 ui.label(format!("selected: {}", scene.set.organs[sel].name));

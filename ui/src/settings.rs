@@ -25,7 +25,7 @@ pub struct Settings {
     pub show_stats: bool,
     pub export: ExportSettings,
     /// Culling of hidden tissue in the viewport (the image is the same either way).
-    pub cull: vbrain::cull::CullMode,
+    pub cull: vbrain::cull::CullSettings,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -65,7 +65,7 @@ impl Default for Settings {
             show_inspector: true,
             show_stats: true,
             export: ExportSettings::default(),
-            cull: vbrain::cull::CullMode::Occlusion,
+            cull: vbrain::cull::CullSettings::default(),
         }
     }
 }

@@ -9,7 +9,7 @@ use glam::{Quat, Vec2, Vec3};
 use std::collections::VecDeque;
 use std::time::Instant;
 use vbrain::camera::{Camera, View};
-use vbrain::cull::{CullSettings, CullStats};
+use vbrain::cull::CullStats;
 use vbrain::mesh::Bounds;
 use vbrain::navigation::Navigator;
 use vbrain::render::{FrameInput, RenderStats, Target};
@@ -232,16 +232,15 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
     let Some(scene) = &app.scene else { return };
     let Some((target, id)) = &app.viewport.target else { return };
     let background = app.settings.background_linear(false);
-    let settings = CullSettings { mode: app.settings.cull, ..Default::default() };
-    let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &settings);
+    let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &app.settings.cull);
     let input = FrameInput { camera: &camera, layout: &scene.layout, draw: Some(&draw), background };
     let stats = scene.renderer.render(&rs.device, &rs.queue, target, &input);
     let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
     ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
-    if app.settings.show_stats && app.settings.cull != vbrain::cull::CullMode::None {
+    if app.settings.show_stats && app.settings.cull.mode != vbrain::cull::CullMode::None {
         let text = format!(
             "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles\n{} nodes tested, {:.2} ms",
-            app.settings.cull.name(),
+            app.settings.cull.mode.name(),
             cull.culled_percent(),
             cull.frustum_culled,
             cull.occlusion_culled,
