@@ -60,9 +60,4 @@ impl<T: Send + 'static> Job<T> {
     pub fn poll(&self) -> Option<T> {
         self.rx.try_recv().ok()
     }
-
-    /// Waits for the result (tests and headless use).
-    pub fn wait(self) -> Option<T> {
-        self.rx.recv().ok()
-    }
 }

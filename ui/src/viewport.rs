@@ -75,17 +75,21 @@ pub fn camera(app: &App) -> Option<Camera> {
     Some(app.viewport.nav.camera(&scene.layout.bounds(&scene.set).union(scene.home)))
 }
 
+/// Draws the organ-ID buffer of the current view into the viewport's target; returns the target.
+fn draw_ids(app: &App) -> Option<(&Target, &egui_wgpu::RenderState)> {
+    let (scene, rs, (target, _)) = (app.scene.as_ref()?, app.gpu.as_ref()?, app.viewport.target.as_ref()?);
+    let camera = camera(app)?;
+    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
+    scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
+    Some((target, rs))
+}
+
 /// Which organ is under a point of the viewport (points), from the ID buffer.
 pub fn pick(app: &App, at: Pos2) -> Option<usize> {
-    let scene = app.scene.as_ref()?;
-    let rs = app.gpu.as_ref()?;
-    let (target, _) = app.viewport.target.as_ref()?;
-    let camera = camera(app)?;
+    let (target, rs) = draw_ids(app)?;
     let rect = app.viewport.rect;
     let px = ((at.x - rect.min.x) / rect.width() * target.width as f32) as u32;
     let py = ((at.y - rect.min.y) / rect.height() * target.height as f32) as u32;
-    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
-    scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
     match target.read_id_at(&rs.device, &rs.queue, px, py) {
         Ok(Some(id)) if id > 0 => Some(id as usize - 1),
         _ => None,
@@ -271,10 +275,7 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
 /// The organ-ID buffer of the current view at the viewport's size: organ index + 1 per physical
 /// pixel (row-major), 0 for background. For tests and tools; picking reads single pixels.
 pub fn read_ids(app: &App) -> Option<(Vec<u32>, [u32; 2])> {
-    let (scene, rs, (target, _)) = (app.scene.as_ref()?, app.gpu.as_ref()?, app.viewport.target.as_ref()?);
-    let camera = camera(app)?;
-    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
-    scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
+    let (target, rs) = draw_ids(app)?;
     Some((target.read_ids(&rs.device, &rs.queue).ok()?, [target.width, target.height]))
 }
 
