@@ -115,3 +115,28 @@ fn transparent_background_and_empty_scene() {
     assert!(empty.ids.iter().all(|&i| i == 0));
     assert!(empty.image.pixels().all(|p| p[3] == 0));
 }
+
+#[test]
+fn culling_debug_view_colours_what_was_culled() {
+    use vbrain::cull::{cull, CullMode, CullSettings};
+    let gpu = gpu();
+    let set = default_set();
+    let renderer = Renderer::new(&gpu.device, &set).unwrap();
+    let mut layout = Layout::new(&set);
+    layout.organs[set.find("skull").unwrap()].visible = true;
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
+    // Saturated pixels: culled triangles drawn in colour; the grey model has none.
+    let coloured = |draw: &vbrain::cull::DrawList| {
+        let frame = FrameInput { camera: &camera, layout: &layout, draw: Some(draw), background: [0.0, 0.0, 0.0, 1.0] };
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &frame);
+        let img = target.read_color(&gpu.device, &gpu.queue).unwrap();
+        img.pixels().filter(|p| p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 40).count()
+    };
+    let (nothing_culled, _) =
+        cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode: CullMode::None, ..Default::default() });
+    let (occluded, stats) = cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
+    assert!(stats.occlusion_culled > 0);
+    assert_eq!(coloured(&nothing_culled), 0);
+    assert!(coloured(&occluded) > 200, "culled triangles should show in colour");
+}

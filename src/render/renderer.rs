@@ -5,7 +5,7 @@ use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 use crate::camera::Camera;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
-use crate::layout::Layout;
+use crate::layout::{Layout, OrganState};
 use crate::organ_set::OrganSet;
 use glam::{Mat3, Mat4, Vec3, Vec4};
 use wgpu::util::DeviceExt;
@@ -33,6 +33,8 @@ struct OrganUniform {
 
 /// Distance between organ uniforms in the dynamic-offset buffer (the largest alignment allowed).
 const ORGAN_STRIDE: u64 = 256;
+/// Sets of organ uniforms: the organs as shown, and two recoloured sets for the culling debug view.
+const SECTIONS: u64 = 3;
 
 struct GpuMesh {
     vertices: wgpu::Buffer,
@@ -50,6 +52,22 @@ pub struct FrameInput<'a> {
     pub draw: Option<&'a DrawList>,
     /// Linear RGBA clear colour; alpha 0 gives a transparent background.
     pub background: [f32; 4],
+}
+
+/// The parts of `0..end` not in the sorted, disjoint `ranges`.
+fn complement(ranges: &[std::ops::Range<u32>], end: u32) -> Vec<std::ops::Range<u32>> {
+    let mut out = Vec::new();
+    let mut at = 0;
+    for r in ranges {
+        if r.start > at {
+            out.push(at..r.start);
+        }
+        at = at.max(r.end);
+    }
+    if at < end {
+        out.push(at..end);
+    }
+    out
 }
 
 /// Counts of one rendered frame.
@@ -131,7 +149,8 @@ impl Renderer {
         });
         let organ_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("organ uniforms"),
-            size: ORGAN_STRIDE * set.organs.len().max(1) as u64,
+            // Sections of per-organ uniforms: 0 as shown, 1 and 2 for the culling debug view.
+            size: ORGAN_STRIDE * SECTIONS * set.organs.len().max(1) as u64,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -215,21 +234,34 @@ impl Renderer {
         let vp = frame.camera.view_projection(aspect);
         let fu = FrameUniform { view_proj: vp.to_cols_array_2d(), eye: frame.camera.eye.extend(1.0).to_array() };
         queue.write_buffer(&self.frame_buffer, 0, bytemuck::bytes_of(&fu));
+        self.upload_organs(queue, frame, 0, |_, s| {
+            let c = s.colour.map(super::srgb_to_linear);
+            [c[0], c[1], c[2], s.opacity]
+        });
+    }
+
+    /// Writes one section of organ uniforms with colours (linear RGBA) from `colour`.
+    fn upload_organs(
+        &self,
+        queue: &wgpu::Queue,
+        frame: &FrameInput,
+        section: u64,
+        colour: impl Fn(usize, &OrganState) -> [f32; 4],
+    ) {
         let mut data = vec![0u8; ORGAN_STRIDE as usize * self.meshes.len()];
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
-            let c = s.colour.map(super::srgb_to_linear);
             let u = OrganUniform {
                 model: model.to_cols_array_2d(),
                 normal_matrix: normal.to_cols_array_2d(),
-                colour: Vec4::new(c[0], c[1], c[2], s.opacity).to_array(),
+                colour: Vec4::from(colour(i, s)).to_array(),
                 id: [i as u32 + 1, 0, 0, 0],
             };
             let at = i * ORGAN_STRIDE as usize;
             data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
         }
-        queue.write_buffer(&self.organ_buffer, 0, &data);
+        queue.write_buffer(&self.organ_buffer, section * ORGAN_STRIDE * self.meshes.len() as u64, &data);
     }
 
     /// Index ranges of an organ to draw: the draw list's, or all of it. Returns triangles drawn.
@@ -241,11 +273,17 @@ impl Renderer {
     }
 
     fn draw(&self, pass: &mut wgpu::RenderPass, organ: usize, ranges: &[std::ops::Range<u32>]) {
+        self.draw_in(pass, 0, organ, ranges);
+    }
+
+    /// Draws with the organ uniforms of a section.
+    fn draw_in(&self, pass: &mut wgpu::RenderPass, section: u64, organ: usize, ranges: &[std::ops::Range<u32>]) {
         if ranges.is_empty() {
             return;
         }
         let m = &self.meshes[organ];
-        pass.set_bind_group(1, &self.organ_bind, &[(organ as u64 * ORGAN_STRIDE) as u32]);
+        let slot = section * self.meshes.len() as u64 + organ as u64;
+        pass.set_bind_group(1, &self.organ_bind, &[(slot * ORGAN_STRIDE) as u32]);
         pass.set_vertex_buffer(0, m.vertices.slice(..));
         pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
         for r in ranges {
@@ -275,9 +313,39 @@ impl Renderer {
             })
             .collect();
         translucent.sort_by(|a, b| a.0.total_cmp(&b.0));
+        self.colour_pass(device, queue, target, frame.background, |pass| {
+            pass.set_pipeline(&self.opaque);
+            for &i in &opaque {
+                self.draw(pass, i, &self.ranges(i, frame.draw));
+            }
+            pass.set_pipeline(&self.blend);
+            for &(_, i) in &translucent {
+                self.draw(pass, i, &self.ranges(i, frame.draw));
+            }
+        });
+        let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
+        let mut stats = RenderStats::default();
+        for i in drawn {
+            let triangles: u32 = self.ranges(i, frame.draw).iter().map(|r| (r.end - r.start) / 3).sum();
+            stats.organs_drawn += usize::from(triangles > 0);
+            stats.triangles_drawn += triangles as usize;
+        }
+        stats
+    }
+
+    /// Runs one pass into `target`'s multisampled colour and depth (cleared to `background` and far),
+    /// resolved into its colour image; `draw` records the draws with the frame bind group set.
+    fn colour_pass(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+        background: [f32; 4],
+        draw: impl FnOnce(&mut wgpu::RenderPass),
+    ) {
         let mut encoder = device.create_command_encoder(&Default::default());
         {
-            let bg = frame.background.map(f64::from);
+            let bg = background.map(f64::from);
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("organs"),
                 color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -299,24 +367,35 @@ impl Renderer {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.frame_bind, &[]);
-            pass.set_pipeline(&self.opaque);
-            for &i in &opaque {
-                self.draw(&mut pass, i, &self.ranges(i, frame.draw));
-            }
-            pass.set_pipeline(&self.blend);
-            for &(_, i) in &translucent {
-                self.draw(&mut pass, i, &self.ranges(i, frame.draw));
-            }
+            draw(&mut pass);
         }
         queue.submit([encoder.finish()]);
-        let drawn = opaque.iter().copied().chain(translucent.iter().map(|t| t.1));
-        let mut stats = RenderStats::default();
-        for i in drawn {
-            let triangles: u32 = self.ranges(i, frame.draw).iter().map(|r| (r.end - r.start) / 3).sum();
-            stats.organs_drawn += usize::from(triangles > 0);
-            stats.triangles_drawn += triangles as usize;
-        }
-        stats
+    }
+
+    /// The culling debug view (thesis Figure 21): what culling removed, in bright colours, seen
+    /// through every drawn organ as a translucent grey model. `frame.draw` is what survived culling.
+    pub fn render_cull_debug(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput) {
+        self.upload(queue, frame, target.aspect());
+        self.upload_organs(queue, frame, 1, |_, _| [0.35, 0.35, 0.35, 0.22]);
+        self.upload_organs(queue, frame, 2, |i, _| {
+            let h = (i as f32 * 0.618_034) % 1.0;
+            let hue = |o: f32| (((h + o) * std::f32::consts::TAU).sin() * 0.5 + 0.5).powf(0.8);
+            [hue(0.0), hue(0.33), hue(0.67), 1.0]
+        });
+        let states = &frame.layout.organs;
+        let drawn: Vec<usize> = (0..self.meshes.len().min(states.len())).filter(|&i| states[i].is_drawn()).collect();
+        self.colour_pass(device, queue, target, frame.background, |pass| {
+            pass.set_pipeline(&self.opaque);
+            for &i in &drawn {
+                let kept = self.ranges(i, frame.draw);
+                let culled = complement(&kept, self.meshes[i].index_count);
+                self.draw_in(pass, 2, i, &culled);
+            }
+            pass.set_pipeline(&self.blend);
+            for &i in &drawn {
+                self.draw_in(pass, 1, i, &self.ranges(i, None));
+            }
+        });
     }
 
     /// Runs one pass into `target`'s ID buffer (cleared to 0, with its own depth) after uploading
@@ -408,5 +487,18 @@ impl Renderer {
                 }
             }
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::complement;
+
+    #[test]
+    fn complements() {
+        assert_eq!(complement(&[3..6, 9..12], 15), vec![0..3, 6..9, 12..15]);
+        let whole = std::iter::once(0..15).collect::<Vec<_>>();
+        assert_eq!(complement(&whole, 15), vec![]);
+        assert_eq!(complement(&[], 6), vec![0..6]);
     }
 }

@@ -384,6 +384,8 @@ impl App {
                     if ui.button("Defaults").clicked() {
                         *c = vbrain::cull::CullSettings::default();
                     }
+                    ui.separator();
+                    ui.checkbox(&mut self.settings.cull_debug, "Debug view: culled triangles in colour");
                 });
                 ui.separator();
                 ui.checkbox(&mut self.settings.show_inspector, "Inspector");

@@ -125,6 +125,9 @@ pub struct RenderArgs {
     /// Culling: none, frustum or occlusion (the image is the same; only the work differs)
     #[arg(long, default_value = "occlusion")]
     pub cull: String,
+    /// Show what culling removed in colour through a translucent grey model (thesis Figure 21)
+    #[arg(long)]
+    pub debug_culled: bool,
     #[arg(long)]
     pub json: bool,
 }
@@ -273,7 +276,12 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let (draw, cull) =
         cull::cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode, ..Default::default() });
     let input = FrameInput { camera: &camera, layout: &layout, draw: Some(&draw), background };
-    let stats = renderer.render(&gpu.device, &gpu.queue, &target, &input);
+    let stats = if args.debug_culled {
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input);
+        vbrain::render::RenderStats { organs_drawn: 0, triangles_drawn: cull.drawn }
+    } else {
+        renderer.render(&gpu.device, &gpu.queue, &target, &input)
+    };
     let image = target.read_color(&gpu.device, &gpu.queue)?;
     write_png(&args.out, &image, true)?;
     if args.json {

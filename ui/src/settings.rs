@@ -26,6 +26,8 @@ pub struct Settings {
     pub export: ExportSettings,
     /// Culling of hidden tissue in the viewport (the image is the same either way).
     pub cull: vbrain::cull::CullSettings,
+    /// Show what culling removed, bright, through a translucent grey model (thesis Figure 21).
+    pub cull_debug: bool,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -66,6 +68,7 @@ impl Default for Settings {
             show_stats: true,
             export: ExportSettings::default(),
             cull: vbrain::cull::CullSettings::default(),
+            cull_debug: false,
         }
     }
 }

@@ -238,7 +238,15 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
     let background = app.settings.background_linear(false);
     let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &app.settings.cull);
     let input = FrameInput { camera: &camera, layout: &scene.layout, draw: Some(&draw), background };
-    let stats = scene.renderer.render(&rs.device, &rs.queue, target, &input);
+    let stats = if app.settings.cull_debug {
+        scene.renderer.render_cull_debug(&rs.device, &rs.queue, target, &input);
+        RenderStats {
+            organs_drawn: scene.layout.organs.iter().filter(|s| s.is_drawn()).count(),
+            triangles_drawn: cull.drawn,
+        }
+    } else {
+        scene.renderer.render(&rs.device, &rs.queue, target, &input)
+    };
     let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
     ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
     if app.settings.show_stats && app.settings.cull.mode != vbrain::cull::CullMode::None {
