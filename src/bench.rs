@@ -79,25 +79,22 @@ pub fn run(
     let total = frames * modes.len();
     for (m, &mode) in modes.iter().enumerate() {
         let settings = CullSettings { mode, ..*settings };
-        // Warm up pipelines and caches.
-        for i in 0..3.min(frames) {
+        // One frame: cull, draw, wait for the GPU.
+        let frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = orbit_camera(&home, i, frames);
-            let (draw, _) = cull(set, layout, &camera, target.aspect(), &settings);
-            renderer.render(
-                &gpu.device,
-                &gpu.queue,
-                &target,
-                &FrameInput { camera: &camera, layout, draw: Some(&draw), background: [0.0; 4] },
-            );
-            wait()?;
-        }
-        for (i, hidden) in hidden.iter().enumerate() {
-            let camera = orbit_camera(&home, i, frames);
-            let started = Instant::now();
             let (draw, stats) = cull(set, layout, &camera, target.aspect(), &settings);
             let input = FrameInput { camera: &camera, layout, draw: Some(&draw), background: [0.0; 4] };
             renderer.render(&gpu.device, &gpu.queue, &target, &input);
             wait()?;
+            Ok((draw, stats))
+        };
+        // Warm up pipelines and caches.
+        for i in 0..3.min(frames) {
+            frame(i)?;
+        }
+        for (i, hidden) in hidden.iter().enumerate() {
+            let started = Instant::now();
+            let (draw, stats) = frame(i)?;
             let frame_ms = started.elapsed().as_secs_f64() * 1000.0;
             let (exact, culled) = hidden_leaves_culled(set, layout, &draw, hidden, &first_id);
             records.push(FrameRecord {

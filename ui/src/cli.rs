@@ -155,11 +155,7 @@ fn run_command(command: Command) -> Result<bool> {
         Command::Bench { path, frames, size, cull, show, hide, opacity, occluder_triangles, raster, out, json } => {
             let (set, ok) = open_reporting(&path)?;
             let mut layout = Layout::new(&set);
-            for id in &show {
-                let i = set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"))?;
-                layout.organs[i].visible = true;
-            }
-            apply_overrides(&set, &mut layout, &hide, &opacity)?;
+            apply_overrides(&set, &mut layout, &show, &hide, &opacity)?;
             let (rw, rh) = parse_size(&raster)?;
             let settings =
                 CullSettings { width: rw as usize, height: rh as usize, occluder_triangles, ..Default::default() };
@@ -228,9 +224,18 @@ pub fn parse_size(s: &str) -> Result<(u32, u32)> {
     Ok((w, h))
 }
 
-/// Applies `--hide` and `--opacity` to a layout.
-fn apply_overrides(set: &OrganSet, layout: &mut Layout, hide: &[String], opacity: &[String]) -> Result<()> {
+/// Applies `--show`, `--hide` and `--opacity` to a layout.
+fn apply_overrides(
+    set: &OrganSet,
+    layout: &mut Layout,
+    show: &[String],
+    hide: &[String],
+    opacity: &[String],
+) -> Result<()> {
     let index = |id: &str| set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"));
+    for id in show {
+        layout.organs[index(id)?].visible = true;
+    }
     for id in hide {
         layout.organs[index(id)?].visible = false;
     }
@@ -253,7 +258,7 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let (width, height) = parse_size(&args.size)?;
     let (set, ok) = open_reporting(&args.path)?;
     let mut layout = Layout::new(&set);
-    apply_overrides(&set, &mut layout, &args.hide, &args.opacity)?;
+    apply_overrides(&set, &mut layout, &[], &args.hide, &args.opacity)?;
     let bounds = layout.bounds(&set);
     let camera = match (&args.view, &args.orbit) {
         (Some(_), Some(_)) => bail!("give --view or --orbit, not both"),
