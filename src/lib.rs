@@ -26,8 +26,8 @@ pub mod mesh;
 pub mod navigation;
 pub mod organ_set;
 pub mod render;
+pub mod rng;
 pub mod surface;
-#[cfg(test)]
-mod test_rng;
+pub mod transparency;
 
 pub use error::{Error, Result};

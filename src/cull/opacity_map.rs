@@ -89,7 +89,7 @@ mod tests {
 
     #[test]
     fn matches_brute_force_on_random_bitmaps() {
-        let mut rng = crate::test_rng::XorShift(12345);
+        let mut rng = crate::rng::XorShift(12345);
         let mut rand = || rng.next_u64();
         for _ in 0..50 {
             let (w, h) = (1 + rand() as usize % 40, 1 + rand() as usize % 40);

@@ -213,7 +213,7 @@ mod tests {
 
     #[test]
     fn coverage_never_exceeds_a_fine_reference() {
-        let mut rng = crate::test_rng::XorShift(7);
+        let mut rng = crate::rng::XorShift(7);
         let mut rand = || rng.unit();
         for _ in 0..30 {
             let (tris, rim) =

@@ -71,7 +71,7 @@ mod tests {
 
     #[test]
     fn row_maxima_match_brute_force() {
-        let mut rng = crate::test_rng::XorShift(99);
+        let mut rng = crate::rng::XorShift(99);
         let mut rand = || rng.next_u64();
         for _ in 0..100 {
             let (w, h) = (1 + rand() as usize % 50, 1 + rand() as usize % 6);

@@ -3,7 +3,6 @@
 //! time per frame) and, with `--json`, a machine-readable summary keyed by mode.
 
 use anyhow::{anyhow, bail, Result};
-use plotters::prelude::*;
 use serde_json::json;
 use std::path::Path;
 use vbrain::bench::{self, FrameRecord};
@@ -115,71 +114,29 @@ fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Re
     Ok(())
 }
 
-fn colour(mode: CullMode) -> RGBColor {
+fn colour(mode: CullMode) -> (u8, u8, u8) {
     match mode {
-        CullMode::None => RGBColor(90, 90, 90),
-        CullMode::Frustum => RGBColor(40, 110, 200),
-        CullMode::Occlusion => RGBColor(220, 70, 40),
+        CullMode::None => (90, 90, 90),
+        CullMode::Frustum => (40, 110, 200),
+        CullMode::Occlusion => (220, 70, 40),
     }
 }
 
 /// Two panels over the frames: culled percent (top) and frame time (bottom), one line per mode.
 fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Result<()> {
-    static FONT: std::sync::Once = std::sync::Once::new();
-    FONT.call_once(|| {
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
-    });
-    let (w, h) = (1000u32, 720u32);
-    let mut buf = vec![255u8; (w * h * 3) as usize];
-    {
-        let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(|e| anyhow!("plot: {e}"))?;
-        let (top, bottom) = root.split_vertically(h / 2);
-        let frames = records.iter().map(|r| r.frame).max().unwrap_or(0) + 1;
-        let max_ms = records.iter().map(|r| r.frame_ms).fold(1.0, f64::max) * 1.1;
-        type Value = fn(&FrameRecord) -> f64;
-        let panels: [(&DrawingArea<_, _>, &str, f64, Value); 2] = [
-            (&top, "culled triangles (%)", 100.0, |r| r.culled_percent),
-            (&bottom, "frame time (ms)", max_ms, |r| r.frame_ms),
-        ];
-        for (area, label, max, value) in panels {
-            let mut chart = ChartBuilder::on(area)
-                .margin(12)
-                .x_label_area_size(36)
-                .y_label_area_size(56)
-                .caption(label, ("sans-serif", 20))
-                .build_cartesian_2d(0..frames, 0.0..max)
-                .map_err(|e| anyhow!("plot: {e}"))?;
-            chart
-                .configure_mesh()
-                .x_desc("frame")
-                .label_style(("sans-serif", 14))
-                .draw()
-                .map_err(|e| anyhow!("plot: {e}"))?;
-            for &m in modes {
-                let c = colour(m);
-                chart
-                    .draw_series(LineSeries::new(
-                        records.iter().filter(|r| r.mode == m).map(|r| (r.frame, value(r))),
-                        c.stroke_width(2),
-                    ))
-                    .map_err(|e| anyhow!("plot: {e}"))?
-                    .label(m.name())
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(2)));
-            }
-            chart
-                .configure_series_labels()
-                .background_style(WHITE.mix(0.8))
-                .border_style(BLACK)
-                .label_font(("sans-serif", 14))
-                .draw()
-                .map_err(|e| anyhow!("plot: {e}"))?;
-        }
-        root.present().map_err(|e| anyhow!("plot: {e}"))?;
-    }
-    let img = image::RgbImage::from_raw(w, h, buf).ok_or_else(|| anyhow!("plot buffer"))?;
-    let mut png = Vec::new();
-    img.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
-    vbrain::atomic::write(path, |w| w.write_all(&png))?;
-    Ok(())
+    type Value = fn(&FrameRecord) -> f64;
+    let panel = |title: &str, value: Value| crate::plot::Panel {
+        title: title.into(),
+        x_label: "frame".into(),
+        series: modes
+            .iter()
+            .map(|&m| crate::plot::Series {
+                name: m.name().into(),
+                colour: colour(m),
+                points: records.iter().filter(|r| r.mode == m).map(|r| (r.frame as f64, value(r))).collect(),
+            })
+            .collect(),
+    };
+    let panels = [panel("culled triangles (%)", |r| r.culled_percent), panel("frame time (ms)", |r| r.frame_ms)];
+    crate::plot::write(path, 1000, 360, &panels)
 }

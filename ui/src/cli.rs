@@ -85,6 +85,30 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
+    Masks {
+        /// Mask size, WxH sub-samples (the thesis: 16x16 and 32x32)
+        #[arg(long, default_value = "16x16")]
+        mask: String,
+        /// Transparent objects stacked per trial
+        #[arg(long, default_value_t = 16)]
+        objects: usize,
+        #[arg(long, default_value_t = 1000)]
+        trials: usize,
+        /// One opacity for every object (default: random per object)
+        #[arg(long)]
+        alpha: Option<f32>,
+        /// Objects that neighbourhood error compensation favours
+        #[arg(long, default_value_t = 6)]
+        k: usize,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Folder for masks.csv and masks.png
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// Write a denser copy of a set (each triangle subdivided), for benchmarks
     Scale {
         set: PathBuf,
@@ -152,6 +176,12 @@ fn run_command(command: Command) -> Result<bool> {
             import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
         }
         Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+        Command::Masks { mask, objects, trials, alpha, k, seed, out, json } => {
+            let n = crate::masks::parse_mask(&mask)?;
+            let experiment = vbrain::transparency::experiment::Experiment { n, objects, trials, alpha, k, seed };
+            crate::masks::run(&crate::masks::MasksOptions { experiment, out: &out, json })?;
+            Ok(true)
+        }
         Command::Bench { path, frames, size, cull, show, hide, opacity, occluder_triangles, raster, out, json } => {
             let (set, ok) = open_reporting(&path)?;
             let mut layout = Layout::new(&set);

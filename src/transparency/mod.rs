@@ -1,0 +1,88 @@
+//! Order-independent transparency by sub-pixel screen-door masks (thesis chapter 4).
+//!
+//! A *mask* is a set of a pixel's sub-samples ("pixels" in the thesis, which works on one mask as a
+//! little image). A transparent organ keeps only the sub-samples in its mask; the depth test
+//! resolves the rest, and the average over a pixel's sub-samples is its colour. That is right only
+//! if stacked masks are right: with opacities a0 (nearest), a1, ... the i-th layer must keep
+//! n * a_i * prod_{j<i}(1 - a_j) of the n sub-samples.
+//!
+//! - [`mask`]: the bit set of sub-samples (logical indices `0..n`, n up to 1024).
+//! - [`table`]: the tabular pixel mask (§4.3) with neighbourhood error compensation (§4.3.3);
+//!   Mulder's pixel-tree masks are the same splitting in a random order.
+//! - [`white_noise`]: random masks, the usual reference.
+//! - [`experiment`]: stacking masks and counting faulty pixels (thesis Figures 19 and 20).
+//! - [`layout`]: where each logical sub-sample lies in the pixel (MSAA sample and pass jitter).
+//! - [`regions`]: masks regenerated per screen region from the organs present there (§4.3.4).
+
+pub mod experiment;
+pub mod layout;
+pub mod mask;
+pub mod regions;
+pub mod table;
+pub mod white_noise;
+
+pub use mask::Mask;
+pub use table::{MaskTable, SplitOrder};
+
+/// How masks are made. Serialised in settings by these names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MaskMethod {
+    /// Random sub-samples, the right count for each mask but no care for stacking.
+    WhiteNoise,
+    /// Mulder's pixel tree: binary splitting with the error carried in a random order.
+    PixelTree,
+    /// The tabular pixel mask, rows split in table order.
+    Tabular,
+    /// The tabular pixel mask with neighbourhood error compensation (the K nearest objects).
+    TabularNec,
+}
+
+impl MaskMethod {
+    pub const ALL: [MaskMethod; 4] =
+        [MaskMethod::WhiteNoise, MaskMethod::PixelTree, MaskMethod::Tabular, MaskMethod::TabularNec];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            MaskMethod::WhiteNoise => "white_noise",
+            MaskMethod::PixelTree => "pixel_tree",
+            MaskMethod::Tabular => "tabular",
+            MaskMethod::TabularNec => "tabular_nec",
+        }
+    }
+}
+
+/// Masks for objects generated in the given order: `alphas[j]` is object j's opacity and
+/// `priorities(j)` the earlier objects (indices below j) that neighbourhood error compensation
+/// favours, nearest first (used by [`MaskMethod::TabularNec`] only). `seed` drives the random
+/// methods. Returns the masks and the row entries the table held (0 for white noise).
+pub fn generate(
+    method: MaskMethod,
+    n: usize,
+    alphas: &[f32],
+    priorities: impl Fn(usize) -> Vec<usize>,
+    seed: u64,
+) -> (Vec<Mask>, usize) {
+    let mut rng = crate::rng::XorShift::seeded(seed);
+    if method == MaskMethod::WhiteNoise {
+        return (alphas.iter().map(|&a| white_noise::mask(n, a, &mut rng)).collect(), 0);
+    }
+    let mut table = MaskTable::new(n);
+    for (j, &a) in alphas.iter().enumerate() {
+        match method {
+            MaskMethod::PixelTree => {
+                let mut order: Vec<usize> = (0..table.rows().len()).collect();
+                rng.shuffle(&mut order);
+                table.add(a, SplitOrder::Given(&order));
+            }
+            MaskMethod::Tabular => {
+                table.add(a, SplitOrder::Table);
+            }
+            _ => {
+                table.add(a, SplitOrder::Priorities(&priorities(j)));
+            }
+        }
+    }
+    let entries = table.row_entries();
+    (table.into_masks(), entries)
+}

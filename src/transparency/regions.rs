@@ -1,0 +1,1 @@
+//! Per-region mask regeneration (placeholder while being written).
