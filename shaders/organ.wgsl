@@ -1,13 +1,16 @@
 // Organ shading: world-space vertices (model matrix applied here), headlight lighting.
-// Entry points: vs_main (all organ pipelines), fs_shade (the "organ opaque" and "organ blend"
-// pipelines), fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the
-// "leaf pick" pipeline writing the instance index, which the benchmark sets to a leaf number).
-// Keep in sync with FrameUniform and OrganUniform in src/render/renderer.rs.
+// Entry points: vs_main (all organ pipelines), fs_shade (opaque, blended and layer pipelines),
+// fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the "leaf pick"
+// pipeline writing the instance index, which the benchmark sets to a leaf number), fs_screendoor
+// (transparent organs through their sub-sample masks) and fs_weighted (weighted blended OIT).
+// Keep in sync with FrameUniform, OrganUniform and ScreendoorUniform in src/render/.
 
 struct Frame {
     view_proj: mat4x4<f32>,
     // Camera position in world space (w unused).
     eye: vec4<f32>,
+    // xy: sub-pixel shift of this pass in NDC units (multiplied by w); zw unused.
+    jitter: vec4<f32>,
 };
 
 struct Organ {
@@ -41,21 +44,85 @@ fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
     var out: VsOut;
     out.instance = instance;
     let world = organ.model * vec4<f32>(in.position, 1.0);
-    out.clip = frame.view_proj * world;
+    let clip = frame.view_proj * world;
+    out.clip = vec4<f32>(clip.xy + frame.jitter.xy * clip.w, clip.zw);
     out.world = world.xyz;
     out.normal = (organ.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     return out;
 }
 
-@fragment
-fn fs_shade(in: VsOut) -> @location(0) vec4<f32> {
-    // Headlight: the light sits at the eye. Two-sided, so cut-open or inner faces are lit too.
+// Headlight: the light sits at the eye. Two-sided, so cut-open or inner faces are lit too.
+fn shade(in: VsOut) -> vec3<f32> {
     let n = normalize(in.normal);
     let v = normalize(frame.eye.xyz - in.world);
     let ndl = abs(dot(n, v));
     let diffuse = organ.colour.rgb * (0.18 + 0.82 * ndl);
     let specular = vec3<f32>(0.18) * pow(ndl, 40.0);
-    return vec4<f32>(diffuse + specular, organ.colour.a);
+    return diffuse + specular;
+}
+
+@fragment
+fn fs_shade(in: VsOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(shade(in), organ.colour.a);
+}
+
+// Screen-door masks of this frame: per screen region a configuration, per configuration and organ
+// a 64-bit mask (bit b = MSAA sample b % 4 of pass b / 4).
+struct Screendoor {
+    region_px: u32,
+    cols: u32,
+    rows: u32,
+    organs: u32,
+    // The pass being drawn: its four samples are bits 4 * pass .. 4 * pass + 3.
+    pass_index: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+};
+
+@group(2) @binding(0) var<uniform> screendoor: Screendoor;
+@group(2) @binding(1) var<storage, read> region_config: array<u32>;
+@group(2) @binding(2) var<storage, read> masks: array<vec2<u32>>;
+
+struct Masked {
+    @location(0) colour: vec4<f32>,
+    @builtin(sample_mask) mask: u32,
+};
+
+@fragment
+fn fs_screendoor(in: VsOut) -> Masked {
+    let px = vec2<u32>(in.clip.xy);
+    let col = min(px.x / screendoor.region_px, screendoor.cols - 1u);
+    let row = min(px.y / screendoor.region_px, screendoor.rows - 1u);
+    let config = region_config[row * screendoor.cols + col];
+    let m = masks[config * screendoor.organs + organ.id.x - 1u];
+    let word = select(m.x, m.y, screendoor.pass_index >= 8u);
+    let bits = (word >> ((screendoor.pass_index % 8u) * 4u)) & 15u;
+    if bits == 0u {
+        discard;
+    }
+    var out: Masked;
+    out.colour = vec4<f32>(shade(in), 1.0);
+    out.mask = bits;
+    return out;
+}
+
+// Weighted blended order-independent transparency (McGuire and Bavoil 2013, weight of eq. 10):
+// accumulates premultiplied colour times weight, and the product of (1 - alpha) as revealage.
+struct Weighted {
+    @location(0) accum: vec4<f32>,
+    @location(1) reveal: vec4<f32>,
+};
+
+@fragment
+fn fs_weighted(in: VsOut) -> Weighted {
+    let a = organ.colour.a;
+    let d = 1.0 - in.clip.z;
+    let w = a * max(0.01, 3000.0 * d * d * d);
+    var out: Weighted;
+    out.accum = vec4<f32>(shade(in) * a, a) * w;
+    out.reveal = vec4<f32>(a);
+    return out;
 }
 
 @fragment

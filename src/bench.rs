@@ -64,7 +64,7 @@ pub fn run(
     let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
     for i in 0..frames {
         let camera = orbit_camera(&home, i, frames);
-        let frame = FrameInput { camera: &camera, layout, draw: None, background: [0.0; 4] };
+        let frame = FrameInput::new(set, &camera, layout);
         renderer.render_leaf_ids(&gpu.device, &gpu.queue, &target, &frame, set, &first_id);
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         let mut h = vec![true; total_leaves];
@@ -83,8 +83,8 @@ pub fn run(
         let frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = orbit_camera(&home, i, frames);
             let (draw, stats) = cull(set, layout, &camera, target.aspect(), &settings);
-            let input = FrameInput { camera: &camera, layout, draw: Some(&draw), background: [0.0; 4] };
-            renderer.render(&gpu.device, &gpu.queue, &target, &input);
+            let input = FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) };
+            renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
             wait()?;
             Ok((draw, stats))
         };

@@ -13,6 +13,7 @@ use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
 use vbrain::organ_set::{self, scale::subdivide, Organ, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::transparency::TransparencySettings;
 
 struct Rng(u64);
 
@@ -124,9 +125,15 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
                 culled += stats.occlusion_culled;
                 total += stats.triangles;
             }
-            let frame =
-                FrameInput { camera: &camera, layout: &layout, draw: Some(&draw), background: [0.0, 0.0, 0.0, 1.0] };
-            renderer.render(&gpu.device, &gpu.queue, &target, &frame);
+            // Faded organs through one screen-door pass (4 sub-samples), to keep the test quick.
+            let transparency = TransparencySettings { subsamples: 4, ..Default::default() };
+            let frame = FrameInput {
+                draw: Some(&draw),
+                background: [0.0, 0.0, 0.0, 1.0],
+                transparency,
+                ..FrameInput::new(set, &camera, &layout)
+            };
+            renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
             images.push(target.read_color(&gpu.device, &gpu.queue).unwrap());
         }
         if images[0] != images[1] {

@@ -33,8 +33,8 @@ fn shoot(
 ) -> Shot {
     let target = Target::new(&gpu.device, 160, 128).unwrap();
     let camera = Camera::view(&Layout::new(set).bounds(set), view);
-    let frame = FrameInput { camera: &camera, layout, draw: None, background };
-    renderer.render(&gpu.device, &gpu.queue, &target, &frame);
+    let frame = FrameInput { background, ..FrameInput::new(set, &camera, layout) };
+    renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
     renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
     Shot {
         image: target.read_color(&gpu.device, &gpu.queue).unwrap(),
@@ -128,7 +128,11 @@ fn culling_debug_view_colours_what_was_culled() {
     let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
     // Saturated pixels: culled triangles drawn in colour; the grey model has none.
     let coloured = |draw: &vbrain::cull::DrawList| {
-        let frame = FrameInput { camera: &camera, layout: &layout, draw: Some(draw), background: [0.0, 0.0, 0.0, 1.0] };
+        let frame = FrameInput {
+            draw: Some(draw),
+            background: [0.0, 0.0, 0.0, 1.0],
+            ..FrameInput::new(&set, &camera, &layout)
+        };
         renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &frame);
         let img = target.read_color(&gpu.device, &gpu.queue).unwrap();
         img.pixels().filter(|p| p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 40).count()

@@ -6,6 +6,7 @@
 //! depth 0..1). Targets are in screen pixels, origin top left.
 
 mod context;
+mod oit;
 mod renderer;
 mod target;
 
@@ -32,4 +33,7 @@ pub fn linear_to_srgb(c: f32) -> f32 {
 }
 
 /// The WGSL sources, by file name, for validation and pipeline creation.
-pub const SHADERS: &[(&str, &str)] = &[("organ.wgsl", include_str!("../../shaders/organ.wgsl"))];
+pub const SHADERS: &[(&str, &str)] = &[
+    ("organ.wgsl", include_str!("../../shaders/organ.wgsl")),
+    ("composite.wgsl", include_str!("../../shaders/composite.wgsl")),
+];

@@ -1,6 +1,7 @@
 //! Render targets in screen pixels (origin top left): a multisampled colour and depth buffer, the
 //! resolved colour texture (what the viewer paints and the exporter reads back), and a
-//! single-sampled organ-ID buffer with its own depth for picking.
+//! single-sampled organ-ID buffer with its own depth for picking; float images for the transparency
+//! modes are made on first use.
 
 use crate::error::{Error, Result};
 
@@ -23,7 +24,25 @@ pub struct Target {
     pub(crate) ids: wgpu::Texture,
     pub(crate) ids_view: wgpu::TextureView,
     pub(crate) ids_depth: wgpu::TextureView,
+    /// Float images for the transparency modes, made on first use.
+    hdr: std::sync::OnceLock<Hdr>,
 }
+
+/// Float images of a target's size for screen-door accumulation and weighted blended OIT.
+pub(crate) struct Hdr {
+    /// Multisampled float colour (a screen-door pass; the weighted sums).
+    pub msaa: wgpu::TextureView,
+    /// `msaa` resolved (one screen-door pass; the opaque image under weighted blending).
+    pub resolved: wgpu::TextureView,
+    /// The sum over screen-door passes; the resolved weighted sums.
+    pub accum: wgpu::TextureView,
+    /// Revealage of weighted blending, multisampled and resolved.
+    pub reveal_msaa: wgpu::TextureView,
+    pub reveal: wgpu::TextureView,
+}
+
+pub(crate) const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub(crate) const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
 impl Target {
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Target> {
@@ -47,7 +66,10 @@ impl Target {
         let view = |t: &wgpu::Texture| t.create_view(&wgpu::TextureViewDescriptor::default());
         let samples = super::SAMPLE_COUNT;
         let plain = wgpu::TextureFormat::Rgba8Unorm;
-        let painted = attach | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC;
+        let painted = attach
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC
+            | wgpu::TextureUsages::COPY_DST;
         let color = make("target color", COLOR_FORMAT, 1, painted, &[plain]);
         let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC, &[]);
         Ok(Target {
@@ -61,6 +83,40 @@ impl Target {
             ids_view: view(&ids),
             ids,
             ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
+            hdr: std::sync::OnceLock::new(),
+        })
+    }
+
+    /// The float images, made on first use.
+    pub(crate) fn hdr(&self, device: &wgpu::Device) -> &Hdr {
+        self.hdr.get_or_init(|| {
+            let make = |label, format, samples| {
+                let usage = if samples > 1 {
+                    wgpu::TextureUsages::RENDER_ATTACHMENT
+                } else {
+                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING
+                };
+                device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some(label),
+                        size: wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
+                        mip_level_count: 1,
+                        sample_count: samples,
+                        dimension: wgpu::TextureDimension::D2,
+                        format,
+                        usage,
+                        view_formats: &[],
+                    })
+                    .create_view(&wgpu::TextureViewDescriptor::default())
+            };
+            let samples = super::SAMPLE_COUNT;
+            Hdr {
+                msaa: make("hdr msaa", HDR_FORMAT, samples),
+                resolved: make("hdr resolved", HDR_FORMAT, 1),
+                accum: make("hdr accum", HDR_FORMAT, 1),
+                reveal_msaa: make("reveal msaa", REVEAL_FORMAT, samples),
+                reveal: make("reveal", REVEAL_FORMAT, 1),
+            }
         })
     }
 
@@ -70,14 +126,16 @@ impl Target {
 
     /// Reads the resolved colour image back (blocking).
     pub fn read_color(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<image::RgbaImage> {
-        let bytes = read_texture(device, queue, &self.color, 4, [0, 0], [self.width, self.height])?;
+        let bytes =
+            read_texture(device, queue, &self.color, 4, [0, 0], [self.width, self.height], wgpu::TextureAspect::All)?;
         image::RgbaImage::from_raw(self.width, self.height, bytes)
             .ok_or_else(|| Error::Other("read-back size mismatch".into()))
     }
 
     /// Reads the organ-ID buffer back (blocking): organ index + 1 per pixel, 0 for background.
     pub fn read_ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<u32>> {
-        let bytes = read_texture(device, queue, &self.ids, 4, [0, 0], [self.width, self.height])?;
+        let bytes =
+            read_texture(device, queue, &self.ids, 4, [0, 0], [self.width, self.height], wgpu::TextureAspect::All)?;
         Ok(bytemuck::pod_collect_to_vec(&bytes))
     }
 
@@ -86,20 +144,21 @@ impl Target {
         if x >= self.width || y >= self.height {
             return Ok(None);
         }
-        let bytes = read_texture(device, queue, &self.ids, 4, [x, y], [1, 1])?;
+        let bytes = read_texture(device, queue, &self.ids, 4, [x, y], [1, 1], wgpu::TextureAspect::All)?;
         Ok(Some(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])))
     }
 }
 
 /// Copies a `size` region at `origin` of a single-sampled 2D texture into host memory, removing the
 /// row padding.
-fn read_texture(
+pub(crate) fn read_texture(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     texture: &wgpu::Texture,
     bytes_per_pixel: u32,
     origin: [u32; 2],
     size: [u32; 2],
+    aspect: wgpu::TextureAspect,
 ) -> Result<Vec<u8>> {
     let [w, h] = size;
     let row = w * bytes_per_pixel;
@@ -116,7 +175,7 @@ fn read_texture(
             texture,
             mip_level: 0,
             origin: wgpu::Origin3d { x: origin[0], y: origin[1], z: 0 },
-            aspect: wgpu::TextureAspect::All,
+            aspect,
         },
         wgpu::TexelCopyBufferInfo {
             buffer: &buffer,

@@ -86,3 +86,96 @@ pub fn generate(
     let entries = table.row_entries();
     (table.into_masks(), entries)
 }
+
+/// How transparent (faded) organs are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum TransparencyMode {
+    /// Screen-door with tabular masks and neighbourhood error compensation, regenerated per region.
+    Screendoor,
+    /// Screen-door with white-noise masks.
+    ScreendoorWhitenoise,
+    /// Screen-door with Mulder's pixel-tree masks.
+    ScreendoorPixeltree,
+    /// Alpha blending in draw order, depth written (what plain blending without sorting gives).
+    AlphaUnsorted,
+    /// Alpha blending, organs sorted back to front by centre, back faces culled.
+    AlphaSorted,
+    /// Weighted blended order-independent transparency (McGuire and Bavoil 2013).
+    WeightedBlended,
+    /// The reference: each organ's nearest surface per sample, composited in depth order (slow).
+    Exact,
+}
+
+impl TransparencyMode {
+    pub const ALL: [TransparencyMode; 7] = [
+        TransparencyMode::Screendoor,
+        TransparencyMode::ScreendoorWhitenoise,
+        TransparencyMode::ScreendoorPixeltree,
+        TransparencyMode::AlphaUnsorted,
+        TransparencyMode::AlphaSorted,
+        TransparencyMode::WeightedBlended,
+        TransparencyMode::Exact,
+    ];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TransparencyMode::Screendoor => "screendoor",
+            TransparencyMode::ScreendoorWhitenoise => "screendoor-whitenoise",
+            TransparencyMode::ScreendoorPixeltree => "screendoor-pixeltree",
+            TransparencyMode::AlphaUnsorted => "alpha-unsorted",
+            TransparencyMode::AlphaSorted => "alpha-sorted",
+            TransparencyMode::WeightedBlended => "weighted-blended",
+            TransparencyMode::Exact => "exact",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<TransparencyMode> {
+        TransparencyMode::ALL.into_iter().find(|m| m.name() == s)
+    }
+
+    /// The mask method of a screen-door mode.
+    pub fn mask_method(self) -> Option<MaskMethod> {
+        match self {
+            TransparencyMode::Screendoor => Some(MaskMethod::TabularNec),
+            TransparencyMode::ScreendoorWhitenoise => Some(MaskMethod::WhiteNoise),
+            TransparencyMode::ScreendoorPixeltree => Some(MaskMethod::PixelTree),
+            _ => None,
+        }
+    }
+}
+
+/// Screen-door parameters, persisted by the viewer.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct TransparencySettings {
+    pub mode: TransparencyMode,
+    /// Sub-samples per mask for stills and exports: 4 per pass, up to 64 (the thesis's 8x8).
+    pub subsamples: usize,
+    /// Sub-samples while the camera or an organ moves (fewer passes, faster).
+    pub interactive_subsamples: usize,
+    /// Side of a mask region in pixels.
+    pub region_px: u32,
+    /// Nearest organs that neighbourhood error compensation favours.
+    pub k: usize,
+}
+
+impl Default for TransparencySettings {
+    fn default() -> Self {
+        TransparencySettings {
+            mode: TransparencyMode::Screendoor,
+            subsamples: 64,
+            interactive_subsamples: 16,
+            region_px: 16,
+            k: 6,
+        }
+    }
+}
+
+/// Sub-sample counts the renderer supports (4 per pass).
+pub const SUBSAMPLE_CHOICES: [usize; 5] = [4, 8, 16, 32, 64];
+
+/// The nearest supported sub-sample count at or below `n` (at least 4).
+pub fn clamp_subsamples(n: usize) -> usize {
+    SUBSAMPLE_CHOICES.into_iter().rev().find(|&c| c <= n).unwrap_or(4)
+}

@@ -10,6 +10,7 @@ use vbrain::cull::{self, CullMode, CullSettings};
 use vbrain::layout::Layout;
 use vbrain::organ_set::{self, import, scale, Loaded, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
 #[derive(Parser)]
 #[command(name = "vbrain", version, about = "Explore the brain as a set of organs: viewer and headless tools")]
@@ -152,6 +153,22 @@ pub struct RenderArgs {
     /// Show what culling removed in colour through a translucent grey model (thesis Figure 21)
     #[arg(long)]
     pub debug_culled: bool,
+    /// Transparency: screendoor, screendoor-whitenoise, screendoor-pixeltree, alpha-unsorted,
+    /// alpha-sorted, weighted-blended or exact
+    #[arg(long, default_value = "screendoor")]
+    pub transparency: String,
+    /// Screen-door sub-samples per pixel: 4, 8, 16, 32 or 64
+    #[arg(long, default_value_t = 64)]
+    pub subsamples: usize,
+    /// Screen-door mask region side in pixels
+    #[arg(long, default_value_t = 16)]
+    pub region: u32,
+    /// Nearest organs that the masks' error compensation favours
+    #[arg(long, default_value_t = 6)]
+    pub k: usize,
+    /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
+    #[arg(long)]
+    pub draw_order_seed: Option<u64>,
     #[arg(long)]
     pub json: bool,
 }
@@ -310,12 +327,20 @@ fn render(args: &RenderArgs) -> Result<bool> {
         .ok_or_else(|| anyhow!("unknown culling \"{}\" (none, frustum, occlusion)", args.cull))?;
     let (draw, cull) =
         cull::cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode, ..Default::default() });
-    let input = FrameInput { camera: &camera, layout: &layout, draw: Some(&draw), background };
+    let transparency = transparency_settings(&args.transparency, args.subsamples, args.region, args.k)?;
+    let order = args.draw_order_seed.map(|seed| shuffled(set.organs.len(), seed));
+    let input = FrameInput {
+        draw: Some(&draw),
+        background,
+        transparency,
+        draw_order: order.as_deref(),
+        ..FrameInput::new(&set, &camera, &layout)
+    };
     let stats = if args.debug_culled {
         renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input);
-        vbrain::render::RenderStats { organs_drawn: 0, triangles_drawn: cull.drawn }
+        vbrain::render::RenderStats { triangles_drawn: cull.drawn, ..Default::default() }
     } else {
-        renderer.render(&gpu.device, &gpu.queue, &target, &input)
+        renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
     let image = target.read_color(&gpu.device, &gpu.queue)?;
     write_png(&args.out, &image, true)?;
@@ -324,6 +349,8 @@ fn render(args: &RenderArgs) -> Result<bool> {
             "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
             "cull": mode.name(), "culled_percent": cull.culled_percent(), "cull_ms": cull.cull_ms,
+            "transparency": transparency.mode.name(), "passes": stats.passes, "mask_ms": stats.mask_ms,
+            "mask_configs": stats.mask_configs,
             "adapter": gpu.adapter_description(), "seconds": started.elapsed().as_secs_f64(),
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -337,6 +364,30 @@ fn render(args: &RenderArgs) -> Result<bool> {
         );
     }
     Ok(ok)
+}
+
+/// Transparency settings from the command line's values, checked.
+pub fn transparency_settings(mode: &str, subsamples: usize, region: u32, k: usize) -> Result<TransparencySettings> {
+    let names: Vec<&str> = TransparencyMode::ALL.iter().map(|m| m.name()).collect();
+    let mode = TransparencyMode::parse(mode)
+        .ok_or_else(|| anyhow!("unknown transparency \"{mode}\" ({})", names.join(", ")))?;
+    if !vbrain::transparency::SUBSAMPLE_CHOICES.contains(&subsamples) {
+        bail!("--subsamples {subsamples}: use 4, 8, 16, 32 or 64");
+    }
+    if !(1..=256).contains(&region) {
+        bail!("--region {region} outside 1..256 pixels");
+    }
+    if k == 0 {
+        bail!("--k must be at least 1");
+    }
+    Ok(TransparencySettings { mode, subsamples, interactive_subsamples: subsamples, region_px: region, k })
+}
+
+/// A permutation of `0..n` shuffled by `seed`.
+pub fn shuffled(n: usize, seed: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    vbrain::rng::XorShift::seeded(seed).shuffle(&mut order);
+    order
 }
 
 /// Encodes a PNG and writes it atomically; `replace` false refuses to overwrite an existing file.

@@ -4,8 +4,6 @@
 
 use anyhow::{bail, Result};
 use std::path::{Path, PathBuf};
-use vbrain::camera::Camera;
-use vbrain::layout::Layout;
 use vbrain::render::{FrameInput, Renderer, Target};
 
 /// The largest exported side, in pixels.
@@ -39,16 +37,13 @@ pub fn unused_path(path: &Path) -> PathBuf {
     (2..).map(|n| path.with_file_name(format!("{stem}-{n}.{ext}"))).find(|p| !p.exists()).unwrap_or_default()
 }
 
-/// Renders `camera` and `layout` at `size` and writes a PNG to `path` (or, if that exists, to the
-/// next free name, which is returned).
-#[allow(clippy::too_many_arguments)]
+/// Renders `frame` (a still: full screen-door masks) at `size` and writes a PNG to `path` (or, if
+/// that exists, to the next free name, which is returned).
 pub fn export(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     renderer: &Renderer,
-    camera: &Camera,
-    layout: &Layout,
-    background: [f32; 4],
+    frame: &FrameInput,
     size: [u32; 2],
     path: &Path,
 ) -> Result<PathBuf> {
@@ -57,7 +52,7 @@ pub fn export(
         bail!("screenshot size {w}x{h} outside 1..={MAX_SIDE}");
     }
     let target = Target::new(device, w, h)?;
-    renderer.render(device, queue, &target, &FrameInput { camera, layout, draw: None, background });
+    renderer.render(device, queue, &target, &FrameInput { moving: false, ..*frame })?;
     let image = target.read_color(device, queue)?;
     let path = unused_path(path);
     crate::cli::write_png(&path, &image, false)?;

@@ -10,6 +10,7 @@ use crate::settings::ExportSize;
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
+use vbrain::render::FrameInput;
 
 /// Is this a NIfTI label volume?
 pub fn is_volume(p: &Path) -> bool {
@@ -299,5 +300,10 @@ pub fn export_now(app: &App, size: [u32; 2]) -> anyhow::Result<PathBuf> {
         path.set_extension("png");
     }
     let background = app.settings.background_linear(app.settings.export.transparent);
-    export::export(&rs.device, &rs.queue, &scene.renderer, &camera, &scene.layout, background, size, &path)
+    let frame = FrameInput {
+        background,
+        transparency: app.settings.transparency,
+        ..FrameInput::new(&scene.set, &camera, &scene.layout)
+    };
+    export::export(&rs.device, &rs.queue, &scene.renderer, &frame, size, &path)
 }

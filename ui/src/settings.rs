@@ -28,6 +28,8 @@ pub struct Settings {
     pub cull: vbrain::cull::CullSettings,
     /// Show what culling removed, bright, through a translucent grey model (thesis Figure 21).
     pub cull_debug: bool,
+    /// How faded organs are drawn: mode, mask sub-samples, region size, K.
+    pub transparency: vbrain::transparency::TransparencySettings,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -69,6 +71,7 @@ impl Default for Settings {
             export: ExportSettings::default(),
             cull: vbrain::cull::CullSettings::default(),
             cull_debug: false,
+            transparency: Default::default(),
         }
     }
 }

@@ -20,6 +20,8 @@ pub struct Viewport {
     pub fly: bool,
     pub stats: RenderStats,
     pub cull: CullStats,
+    /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
+    pub moving: bool,
     target: Option<(Target, egui::TextureId)>,
     /// The rectangle the viewport last occupied (points).
     pub rect: Rect,
@@ -33,6 +35,7 @@ impl Default for Viewport {
             fly: false,
             stats: RenderStats::default(),
             cull: CullStats::default(),
+            moving: false,
             target: None,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
@@ -79,7 +82,7 @@ pub fn camera(app: &App) -> Option<Camera> {
 fn draw_ids(app: &App) -> Option<(&Target, &egui_wgpu::RenderState)> {
     let (scene, rs, (target, _)) = (app.scene.as_ref()?, app.gpu.as_ref()?, app.viewport.target.as_ref()?);
     let camera = camera(app)?;
-    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: None, background: [0.0; 4] };
+    let input = FrameInput::new(&scene.set, &camera, &scene.layout);
     scene.renderer.render_ids(&rs.device, &rs.queue, target, &input, app.settings.pick_min_opacity);
     Some((target, rs))
 }
@@ -108,6 +111,8 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response) {
     let (modifiers, dt) = ui.input(|i| (i.modifiers, i.stable_dt.min(0.1)));
     let size = Vec2::new(app.viewport.rect.width(), app.viewport.rect.height());
     let delta = Vec2::new(response.drag_delta().x, response.drag_delta().y);
+    let scrolled = response.hovered() && ui.input(|i| i.smooth_scroll_delta.y != 0.0);
+    app.viewport.moving = delta != Vec2::ZERO || scrolled;
     let nav = &mut app.viewport.nav;
     if response.dragged_by(PointerButton::Primary) && delta != Vec2::ZERO {
         let organ = app.selected.filter(|_| modifiers.command || modifiers.shift);
@@ -150,6 +155,7 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response) {
         let (f, r, u) = (axis(Key::W, Key::S), axis(Key::D, Key::A), axis(Key::E, Key::Q));
         if f != 0.0 || r != 0.0 || u != 0.0 {
             app.viewport.nav.walk(f, r, u);
+            app.viewport.moving = true;
             ui.ctx().request_repaint();
         }
     }
@@ -237,20 +243,32 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
     let Some((target, id)) = &app.viewport.target else { return };
     let background = app.settings.background_linear(false);
     let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &app.settings.cull);
-    let input = FrameInput { camera: &camera, layout: &scene.layout, draw: Some(&draw), background };
+    let input = FrameInput {
+        draw: Some(&draw),
+        background,
+        transparency: app.settings.transparency,
+        moving: app.viewport.moving,
+        ..FrameInput::new(&scene.set, &camera, &scene.layout)
+    };
     let stats = if app.settings.cull_debug {
         scene.renderer.render_cull_debug(&rs.device, &rs.queue, target, &input);
-        RenderStats {
+        Ok(RenderStats {
             organs_drawn: scene.layout.organs.iter().filter(|s| s.is_drawn()).count(),
             triangles_drawn: cull.drawn,
-        }
+            ..Default::default()
+        })
     } else {
         scene.renderer.render(&rs.device, &rs.queue, target, &input)
     };
+    let (stats, failed) = match stats {
+        Ok(s) => (s, None),
+        Err(e) => (RenderStats::default(), Some(format!("drawing failed: {e}"))),
+    };
     let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
     ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
-    if app.settings.show_stats && app.settings.cull.mode != vbrain::cull::CullMode::None {
-        let text = format!(
+    let mut lines = Vec::new();
+    if app.settings.cull.mode != vbrain::cull::CullMode::None {
+        lines.push(format!(
             "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles\n{} nodes tested, {:.2} ms",
             app.settings.cull.mode.name(),
             cull.culled_percent(),
@@ -260,7 +278,23 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
             cull.occluder_triangles,
             cull.nodes_tested,
             cull.cull_ms
-        );
+        ));
+    }
+    if input.has_transparent() {
+        let t = &app.settings.transparency;
+        let mut line = format!("transparency: {}, {} passes", t.mode.name(), stats.passes);
+        if t.mode.mask_method().is_some() {
+            line += &format!(
+                "\nmasks: {} sub-samples, {} configurations, {:.2} ms",
+                stats.passes * 4,
+                stats.mask_configs,
+                stats.mask_ms
+            );
+        }
+        lines.push(line);
+    }
+    if app.settings.show_stats && !lines.is_empty() {
+        let text = lines.join("\n");
         let font = egui::FontId::monospace(11.0);
         ui.painter().text(
             rect.min + egui::vec2(8.0, 8.0),
@@ -270,7 +304,16 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
             egui::Color32::from_gray(200),
         );
     }
+    if let Some(text) = failed {
+        if !app.notifications.iter().any(|n| n.text == text) {
+            app.notify(text, true);
+        }
+    }
     let vp = &mut app.viewport;
+    if vp.moving {
+        // Draw once more when the motion stops, with the full masks.
+        ui.ctx().request_repaint();
+    }
     vp.stats = stats;
     vp.cull = cull;
     let now = Instant::now();
