@@ -74,7 +74,15 @@ pub fn logical_to_bit(n: usize) -> Vec<usize> {
 
 /// Maps a logical mask (n <= 64 sub-samples) to GPU bits.
 pub fn to_gpu_bits(mask: &super::Mask, order: &[usize]) -> u64 {
-    order.iter().enumerate().filter(|(i, _)| mask.contains(*i)).fold(0u64, |acc, (_, &b)| acc | 1 << b)
+    let (mut bits, mut low) = (0u64, mask.low_bits());
+    while low != 0 {
+        let i = low.trailing_zeros() as usize;
+        if let Some(&b) = order.get(i) {
+            bits |= 1 << b;
+        }
+        low &= low - 1;
+    }
+    bits
 }
 
 #[cfg(test)]

@@ -45,6 +45,18 @@ impl Mask {
         self.words[i / 64] |= 1 << (i % 64);
     }
 
+    /// Inserts the sub-samples `range` (a run of consecutive indices).
+    pub fn insert_range(&mut self, range: std::ops::Range<usize>) {
+        let (mut i, end) = (range.start, range.end.min(MAX_SUBSAMPLES));
+        while i < end {
+            let (word, bit) = (i / 64, i % 64);
+            let n = (64 - bit).min(end - i);
+            let ones = if n == 64 { u64::MAX } else { ((1u64 << n) - 1) << bit };
+            self.words[word] |= ones;
+            i += n;
+        }
+    }
+
     pub fn contains(&self, i: usize) -> bool {
         self.words[i / 64] >> (i % 64) & 1 == 1
     }
@@ -77,5 +89,19 @@ impl Mask {
 
     pub fn iter(&self) -> impl Iterator<Item = usize> + '_ {
         (0..MAX_SUBSAMPLES).filter(|&i| self.contains(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_match_single_inserts() {
+        for (a, b) in [(0, 0), (0, 1), (3, 64), (60, 70), (0, 128), (63, 1024), (100, 900)] {
+            let mut m = Mask::EMPTY;
+            m.insert_range(a..b);
+            assert_eq!(m, Mask::from_indices(a..b), "{a}..{b}");
+        }
     }
 }

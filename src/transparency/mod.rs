@@ -166,7 +166,7 @@ impl Default for TransparencySettings {
             mode: TransparencyMode::Screendoor,
             subsamples: 64,
             interactive_subsamples: 16,
-            region_px: 16,
+            region_px: 32,
             k: 6,
         }
     }

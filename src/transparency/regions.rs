@@ -2,11 +2,14 @@
 //! space, moved into world space by the layout and projected by the camera; regions are squares of
 //! `region_px` screen pixels (x right, y down); depth is NDC z (larger is farther).
 //!
-//! 1. Each drawn transparent organ's triangles are projected; every region their screen rectangle
-//!    (grown by a pixel, for the sub-pixel jitter) touches records the organ as present with the
-//!    triangle's nearest depth. Rectangles over-cover, so no organ drawn in a region is missed.
+//! 1. The leaves of each drawn transparent organ's hierarchy (at most 256 triangles each) are
+//!    projected; every region a leaf's screen rectangle (grown by a pixel, for the sub-pixel
+//!    jitter) touches records the organ as present, with the nearest depth of the leaf's box.
+//!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
+//!    near, which only matters for which organs count as the K nearest (the thesis notes that the
+//!    compensation tolerates small depth changes within a region).
 //! 2. A region's configuration is the set of organs present and its K nearest, nearest first.
-//! 3. Each distinct configuration gets one generation: masks in the order K nearest (nearest
+//! 3. Each distinct configuration gets one generation (in parallel): masks in the order K nearest (nearest
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
 //!    The result depends on the configuration only, never on the order organs are drawn in.
 //!
@@ -17,6 +20,7 @@ use super::{generate, layout, MaskMethod, MaskTable, SplitOrder};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
+use rayon::prelude::*;
 use std::collections::HashMap;
 
 #[derive(Clone, Copy, Debug)]
@@ -58,7 +62,7 @@ impl RegionMasks {
 }
 
 /// Nearest NDC depth of each transparent organ in each region (`f32::INFINITY` where absent),
-/// `depths[region * organs + organ]`.
+/// `depths[region * organs + organ]`, from the screen rectangles of the organs' hierarchy leaves.
 fn region_depths(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams, cols: u32, rows: u32) -> Vec<f32> {
     let organs = set.organs.len();
     let mut depths = vec![f32::INFINITY; (cols * rows) as usize * organs];
@@ -70,32 +74,30 @@ fn region_depths(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionPar
             continue;
         }
         let m = vp * state.transform.matrix();
-        let clip: Vec<glam::Vec4> = organ.mesh.positions.iter().map(|&q| m * glam::Vec3::from(q).extend(1.0)).collect();
-        for t in organ.mesh.indices.chunks_exact(3) {
-            let v = [clip[t[0] as usize], clip[t[1] as usize], clip[t[2] as usize]];
-            if v.iter().all(|c| c.x > c.w) || v.iter().all(|c| c.x < -c.w) || v.iter().all(|c| c.y > c.w) {
+        for &leaf in &organ.bvh.leaves {
+            let Some(node) = organ.bvh.nodes.get(leaf as usize) else { continue };
+            let v = node.bounds.corners().map(|c| m * c.extend(1.0));
+            let outside = |f: &dyn Fn(&glam::Vec4) -> bool| v.iter().all(f);
+            if outside(&|c| c.x > c.w) || outside(&|c| c.x < -c.w) || outside(&|c| c.y > c.w) {
                 continue;
             }
-            if v.iter().all(|c| c.y < -c.w) || v.iter().all(|c| c.z > c.w) {
+            if outside(&|c| c.y < -c.w) || outside(&|c| c.z > c.w) {
                 continue;
             }
             let (x0, x1, y0, y1, z) = if v.iter().any(|c| c.w <= 1e-6) {
                 // Crosses the eye plane: present everywhere, as near as can be.
                 (0.0, w, 0.0, h, 0.0)
             } else {
-                let s = v.map(|c| glam::Vec3::new((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h, c.z / c.w));
-                let (mut x0, mut x1, mut y0, mut y1) = (s[0].x, s[0].x, s[0].y, s[0].y);
-                for q in &s[1..] {
-                    (x0, x1, y0, y1) = (x0.min(q.x), x1.max(q.x), y0.min(q.y), y1.max(q.y));
+                let (mut x0, mut x1, mut y0, mut y1, mut z) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN, f32::MAX);
+                for c in &v {
+                    let (x, y) = ((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h);
+                    (x0, x1, y0, y1, z) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y), z.min(c.z / c.w));
                 }
-                (x0 - 1.0, x1 + 1.0, y0 - 1.0, y1 + 1.0, s[0].z.min(s[1].z).min(s[2].z).max(0.0))
+                (x0 - 1.0, x1 + 1.0, y0 - 1.0, y1 + 1.0, z.max(0.0))
             };
-            let c0 = ((x0 * scale).floor().max(0.0) as u32).min(cols - 1);
-            let c1 = ((x1 * scale).floor().max(0.0) as u32).min(cols - 1);
-            let r0 = ((y0 * scale).floor().max(0.0) as u32).min(rows - 1);
-            let r1 = ((y1 * scale).floor().max(0.0) as u32).min(rows - 1);
-            for r in r0..=r1 {
-                for c in c0..=c1 {
+            let cell = |v: f32, n: u32| ((v * scale).floor().max(0.0) as u32).min(n - 1);
+            for r in cell(y0, rows)..=cell(y1, rows) {
+                for c in cell(x0, cols)..=cell(x1, cols) {
                     let d = &mut depths[(r * cols + c) as usize * organs + o];
                     *d = d.min(z);
                 }
@@ -141,28 +143,54 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         })
         .collect();
     let depths = region_depths(set, layout, camera, &p, cols, rows);
-    let mut configs: HashMap<(Vec<usize>, Vec<usize>), u32> = HashMap::new();
-    let mut masks: Vec<u64> = Vec::new();
+    // Key of a region: its present organs as bits, then its K nearest, nearest first.
+    let words = organs.div_ceil(64);
+    let mut configs: HashMap<Vec<u64>, u32> = HashMap::new();
+    let mut unique: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
     let mut config_of_region = Vec::with_capacity((cols * rows) as usize);
-    let mut present = Vec::new();
+    let (mut key, mut last_key, mut last_id) = (Vec::new(), Vec::new(), None);
+    let mut nearest: Vec<usize> = Vec::new();
     for region in depths.chunks_exact(organs.max(1)) {
-        present.clear();
-        present.extend((0..organs).filter(|&o| region[o].is_finite()));
-        let mut nearest = present.clone();
+        key.clear();
+        key.resize(words, 0u64);
+        nearest.clear();
+        for o in (0..organs).filter(|&o| region[o].is_finite()) {
+            key[o / 64] |= 1 << (o % 64);
+            nearest.push(o);
+        }
         nearest.sort_by(|&a, &b| region[a].total_cmp(&region[b]).then(a.cmp(&b)));
         nearest.truncate(p.k);
-        let key = (present.clone(), nearest);
-        let next = configs.len() as u32;
-        let id = *configs.entry(key).or_insert_with_key(|(present, nearest)| {
-            let at = masks.len();
-            masks.extend_from_slice(&defaults);
-            for (o, m) in config_masks(present, nearest, opacity, &p, &bits) {
-                masks[at + o] = m;
+        key.extend(nearest.iter().map(|&o| o as u64));
+        if let Some(id) = last_id.filter(|_| key == last_key) {
+            config_of_region.push(id);
+            continue;
+        }
+        let id = match configs.get(key.as_slice()) {
+            Some(&id) => id,
+            None => {
+                let id = unique.len() as u32;
+                let present: Vec<usize> = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
+                unique.push((present, nearest.clone()));
+                configs.insert(key.clone(), id);
+                id
             }
-            next
-        });
+        };
         config_of_region.push(id);
+        last_id = Some(id);
+        std::mem::swap(&mut last_key, &mut key);
     }
+    // One generation per distinct configuration, in parallel.
+    let generated: Vec<Vec<(usize, u64)>> =
+        unique.par_iter().map(|(present, nearest)| config_masks(present, nearest, opacity, &p, &bits)).collect();
+    let mut masks = Vec::with_capacity(generated.len().max(1) * organs);
+    for config in &generated {
+        let at = masks.len();
+        masks.extend_from_slice(&defaults);
+        for &(o, m) in config {
+            masks[at + o] = m;
+        }
+    }
+    config_of_region.resize((cols * rows) as usize, 0);
     if masks.is_empty() {
         masks.extend_from_slice(&defaults);
     }
@@ -173,7 +201,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         subsamples: p.subsamples,
         organ_count: organs,
         config_of_region,
-        configs: configs.len(),
+        configs: unique.len(),
         masks,
         ms: started.elapsed().as_secs_f64() * 1000.0,
     }

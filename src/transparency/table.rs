@@ -18,10 +18,20 @@
 use super::Mask;
 
 /// One row entry: a sub-set of sub-samples and whether it is filled in the mask that made it.
-#[derive(Clone, Debug, PartialEq, Eq)]
+/// A row's filled child takes the first sub-samples of its list and the empty child the rest, and
+/// the first row lists `0..n` in order, so every row's list is a run of consecutive indices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Row {
-    pub pixels: Vec<u16>,
+    pub start: u16,
+    pub count: u16,
     pub filled: bool,
+}
+
+impl Row {
+    /// The row's sub-samples.
+    pub fn pixels(&self) -> std::ops::Range<usize> {
+        usize::from(self.start)..usize::from(self.start) + usize::from(self.count)
+    }
 }
 
 /// The order in which a new mask splits the last generation's rows.
@@ -44,6 +54,10 @@ pub struct MaskTable {
     masks: Vec<Mask>,
     /// Accumulated error after each row split of the last mask, in split order (for inspection).
     errors: Vec<f64>,
+    /// Scratch buffers reused by every mask: split order, filled counts, the next generation.
+    order: Vec<usize>,
+    take: Vec<u16>,
+    next: Vec<Row>,
 }
 
 impl MaskTable {
@@ -52,10 +66,13 @@ impl MaskTable {
         let n = n.clamp(1, super::mask::MAX_SUBSAMPLES);
         MaskTable {
             n,
-            rows: vec![Row { pixels: (0..n as u16).collect(), filled: false }],
+            rows: vec![Row { start: 0, count: n as u16, filled: false }],
             row_entries: 1,
             masks: Vec::new(),
             errors: Vec::new(),
+            order: Vec::new(),
+            take: Vec::new(),
+            next: Vec::new(),
         }
     }
 
@@ -89,42 +106,47 @@ impl MaskTable {
     /// Adds a mask of opacity `alpha` and returns it.
     pub fn add(&mut self, alpha: f32, order: SplitOrder) -> Mask {
         let alpha = f64::from(alpha.clamp(0.0, 1.0));
-        let order: Vec<usize> = match order {
-            SplitOrder::Table => (0..self.rows.len()).collect(),
-            SplitOrder::Given(o) if is_permutation(o, self.rows.len()) => o.to_vec(),
-            SplitOrder::Given(_) => (0..self.rows.len()).collect(),
-            SplitOrder::Priorities(p) => {
+        let rows = self.rows.len();
+        self.order.clear();
+        match order {
+            SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
+            SplitOrder::Priorities(p) if !p.is_empty() => {
                 let masks: Vec<&Mask> = p.iter().filter_map(|&i| self.masks.get(i)).collect();
-                let first: Vec<usize> = self.rows.iter().map(|r| usize::from(r.pixels[0])).collect();
-                compensation_order(&first, &masks)
+                let mut keyed: Vec<(usize, usize)> = self
+                    .rows
+                    .iter()
+                    .enumerate()
+                    .map(|(r, row)| (split_key(usize::from(row.start), &masks), r))
+                    .collect();
+                keyed.sort_unstable();
+                self.order.extend(keyed.into_iter().map(|(_, r)| r));
             }
-        };
-        let mut take = vec![0usize; self.rows.len()];
+            _ => self.order.extend(0..rows),
+        }
+        self.take.clear();
+        self.take.resize(rows, 0);
         let mut carried = 0.0f64;
         self.errors.clear();
-        for &r in &order {
-            let count = self.rows[r].pixels.len();
-            let want = alpha * count as f64 + carried;
-            let k = (want + 0.5).floor().clamp(0.0, count as f64);
+        for &r in &self.order {
+            let count = self.rows[r].count;
+            let want = alpha * f64::from(count) + carried;
+            let k = (want + 0.5).floor().clamp(0.0, f64::from(count));
             carried = want - k;
-            take[r] = k as usize;
+            self.take[r] = k as u16;
             self.errors.push(carried);
         }
-        let mut next = Vec::with_capacity(self.rows.len() * 2);
+        self.next.clear();
         let mut mask = Mask::EMPTY;
-        for (row, k) in self.rows.iter().zip(take) {
-            let (filled, empty) = row.pixels.split_at(k);
-            for &p in filled {
-                mask.insert(usize::from(p));
-            }
-            for (pixels, filled) in [(filled, true), (empty, false)] {
-                if !pixels.is_empty() {
-                    next.push(Row { pixels: pixels.to_vec(), filled });
+        for (row, &k) in self.rows.iter().zip(&self.take) {
+            mask.insert_range(usize::from(row.start)..usize::from(row.start + k));
+            for (start, count, filled) in [(row.start, k, true), (row.start + k, row.count - k, false)] {
+                if count > 0 {
+                    self.next.push(Row { start, count, filled });
                 }
             }
         }
-        self.row_entries += next.len();
-        self.rows = next;
+        self.row_entries += self.next.len();
+        std::mem::swap(&mut self.rows, &mut self.next);
         self.masks.push(mask);
         mask
     }
@@ -135,22 +157,24 @@ fn is_permutation(order: &[usize], len: usize) -> bool {
     order.len() == len && order.iter().all(|&i| i < len && !std::mem::replace(&mut seen[i], true))
 }
 
-/// Neighbourhood error compensation's split order (thesis §4.3.3, Table 1) for rows represented
-/// by one sub-sample each (`first[r]`: rows lie wholly inside or outside each mask) and priority
-/// masks, highest first. Rows in the filled region of priorities 0..=i for the largest i come
-/// first (F^i before F^(i-1) \ F^i ...), then rows of the empty regions likewise; ties keep table
-/// order.
+/// Neighbourhood error compensation's rank of a row represented by its sub-sample `p` (rows lie
+/// wholly inside or outside each mask) among priority masks, highest first: rows in the filled
+/// region of priorities 0..=i for the largest i come first (F^i before F^(i-1) \ F^i ...), then
+/// rows of the empty regions likewise (thesis §4.3.3, Table 1).
+fn split_key(p: usize, priorities: &[&Mask]) -> usize {
+    let Some(top) = priorities.first() else { return 0 };
+    let filled = top.contains(p);
+    let run = priorities.iter().take_while(|m| m.contains(p) == filled).count();
+    usize::from(!filled) * (priorities.len() + 1) + priorities.len() - run
+}
+
+/// The split order of rows represented by one sub-sample each (`first[r]`), for priority masks
+/// highest first; ties keep table order.
 pub fn compensation_order(first: &[usize], priorities: &[&Mask]) -> Vec<usize> {
-    let key = |r: usize| {
-        let p = first[r];
-        let Some(top) = priorities.first() else { return (0, 0) };
-        let filled = top.contains(p);
-        let run = priorities.iter().take_while(|m| m.contains(p) == filled).count();
-        (usize::from(!filled), usize::MAX - run)
-    };
-    let mut order: Vec<usize> = (0..first.len()).collect();
-    order.sort_by_key(|&r| key(r));
-    order
+    let mut keyed: Vec<(usize, usize)> =
+        first.iter().enumerate().map(|(r, &p)| (split_key(p, priorities), r)).collect();
+    keyed.sort_unstable();
+    keyed.into_iter().map(|(_, r)| r).collect()
 }
 
 #[cfg(test)]
@@ -162,10 +186,7 @@ mod tests {
         let mut t = MaskTable::new(8);
         let m1 = t.add(0.5, SplitOrder::Table);
         assert_eq!(m1, Mask::from_indices(0..4));
-        assert_eq!(
-            t.rows(),
-            &[Row { pixels: vec![0, 1, 2, 3], filled: true }, Row { pixels: vec![4, 5, 6, 7], filled: false }]
-        );
+        assert_eq!(t.rows(), &[Row { start: 0, count: 4, filled: true }, Row { start: 4, count: 4, filled: false }]);
         assert_eq!(t.errors(), &[0.0]);
         let m2 = t.add(0.125, SplitOrder::Table);
         assert_eq!(m2, Mask::from_indices([0]));
@@ -174,11 +195,12 @@ mod tests {
         assert_eq!(
             t.rows(),
             &[
-                Row { pixels: vec![0], filled: true },
-                Row { pixels: vec![1, 2, 3], filled: false },
-                Row { pixels: vec![4, 5, 6, 7], filled: false }
+                Row { start: 0, count: 1, filled: true },
+                Row { start: 1, count: 3, filled: false },
+                Row { start: 4, count: 4, filled: false }
             ]
         );
+        assert_eq!(t.rows()[1].pixels(), 1..4);
         assert_eq!(t.row_entries(), 1 + 2 + 3);
     }
 

@@ -387,9 +387,34 @@ impl App {
                     ui.separator();
                     ui.checkbox(&mut self.settings.cull_debug, "Debug view: culled triangles in colour");
                 });
+                ui.menu_button("Transparency of faded organs", |ui| {
+                    let t = &mut self.settings.transparency;
+                    for mode in vbrain::transparency::TransparencyMode::ALL {
+                        ui.radio_value(&mut t.mode, mode, mode.name());
+                    }
+                    ui.separator();
+                    ui.label("Screen-door masks");
+                    for (label, value) in [
+                        ("sub-samples, still", &mut t.subsamples),
+                        ("sub-samples, moving", &mut t.interactive_subsamples),
+                    ] {
+                        egui::ComboBox::from_label(label).selected_text(value.to_string()).show_ui(ui, |ui| {
+                            for n in vbrain::transparency::SUBSAMPLE_CHOICES {
+                                ui.selectable_value(value, n, n.to_string());
+                            }
+                        });
+                    }
+                    let r = ui.add(egui::Slider::new(&mut t.region_px, 4..=128).text("region (pixels)"));
+                    crate::accessible(&r, "Mask region size");
+                    let r = ui.add(egui::Slider::new(&mut t.k, 1..=16).text("K nearest organs compensated"));
+                    crate::accessible(&r, "Neighbourhood error compensation K");
+                    if ui.button("Defaults").clicked() {
+                        *t = vbrain::transparency::TransparencySettings::default();
+                    }
+                });
                 ui.separator();
                 ui.checkbox(&mut self.settings.show_inspector, "Inspector");
-                ui.checkbox(&mut self.settings.show_stats, "Statistics (fps, culling overlay)");
+                ui.checkbox(&mut self.settings.show_stats, "Statistics (fps, culling and mask overlay)");
                 ui.horizontal(|ui| {
                     ui.label("Background");
                     let r = ui.color_edit_button_rgb(&mut self.settings.background);

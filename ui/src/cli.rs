@@ -110,6 +110,22 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Compare the transparency modes against the exact reference on views with 4 to 39
+    /// transparent organs; also time mask regeneration at 1920x1080
+    BenchTransparency {
+        path: PathBuf,
+        /// Image size, WxH
+        #[arg(long, default_value = "384x384")]
+        size: String,
+        /// Screen-door mask region side in pixels
+        #[arg(long, default_value_t = vbrain::transparency::TransparencySettings::default().region_px)]
+        region: u32,
+        /// Folder for transparency.csv, transparency.png and transparency-sheet.png
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
     /// Write a denser copy of a set (each triangle subdivided), for benchmarks
     Scale {
         set: PathBuf,
@@ -161,7 +177,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = 64)]
     pub subsamples: usize,
     /// Screen-door mask region side in pixels
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = vbrain::transparency::TransparencySettings::default().region_px)]
     pub region: u32,
     /// Nearest organs that the masks' error compensation favours
     #[arg(long, default_value_t = 6)]
@@ -193,6 +209,14 @@ fn run_command(command: Command) -> Result<bool> {
             import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
         }
         Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+        Command::BenchTransparency { path, size, region, out, json } => {
+            let (set, ok) = open_reporting(&path)?;
+            if !(1..=256).contains(&region) {
+                bail!("--region {region} outside 1..256 pixels");
+            }
+            crate::transparency_bench::run(&set, parse_size(&size)?, region, &out, json)?;
+            Ok(ok)
+        }
         Command::Masks { mask, objects, trials, alpha, k, seed, out, json } => {
             let n = crate::masks::parse_mask(&mask)?;
             let experiment = vbrain::transparency::experiment::Experiment { n, objects, trials, alpha, k, seed };

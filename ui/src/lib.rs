@@ -16,6 +16,7 @@ pub mod masks;
 mod panels;
 pub mod plot;
 pub mod settings;
+pub mod transparency_bench;
 pub mod viewport;
 
 pub use app::{App, AppOptions};

@@ -1,0 +1,339 @@
+//! `vbrain bench-transparency`: every transparency mode against the exact reference on views of
+//! the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and 99th-percentile
+//! per-pixel error (8-bit sRGB units, the largest of the three channels), frame time, all in one
+//! run; CSV, a PNG plot and a contact sheet (one row per view, one column per mode in the order
+//! printed). It also times mask regeneration at 1920x1080 with every organ at 50 % opacity.
+
+use anyhow::{anyhow, bail, Result};
+use serde_json::json;
+use std::path::Path;
+use std::time::Instant;
+use vbrain::camera::Camera;
+use vbrain::layout::Layout;
+use vbrain::organ_set::OrganSet;
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::transparency::{regions, TransparencyMode, TransparencySettings};
+
+/// A bench view: organs made transparent (the rest of `opaque` drawn opaque, all others hidden),
+/// and the orbit angles. An empty `transparent` list means every organ shown by default.
+struct ViewSpec {
+    name: &'static str,
+    transparent: &'static [&'static str],
+    opaque: &'static [&'static str],
+    orbit: (f32, f32),
+    /// Camera distance relative to the fitted one.
+    distance: f32,
+}
+
+const VIEWS: [ViewSpec; 4] = [
+    ViewSpec {
+        name: "left deep nuclei",
+        transparent: &["caudate_l", "putamen_l", "pallidum_l", "thalamus_l"],
+        opaque: &["hippocampus_l", "amygdala_l"],
+        orbit: (-70.0, 10.0),
+        distance: 1.0,
+    },
+    ViewSpec {
+        name: "basal ganglia, ventricles, hippocampi",
+        transparent: &[
+            "caudate_l",
+            "putamen_l",
+            "pallidum_l",
+            "thalamus_l",
+            "lateral_ventricle_l",
+            "hippocampus_l",
+            "caudate_r",
+            "putamen_r",
+            "pallidum_r",
+            "thalamus_r",
+            "lateral_ventricle_r",
+            "hippocampus_r",
+        ],
+        opaque: &["brainstem"],
+        orbit: (30.0, 20.0),
+        distance: 0.6,
+    },
+    ViewSpec {
+        name: "left hemisphere",
+        transparent: &[
+            "frontal_l",
+            "parietal_l",
+            "temporal_l",
+            "occipital_l",
+            "cingulate_l",
+            "insula_l",
+            "white_matter_l",
+            "lateral_ventricle_l",
+            "caudate_l",
+            "putamen_l",
+            "pallidum_l",
+            "accumbens_l",
+            "thalamus_l",
+            "ventral_dc_l",
+            "hippocampus_l",
+            "amygdala_l",
+            "cerebellum_l",
+        ],
+        opaque: &["brainstem"],
+        orbit: (-90.0, 5.0),
+        distance: 1.0,
+    },
+    ViewSpec { name: "whole brain", transparent: &[], opaque: &[], orbit: (35.0, 15.0), distance: 0.75 },
+];
+
+pub const MODES: [TransparencyMode; 6] = [
+    TransparencyMode::Screendoor,
+    TransparencyMode::ScreendoorWhitenoise,
+    TransparencyMode::ScreendoorPixeltree,
+    TransparencyMode::AlphaUnsorted,
+    TransparencyMode::AlphaSorted,
+    TransparencyMode::WeightedBlended,
+];
+
+struct Row {
+    view: String,
+    transparent: usize,
+    mode: TransparencyMode,
+    mae: f64,
+    p99: f64,
+    frame_ms: f64,
+}
+
+/// The layout of a view; opacities drawn in 0.2..0.8 from a fixed seed.
+fn view_layout(set: &OrganSet, spec: &ViewSpec, seed: u64) -> Result<(Layout, usize)> {
+    let mut layout = Layout::new(set);
+    let mut rng = vbrain::rng::XorShift::seeded(seed);
+    let index =
+        |id: &str| set.find(id).ok_or_else(|| anyhow!("the set has no organ \"{id}\" for view \"{}\"", spec.name));
+    if !spec.transparent.is_empty() {
+        layout.organs.iter_mut().for_each(|s| s.visible = false);
+        for id in spec.opaque {
+            layout.organs[index(id)?].visible = true;
+        }
+        for id in spec.transparent {
+            layout.organs[index(id)?].visible = true;
+        }
+    }
+    let chosen: Vec<usize> = if spec.transparent.is_empty() {
+        (0..set.organs.len()).filter(|&i| layout.organs[i].visible).collect()
+    } else {
+        spec.transparent.iter().map(|id| index(id)).collect::<Result<_>>()?
+    };
+    for &i in &chosen {
+        layout.organs[i].opacity = 0.2 + 0.6 * rng.unit();
+    }
+    Ok((layout, chosen.len()))
+}
+
+/// Mean and 99th percentile of the per-pixel error (largest channel difference, 8-bit units).
+fn errors(image: &image::RgbaImage, exact: &image::RgbaImage) -> (f64, f64) {
+    let mut e: Vec<u8> = image
+        .pixels()
+        .zip(exact.pixels())
+        .map(|(a, b)| (0..3).map(|k| a[k].abs_diff(b[k])).max().unwrap_or(0))
+        .collect();
+    let mean = e.iter().map(|&v| f64::from(v)).sum::<f64>() / e.len().max(1) as f64;
+    e.sort_unstable();
+    let p99 = e.get((e.len() * 99 / 100).min(e.len().saturating_sub(1))).copied().unwrap_or(0);
+    (mean, f64::from(p99))
+}
+
+pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_out: bool) -> Result<()> {
+    let gpu = GpuContext::headless()?;
+    let renderer = Renderer::new(&gpu.device, set)?;
+    let target = Target::new(&gpu.device, size.0, size.1)?;
+    let background = crate::BACKGROUND;
+    let mut rows = Vec::new();
+    let mut sheet_rows = Vec::new();
+    let bar = indicatif::ProgressBar::new((VIEWS.len() * (MODES.len() + 1)) as u64);
+    for (v, spec) in VIEWS.iter().enumerate() {
+        let (layout, transparent) = view_layout(set, spec, v as u64 + 1)?;
+        let bounds = layout.bounds(set);
+        let mut camera = Camera::orbit(&bounds, spec.orbit.0, spec.orbit.1).zoomed(spec.distance);
+        camera.fit_depth(&bounds);
+        let shot = |mode: TransparencyMode| -> Result<(image::RgbaImage, f64)> {
+            let transparency = TransparencySettings { mode, region_px, ..Default::default() };
+            let frame = FrameInput { background, transparency, ..FrameInput::new(set, &camera, &layout) };
+            // Warm up once, then time one frame with the queue finished.
+            renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+            let started = Instant::now();
+            renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+            let image = target.read_color(&gpu.device, &gpu.queue)?;
+            let ms = started.elapsed().as_secs_f64() * 1000.0;
+            bar.inc(1);
+            Ok((image, ms))
+        };
+        let (exact, _) = shot(TransparencyMode::Exact)?;
+        let mut images = vec![exact.clone()];
+        for mode in MODES {
+            let (image, frame_ms) = shot(mode)?;
+            let (mae, p99) = errors(&image, &exact);
+            rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms });
+            images.push(image);
+        }
+        sheet_rows.push(images);
+    }
+    bar.finish_and_clear();
+    let regen = mask_regeneration(set, region_px)?;
+    std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
+    let csv = out.join("transparency.csv");
+    vbrain::atomic::write(&csv, |w| {
+        writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms")?;
+        for r in &rows {
+            writeln!(w, "{},{},{},{:.4},{:.1},{:.2}", r.view, r.transparent, r.mode.name(), r.mae, r.p99, r.frame_ms)?;
+        }
+        Ok(())
+    })?;
+    let plot = out.join("transparency.png");
+    let series = |value: fn(&Row) -> f64| {
+        MODES
+            .iter()
+            .map(|&m| crate::plot::Series {
+                name: m.name().into(),
+                colour: colour(m),
+                points: rows.iter().filter(|r| r.mode == m).map(|r| (r.transparent as f64, value(r))).collect(),
+            })
+            .collect()
+    };
+    crate::plot::write(
+        &plot,
+        1000,
+        340,
+        &[
+            crate::plot::Panel {
+                title: "mean absolute error against exact (8-bit units)".into(),
+                x_label: "transparent organs in the view".into(),
+                series: series(|r| r.mae),
+            },
+            crate::plot::Panel {
+                title: "frame time (ms)".into(),
+                x_label: "transparent organs in the view".into(),
+                series: series(|r| r.frame_ms),
+            },
+        ],
+    )?;
+    let sheet = out.join("transparency-sheet.png");
+    write_sheet(&sheet, &sheet_rows, size)?;
+    let mean = |m: TransparencyMode| {
+        let v: Vec<f64> = rows.iter().filter(|r| r.mode == m).map(|r| r.mae).collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    };
+    if json_out {
+        let views: Vec<_> = VIEWS
+            .iter()
+            .map(|spec| {
+                let modes: serde_json::Map<_, _> = rows
+                    .iter()
+                    .filter(|r| r.view == spec.name)
+                    .map(|r| {
+                        (
+                            r.mode.name().to_string(),
+                            json!({"mean_abs_error": r.mae, "p99_error": r.p99, "frame_ms": r.frame_ms}),
+                        )
+                    })
+                    .collect();
+                let transparent = rows.iter().find(|r| r.view == spec.name).map(|r| r.transparent);
+                json!({"view": spec.name, "transparent_organs": transparent, "modes": modes})
+            })
+            .collect();
+        let means: serde_json::Map<_, _> = MODES.iter().map(|&m| (m.name().to_string(), json!(mean(m)))).collect();
+        let out = json!({
+            "size": [size.0, size.1], "region_px": region_px, "views": views, "mean_abs_error": means,
+            "mask_regeneration": regen, "adapter": gpu.adapter_description(),
+            "csv": csv, "plot": plot, "sheet": sheet,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!(
+            "{} views at {}x{} on {}; errors against exact, 8-bit units",
+            VIEWS.len(),
+            size.0,
+            size.1,
+            gpu.adapter_description()
+        );
+        println!("{:<40} {:>6} {:<22} {:>9} {:>6} {:>10}", "view", "organs", "mode", "mean err", "p99", "frame ms");
+        for r in &rows {
+            println!(
+                "{:<40} {:>6} {:<22} {:>9.3} {:>6.0} {:>10.1}",
+                r.view,
+                r.transparent,
+                r.mode.name(),
+                r.mae,
+                r.p99,
+                r.frame_ms
+            );
+        }
+        for m in MODES {
+            println!("mean over views  {:<22} {:.3}", m.name(), mean(m));
+        }
+        println!("mask regeneration at 1920x1080, every organ at 50 %: {regen}");
+        println!("contact sheet columns: exact, {}", MODES.map(|m| m.name()).join(", "));
+        println!("wrote {}, {} and {}", csv.display(), plot.display(), sheet.display());
+    }
+    Ok(())
+}
+
+fn colour(m: TransparencyMode) -> (u8, u8, u8) {
+    match m {
+        TransparencyMode::Screendoor => (200, 40, 40),
+        TransparencyMode::ScreendoorWhitenoise => (120, 120, 120),
+        TransparencyMode::ScreendoorPixeltree => (40, 110, 200),
+        TransparencyMode::AlphaUnsorted => (230, 150, 30),
+        TransparencyMode::AlphaSorted => (40, 160, 80),
+        TransparencyMode::WeightedBlended => (140, 60, 170),
+        TransparencyMode::Exact => (0, 0, 0),
+    }
+}
+
+/// Images side by side, one row per view, with a 4-pixel white gap.
+fn write_sheet(path: &Path, rows: &[Vec<image::RgbaImage>], size: (u32, u32)) -> Result<()> {
+    let gap = 4;
+    let cols = rows.iter().map(|r| r.len()).max().unwrap_or(0) as u32;
+    let (w, h) = (cols * (size.0 + gap) + gap, rows.len() as u32 * (size.1 + gap) + gap);
+    let mut sheet = image::RgbaImage::from_pixel(w, h, image::Rgba([255, 255, 255, 255]));
+    for (r, images) in rows.iter().enumerate() {
+        for (c, img) in images.iter().enumerate() {
+            let (x, y) = (gap + c as u32 * (size.0 + gap), gap + r as u32 * (size.1 + gap));
+            image::imageops::overlay(&mut sheet, img, x.into(), y.into());
+        }
+    }
+    crate::cli::write_png(path, &sheet, true)
+}
+
+/// Mask regeneration at 1920x1080 with every shown organ at 50 %: over 24 orbit frames, after
+/// two warm-up frames, the median and largest times and the distinct configurations.
+fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value> {
+    let mut layout = Layout::new(set);
+    layout.organs.iter_mut().for_each(|s| s.opacity = 0.5);
+    if !layout.organs.iter().any(|s| s.is_drawn()) {
+        bail!("no organ is shown");
+    }
+    let s = TransparencySettings::default();
+    let p = regions::RegionParams {
+        width: 1920,
+        height: 1080,
+        region_px,
+        subsamples: s.subsamples,
+        k: s.k,
+        method: vbrain::transparency::MaskMethod::TabularNec,
+    };
+    let bounds = layout.bounds(set);
+    let frames = 24;
+    let mut times = Vec::new();
+    let mut configs = Vec::new();
+    for i in 0..frames + 2 {
+        let camera = Camera::orbit(&bounds, i as f32 * 360.0 / frames as f32, 15.0);
+        let m = regions::region_masks(set, &layout, &camera, &p);
+        if i >= 2 {
+            times.push(m.ms);
+            configs.push(m.configs);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    configs.sort_unstable();
+    Ok(json!({
+        "width": 1920, "height": 1080, "region_px": region_px, "subsamples": s.subsamples, "k": s.k,
+        "frames": frames, "median_ms": times[times.len() / 2], "max_ms": times.last().copied().unwrap_or(0.0),
+        "median_configs": configs[configs.len() / 2],
+    }))
+}
