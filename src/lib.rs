@@ -9,9 +9,14 @@
 //! 2. The user's changes live in a [`layout::Layout`]: per organ visibility, opacity, colour and a
 //!    model transform (organ space -> world space, also millimetres RAS).
 //! 3. A [`camera::Camera`] maps world space to clip space.
-//! 4. [`render::Renderer`] draws camera + layout into a [`render::Target`] (screen pixels): opaque
-//!    organs with depth and 4x MSAA, translucent ones blended, and on demand an organ-ID buffer for
-//!    picking. The viewer paints the target; headless commands read it back into a PNG.
+//! 4. [`cull`] picks what to draw: view-frustum and occlusion culling over each organ's hierarchy
+//!    ([`bvh`]) with an opacity map and a sparse depth map.
+//! 5. [`transparency`] builds screen-door masks for faded organs, per screen region, with the
+//!    tabular pixel mask and neighbourhood error compensation.
+//! 6. [`render::Renderer`] draws camera + layout into a [`render::Target`] (screen pixels): opaque
+//!    organs with depth and 4x MSAA, faded ones through their masks (or a comparison mode), and on
+//!    demand an organ-ID buffer for picking. The viewer paints the target; headless commands read
+//!    it back into a PNG.
 //!
 //! Nothing here panics on bad input: every file error names its file (and line).
 

@@ -9,7 +9,8 @@
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
 //! 2. A region's configuration is the set of organs present and its K nearest, nearest first.
-//! 3. Each distinct configuration gets one generation (in parallel): masks in the order K nearest (nearest
+//! 3. Each distinct configuration gets one generation (configurations with the same K nearest
+//!    share the table after those, and groups run in parallel): masks in the order K nearest (nearest
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
 //!    The result depends on the configuration only, never on the order organs are drawn in.
 //!
@@ -116,13 +117,58 @@ pub fn config_masks(
     p: &RegionParams,
     bits: &[usize],
 ) -> Vec<(usize, u64)> {
-    let order: Vec<usize> =
-        nearest.iter().copied().chain(present.iter().copied().filter(|o| !nearest.contains(o))).collect();
-    let alphas: Vec<f32> = order.iter().map(|&o| opacity(o)).collect();
+    group_masks(&[present], nearest, opacity, p, bits).pop().unwrap_or_default()
+}
+
+/// Masks for configurations that share their K nearest (`nearest`, nearest first), one list per
+/// entry of `presents`. Masks are generated in the order K nearest, then the others by index, so
+/// for the tabular methods the table after the K nearest is built once and continued for each.
+pub fn group_masks(
+    presents: &[&[usize]],
+    nearest: &[usize],
+    opacity: impl Fn(usize) -> f32,
+    p: &RegionParams,
+    bits: &[usize],
+) -> Vec<Vec<(usize, u64)>> {
     let k = nearest.len();
-    let seed = order.iter().fold(0x5eed_u64, |h, &o| h.wrapping_mul(0x100_0000_01b3) ^ o as u64);
-    let (masks, _) = generate(p.method, p.subsamples, &alphas, |j| (0..j.min(k)).collect(), seed);
-    order.iter().zip(masks).map(|(&o, m)| (o, layout::to_gpu_bits(&m, bits))).collect()
+    let order = |present: &[usize]| -> Vec<usize> {
+        nearest.iter().copied().chain(present.iter().copied().filter(|o| !nearest.contains(o))).collect()
+    };
+    let gpu = |order: &[usize], masks: &[super::Mask]| -> Vec<(usize, u64)> {
+        order.iter().zip(masks).map(|(&o, m)| (o, layout::to_gpu_bits(m, bits))).collect()
+    };
+    if !matches!(p.method, MaskMethod::Tabular | MaskMethod::TabularNec) {
+        return presents
+            .iter()
+            .map(|present| {
+                let order = order(present);
+                let alphas: Vec<f32> = order.iter().map(|&o| opacity(o)).collect();
+                let seed = order.iter().fold(0x5eed_u64, |h, &o| h.wrapping_mul(0x100_0000_01b3) ^ o as u64);
+                let (masks, _) = generate(p.method, p.subsamples, &alphas, |j| (0..j.min(k)).collect(), seed);
+                gpu(&order, &masks)
+            })
+            .collect();
+    }
+    let priorities: Vec<usize> = (0..k).collect();
+    let split = |j: usize| match p.method {
+        MaskMethod::TabularNec => SplitOrder::Priorities(&priorities[..j.min(k)]),
+        _ => SplitOrder::Table,
+    };
+    let mut base = MaskTable::new(p.subsamples);
+    for (j, &o) in nearest.iter().enumerate() {
+        base.add(opacity(o), split(j));
+    }
+    presents
+        .iter()
+        .map(|present| {
+            let order = order(present);
+            let mut table = base.clone();
+            for &o in &order[k..] {
+                table.add(opacity(o), split(k));
+            }
+            gpu(&order, table.masks())
+        })
+        .collect()
 }
 
 /// The masks of every region for this frame.
@@ -180,8 +226,24 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         std::mem::swap(&mut last_key, &mut key);
     }
     // One generation per distinct configuration, in parallel.
-    let generated: Vec<Vec<(usize, u64)>> =
-        unique.par_iter().map(|(present, nearest)| config_masks(present, nearest, opacity, &p, &bits)).collect();
+    let mut groups: HashMap<&[usize], Vec<usize>> = HashMap::new();
+    for (i, (_, nearest)) in unique.iter().enumerate() {
+        groups.entry(nearest.as_slice()).or_default().push(i);
+    }
+    let groups: Vec<(&[usize], Vec<usize>)> = groups.into_iter().collect();
+    let lists: Vec<Vec<Vec<(usize, u64)>>> = groups
+        .par_iter()
+        .map(|(nearest, members)| {
+            let presents: Vec<&[usize]> = members.iter().map(|&i| unique[i].0.as_slice()).collect();
+            group_masks(&presents, nearest, opacity, &p, &bits)
+        })
+        .collect();
+    let mut generated: Vec<Vec<(usize, u64)>> = vec![Vec::new(); unique.len()];
+    for ((_, members), list) in groups.iter().zip(lists) {
+        for (&i, masks) in members.iter().zip(list) {
+            generated[i] = masks;
+        }
+    }
     let mut masks = Vec::with_capacity(generated.len().max(1) * organs);
     for config in &generated {
         let at = masks.len();

@@ -45,6 +45,7 @@ pub enum SplitOrder<'a> {
     Given(&'a [usize]),
 }
 
+#[derive(Clone)]
 pub struct MaskTable {
     n: usize,
     /// The last generation (the table's rows *start*..*end*); earlier generations are never read
@@ -56,6 +57,9 @@ pub struct MaskTable {
     errors: Vec<f64>,
     /// Scratch buffers reused by every mask: split order, filled counts, the next generation.
     order: Vec<usize>,
+    keys: Vec<u8>,
+    starts: Vec<usize>,
+    priority: Vec<Mask>,
     take: Vec<u16>,
     next: Vec<Row>,
 }
@@ -71,6 +75,9 @@ impl MaskTable {
             masks: Vec::new(),
             errors: Vec::new(),
             order: Vec::new(),
+            keys: Vec::new(),
+            starts: Vec::new(),
+            priority: Vec::new(),
             take: Vec::new(),
             next: Vec::new(),
         }
@@ -106,20 +113,37 @@ impl MaskTable {
     /// Adds a mask of opacity `alpha` and returns it.
     pub fn add(&mut self, alpha: f32, order: SplitOrder) -> Mask {
         let alpha = f64::from(alpha.clamp(0.0, 1.0));
+        // Ranks must fit the counting sort's byte keys.
+        let order = match order {
+            SplitOrder::Priorities(p) if p.len() > 100 => SplitOrder::Priorities(&p[..100]),
+            o => o,
+        };
         let rows = self.rows.len();
         self.order.clear();
         match order {
             SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
             SplitOrder::Priorities(p) if !p.is_empty() => {
-                let masks: Vec<&Mask> = p.iter().filter_map(|&i| self.masks.get(i)).collect();
-                let mut keyed: Vec<(usize, usize)> = self
-                    .rows
-                    .iter()
-                    .enumerate()
-                    .map(|(r, row)| (split_key(usize::from(row.start), &masks), r))
-                    .collect();
-                keyed.sort_unstable();
-                self.order.extend(keyed.into_iter().map(|(_, r)| r));
+                // A counting sort on the compensation rank keeps ties in table order.
+                self.priority.clear();
+                self.priority.extend(p.iter().filter_map(|&i| self.masks.get(i).copied()));
+                let ranks = 2 * (self.priority.len() + 1);
+                self.keys.clear();
+                let priority = &self.priority;
+                self.keys.extend(self.rows.iter().map(|row| split_key(usize::from(row.start), priority) as u8));
+                let starts = &mut self.starts;
+                starts.clear();
+                starts.resize(ranks + 1, 0);
+                for &k in &self.keys {
+                    starts[usize::from(k) + 1] += 1;
+                }
+                for i in 1..=ranks {
+                    starts[i] += starts[i - 1];
+                }
+                self.order.resize(rows, 0);
+                for (r, &k) in self.keys.iter().enumerate() {
+                    self.order[starts[usize::from(k)]] = r;
+                    starts[usize::from(k)] += 1;
+                }
             }
             _ => self.order.extend(0..rows),
         }
@@ -161,7 +185,7 @@ fn is_permutation(order: &[usize], len: usize) -> bool {
 /// wholly inside or outside each mask) among priority masks, highest first: rows in the filled
 /// region of priorities 0..=i for the largest i come first (F^i before F^(i-1) \ F^i ...), then
 /// rows of the empty regions likewise (thesis §4.3.3, Table 1).
-fn split_key(p: usize, priorities: &[&Mask]) -> usize {
+fn split_key(p: usize, priorities: &[Mask]) -> usize {
     let Some(top) = priorities.first() else { return 0 };
     let filled = top.contains(p);
     let run = priorities.iter().take_while(|m| m.contains(p) == filled).count();
@@ -170,7 +194,7 @@ fn split_key(p: usize, priorities: &[&Mask]) -> usize {
 
 /// The split order of rows represented by one sub-sample each (`first[r]`), for priority masks
 /// highest first; ties keep table order.
-pub fn compensation_order(first: &[usize], priorities: &[&Mask]) -> Vec<usize> {
+pub fn compensation_order(first: &[usize], priorities: &[Mask]) -> Vec<usize> {
     let mut keyed: Vec<(usize, usize)> =
         first.iter().enumerate().map(|(r, &p)| (split_key(p, priorities), r)).collect();
     keyed.sort_unstable();
@@ -211,7 +235,7 @@ mod tests {
         let rf1 = Mask::from_indices(8..16);
         let rf4 = Mask::from_indices((0..16).filter(|i| i % 2 == 1));
         let first: Vec<usize> = (0..16).collect();
-        let order = compensation_order(&first, &[&rf2, &rf1, &rf4]);
+        let order = compensation_order(&first, &[rf2, rf1, rf4]);
         assert_eq!(order, vec![13, 15, 12, 14, 4, 5, 6, 7, 0, 2, 1, 3, 8, 9, 10, 11]);
         // No priorities: table order.
         assert_eq!(compensation_order(&first, &[]), first);

@@ -207,3 +207,69 @@ fn import_a_label_volume_then_scale_it() {
     ]);
     assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("bad.csv:3"));
 }
+
+#[test]
+fn masks_experiment_reproduces_table_2_and_writes_its_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let v = json(&vbrain(&[
+        "masks",
+        "--mask",
+        "8x8",
+        "--objects",
+        "16",
+        "--trials",
+        "20",
+        "--alpha",
+        "0.5",
+        "--out",
+        d,
+        "--json",
+    ]));
+    assert_eq!(v["tabular_row_entries"], 767);
+    for m in ["white_noise", "pixel_tree", "tabular", "tabular_nec"] {
+        let levels = v["methods"][m]["max_faulty_per_level"].as_array().unwrap();
+        assert_eq!(levels.len(), 16, "{m}");
+        assert_eq!(v["methods"][m]["mean_faulty_per_level"].as_array().unwrap().len(), 16);
+    }
+    assert!(dir.path().join("masks.csv").is_file() && dir.path().join("masks.png").is_file());
+    let bad = vbrain(&["masks", "--mask", "64x64", "--out", d]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("1..=1024"));
+}
+
+#[test]
+fn bench_transparency_compares_every_mode_with_exact() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let v = json(&vbrain(&["bench-transparency", &brain(), "--size", "48x48", "--out", d, "--json"]));
+    let views = v["views"].as_array().unwrap();
+    assert_eq!(views.len(), 4);
+    for view in views {
+        for mode in [
+            "screendoor",
+            "screendoor-whitenoise",
+            "screendoor-pixeltree",
+            "alpha-unsorted",
+            "alpha-sorted",
+            "weighted-blended",
+        ] {
+            let e = view["modes"][mode]["mean_abs_error"].as_f64().unwrap();
+            assert!((0.0..255.0).contains(&e), "{mode}: {e}");
+        }
+    }
+    assert!(v["mask_regeneration"]["median_configs"].as_u64().unwrap() > 1);
+    for f in ["transparency.csv", "transparency.png", "transparency-sheet.png"] {
+        assert!(dir.path().join(f).is_file(), "{f}");
+    }
+}
+
+#[test]
+fn render_rejects_an_unknown_transparency_mode() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let o = vbrain(&["render", &brain(), "--out", out.to_str().unwrap(), "--transparency", "glass"]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("glass") && err.contains("screendoor"), "{err}");
+}
