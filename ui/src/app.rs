@@ -475,7 +475,7 @@ impl App {
             ui.separator();
             ui.label(if self.viewport.fly { "walk-through camera" } else { "orbit camera" });
             ui.separator();
-            ui.label("transparency: alpha blending (sorted by organ)");
+            ui.label(format!("transparency: {}", self.settings.transparency.mode.name()));
             ui.separator();
             ui.label(format!("culling: {}", self.settings.cull.mode.name()));
             if let Some(sel) = self.selected {
