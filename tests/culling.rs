@@ -5,13 +5,16 @@
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
 
+mod common;
+
+use common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
 use vbrain::cull::{cull, CullMode, CullSettings};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
-use vbrain::organ_set::{self, scale::subdivide, Organ, OrganSet};
+use vbrain::organ_set::{self, Organ, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::transparency::TransparencySettings;
 
@@ -27,28 +30,6 @@ impl Rng {
     fn range(&mut self, a: f32, b: f32) -> f32 {
         a + (b - a) * self.next()
     }
-}
-
-fn cube(center: Vec3, half: Vec3, level: usize) -> Mesh {
-    let c = |x: f32, y: f32, z: f32| (center + half * Vec3::new(x, y, z)).to_array();
-    let mut m = Mesh {
-        positions: vec![
-            c(-1., -1., -1.),
-            c(1., -1., -1.),
-            c(1., 1., -1.),
-            c(-1., 1., -1.),
-            c(-1., -1., 1.),
-            c(1., -1., 1.),
-            c(1., 1., 1.),
-            c(-1., 1., 1.),
-        ],
-        normals: vec![],
-        indices: vec![
-            0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7,
-        ],
-    };
-    m.compute_normals();
-    subdivide(&m, level)
 }
 
 /// Nested closed shells with boxes between them and inside: every ray crosses many surfaces.

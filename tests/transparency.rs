@@ -2,10 +2,12 @@
 //! Screen-door transparency on rendered images (lavapipe in CI): the image does not depend on the
 //! order organs are drawn in, and a transparent organ shows only its outermost layer.
 
+mod common;
+
+use common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
 use vbrain::layout::Layout;
-use vbrain::mesh::Mesh;
 use vbrain::organ_set::{self, Organ, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::transparency::{TransparencyMode, TransparencySettings};
@@ -74,36 +76,14 @@ fn screendoor_does_not_depend_on_draw_order() {
     assert!(unsorted.windows(2).any(|w| w[0] != w[1]), "alpha-unsorted gave the same image in every order");
 }
 
-fn cube(half: f32) -> Mesh {
-    let c = |x: f32, y: f32, z: f32| (Vec3::new(x, y, z) * half).to_array();
-    let mut m = Mesh {
-        positions: vec![
-            c(-1., -1., -1.),
-            c(1., -1., -1.),
-            c(1., 1., -1.),
-            c(-1., 1., -1.),
-            c(-1., -1., 1.),
-            c(1., -1., 1.),
-            c(1., 1., 1.),
-            c(-1., 1., 1.),
-        ],
-        normals: vec![],
-        indices: vec![
-            0, 3, 2, 0, 2, 1, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7,
-        ],
-    };
-    m.compute_normals();
-    m
-}
-
 /// One transparent organ and an opaque block beside it; `interior` adds a second, inner shell to the
 /// transparent organ (thesis Figure 24).
 fn scene(interior: bool) -> OrganSet {
-    let mut shell = cube(30.0);
+    let mut shell = cube(Vec3::ZERO, Vec3::splat(30.0), 0);
     if interior {
-        shell.append(&cube(15.0));
+        shell.append(&cube(Vec3::ZERO, Vec3::splat(15.0), 0));
     }
-    let mut back = cube(20.0);
+    let mut back = cube(Vec3::ZERO, Vec3::splat(20.0), 0);
     for p in &mut back.positions {
         p[1] += 60.0;
     }

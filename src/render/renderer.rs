@@ -1,5 +1,7 @@
 //! Pipelines and per-organ GPU meshes, created once per device and organ set; [`Renderer::render`]
-//! draws one frame from plain per-frame data (camera, layout) into a [`Target`].
+//! draws one frame from plain per-frame data ([`FrameInput`]: camera, layout, draw list,
+//! transparency settings) into a [`Target`]. Opaque drawing, sorted blending, the culling debug view
+//! and the ID passes are here; the other transparency modes are in `oit.rs`.
 
 use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, ID_FORMAT};
 use crate::camera::Camera;
