@@ -97,16 +97,30 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
         println!("{what}, K = {}, in {seconds:.1} s", e.k);
-        println!("{:<12} {:>22} {:>22}", "method", "worst level max faulty", "worst level mean faulty");
-        for (m, s) in &outcome.methods {
-            let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
-            println!(
-                "{:<12} {:>22.2} {:>22.3}",
-                m.name(),
-                worst(&s.max_faulty_per_level),
-                worst(&s.mean_faulty_per_level)
-            );
+        println!("faulty pixels per stacking level (1 = nearest), min / mean / max over the trials:");
+        print!("{:>5}", "level");
+        for (m, _) in &outcome.methods {
+            print!(" {:>22}", m.name());
         }
+        println!();
+        for l in 0..e.objects {
+            print!("{:>5}", l + 1);
+            for (_, s) in &outcome.methods {
+                let cell = format!(
+                    "{:.0} / {:.2} / {:.0}",
+                    s.min_faulty_per_level[l], s.mean_faulty_per_level[l], s.max_faulty_per_level[l]
+                );
+                print!(" {cell:>22}");
+            }
+            println!();
+        }
+        let worst = |v: &[f64]| v.iter().copied().fold(0.0, f64::max);
+        print!("{:>5}", "worst");
+        for (_, s) in &outcome.methods {
+            let cell = format!("{:.2} / {:.0}", worst(&s.mean_faulty_per_level), worst(&s.max_faulty_per_level));
+            print!(" {cell:>22}");
+        }
+        println!();
         println!("tabular row entries after the last mask: {}", outcome.tabular_row_entries);
         println!("wrote {} and {}", csv.display(), plot.display());
     }
