@@ -14,6 +14,15 @@ fn main() -> std::process::ExitCode {
                 std::process::ExitCode::FAILURE
             }
         },
-        Some(command) => cli::run(command),
+        Some(command) => {
+            // Headless output piped into `head` and the like ends quietly, as other Unix tools do,
+            // instead of failing on the closed pipe.
+            #[cfg(unix)]
+            // SAFETY: restores the default action of one signal before any other thread runs output.
+            unsafe {
+                libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+            }
+            cli::run(command)
+        }
     }
 }
