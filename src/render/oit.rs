@@ -12,7 +12,7 @@
 //!   nearest surface; on the CPU those are composited in depth order over the opaque image and
 //!   averaged over 16 sub-samples (a 4x4 grid of jittered single-sample renders).
 
-use super::renderer::{FrameInput, PipelineFactory, RenderStats, Renderer, OVER, SAMPLE_COUNT};
+use super::renderer::{clear_colour, FrameInput, PipelineFactory, RenderStats, Renderer, OVER, SAMPLE_COUNT};
 use super::target::{read_texture, Target, HDR_FORMAT, REVEAL_FORMAT};
 use super::COLOR_FORMAT;
 use crate::error::Result;
@@ -242,10 +242,6 @@ fn fullscreen_pass(
     pass.draw(0..3, 0..1);
 }
 
-fn clear(c: [f32; 4]) -> wgpu::Color {
-    wgpu::Color { r: c[0] as f64, g: c[1] as f64, b: c[2] as f64, a: c[3] as f64 }
-}
-
 /// Pixel-unit jitter to the NDC shift of the frame uniform (y flips: pixels go down, NDC up).
 fn ndc_jitter(j: glam::Vec2, target: &Target) -> [f32; 2] {
     [2.0 * j.x / target.width as f32, -2.0 * j.y / target.height as f32]
@@ -325,7 +321,8 @@ impl Renderer {
             queue.write_buffer(&oit.screendoor_uniform, 0, bytemuck::bytes_of(&u));
             let mut encoder = device.create_command_encoder(&Default::default());
             {
-                let mut pass = self.begin_organ_pass(&mut encoder, &hdr.msaa, &hdr.resolved, target, frame.background);
+                let mut pass =
+                    self.begin_organ_pass(&mut encoder, [&hdr.msaa, &hdr.resolved], target, frame.background, false);
                 pass.set_pipeline(&oit.opaque_hdr);
                 for &i in &opaque {
                     self.draw(&mut pass, i, &self.ranges(i, frame.draw));
@@ -345,37 +342,6 @@ impl Renderer {
         RenderStats { passes, mask_ms: masks.ms, mask_configs: masks.configs, ..Default::default() }
     }
 
-    /// A pass into a multisampled colour `msaa` (cleared to `background`, resolved into `resolve`)
-    /// and the target's depth (cleared), with the frame bind group set.
-    fn begin_organ_pass<'e>(
-        &self,
-        encoder: &'e mut wgpu::CommandEncoder,
-        msaa: &wgpu::TextureView,
-        resolve: &wgpu::TextureView,
-        target: &Target,
-        background: [f32; 4],
-    ) -> wgpu::RenderPass<'e> {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("organs hdr"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: msaa,
-                depth_slice: None,
-                resolve_target: Some(resolve),
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear(background)), store: wgpu::StoreOp::Discard },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.msaa_depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_bind_group(0, self.frame_bind(), &[]);
-        pass
-    }
-
     /// Weighted blended OIT: the opaque image, then weighted sums of the transparent organs over
     /// its depth, then the resolve over the opaque image.
     pub(super) fn render_weighted(
@@ -391,7 +357,9 @@ impl Renderer {
         let (opaque, transparent) = self.split(frame);
         let mut encoder = device.create_command_encoder(&Default::default());
         {
-            let mut pass = self.begin_organ_pass(&mut encoder, &hdr.msaa, &hdr.resolved, target, frame.background);
+            // The opaque depth stays for the weighted pass to test against.
+            let mut pass =
+                self.begin_organ_pass(&mut encoder, [&hdr.msaa, &hdr.resolved], target, frame.background, true);
             pass.set_pipeline(&oit.opaque_hdr);
             for &i in &opaque {
                 self.draw(&mut pass, i, &self.ranges(i, frame.draw));
@@ -472,7 +440,7 @@ impl Renderer {
                         depth_slice: None,
                         resolve_target: None,
                         ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(clear(background)),
+                            load: wgpu::LoadOp::Clear(clear_colour(background)),
                             store: wgpu::StoreOp::Store,
                         },
                     })],

@@ -220,6 +220,11 @@ impl PipelineFactory<'_> {
     }
 }
 
+/// A linear RGBA clear colour for wgpu.
+pub(super) fn clear_colour(c: [f32; 4]) -> wgpu::Color {
+    wgpu::Color { r: c[0] as f64, g: c[1] as f64, b: c[2] as f64, a: c[3] as f64 }
+}
+
 /// Plain alpha blending ("over").
 pub(super) const OVER: wgpu::BlendState = wgpu::BlendState {
     color: wgpu::BlendComponent {
@@ -501,31 +506,49 @@ impl Renderer {
     ) {
         let mut encoder = device.create_command_encoder(&Default::default());
         {
-            let bg = background.map(f64::from);
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("organs"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.msaa_color,
-                    depth_slice: None,
-                    resolve_target: Some(&target.color_view),
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color { r: bg[0], g: bg[1], b: bg[2], a: bg[3] }),
-                        store: wgpu::StoreOp::Discard,
-                    },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.msaa_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            pass.set_bind_group(0, &self.frame_bind, &[]);
+            let colour = [&target.msaa_color, &target.color_view];
+            let mut pass = self.begin_organ_pass(&mut encoder, colour, target, background, false);
             draw(&mut pass);
         }
         queue.submit([encoder.finish()]);
+    }
+
+    /// Begins a pass drawing organs into a multisampled colour image (`colour[0]`, cleared to
+    /// `background`, resolved into `colour[1]`) and `target`'s depth (cleared to far; kept after the
+    /// pass if `keep_depth`), with the frame bind group set.
+    pub(super) fn begin_organ_pass<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        colour: [&wgpu::TextureView; 2],
+        target: &Target,
+        background: [f32; 4],
+        keep_depth: bool,
+    ) -> wgpu::RenderPass<'e> {
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("organs"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: colour[0],
+                depth_slice: None,
+                resolve_target: Some(colour[1]),
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear_colour(background)),
+                    store: wgpu::StoreOp::Discard,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.msaa_depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: if keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_bind_group(0, &self.frame_bind, &[]);
+        pass
     }
 
     /// The culling debug view (thesis Figure 21): what culling removed, in bright colours, seen
