@@ -23,6 +23,9 @@ pub struct FrameRecord {
     pub triangles_drawn: usize,
     pub culled_percent: f64,
     pub occluder_triangles: usize,
+    pub occluder_leaves: usize,
+    /// Where the occluders came from.
+    pub source: Option<crate::cull::OccluderSource>,
     pub nodes_tested: usize,
     /// Leaves hidden in an exact visibility pass, and how many of them this mode culled.
     pub exact_hidden_leaves: usize,
@@ -32,6 +35,68 @@ pub struct FrameRecord {
 /// The camera of frame `i` of `n`: a full turn around the set at 15 degrees elevation.
 pub fn orbit_camera(home: &crate::mesh::Bounds, i: usize, n: usize) -> Camera {
     Camera::orbit(home, 360.0 * i as f32 / n.max(1) as f32, 15.0)
+}
+
+/// The camera path of a run: the orbit of the Virtual Brain run, or one of the thesis's three
+/// walkthrough routes (§5.1.1.2) for a city on a street grid at 1/20 of its extent ([`crate::city`]),
+/// at 5 m above the ground in a 2 km city.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Route {
+    Orbit,
+    /// From the lower-left corner towards the centre, looking across the city: the most occluded.
+    Best,
+    /// Along the central street, looking down it and to the sides.
+    Average,
+    /// At the upper-right corner, looking out of the city: hardly anything to cull.
+    Worst,
+}
+
+impl Route {
+    pub const ALL: [Route; 4] = [Route::Orbit, Route::Best, Route::Average, Route::Worst];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Route::Orbit => "orbit",
+            Route::Best => "best",
+            Route::Average => "average",
+            Route::Worst => "worst",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Route> {
+        Route::ALL.into_iter().find(|r| r.name() == s)
+    }
+
+    /// The camera of frame `i` of `n` (world space).
+    pub fn camera(self, home: &crate::mesh::Bounds, i: usize, n: usize) -> Camera {
+        use glam::Vec3;
+        let t = if n > 1 { i as f32 / (n - 1) as f32 } else { 0.0 };
+        let (min, max, centre) = (Vec3::from(home.min), Vec3::from(home.max), home.center());
+        let extent = (max.x - min.x).max(max.y - min.y);
+        let street = extent / 20.0;
+        let z = min.z + extent * 0.0025;
+        let (eye, target) = match self {
+            Route::Orbit => return orbit_camera(home, i, n),
+            Route::Best => {
+                let eye = Vec3::new(min.x + street + t * (centre.x - min.x - 3.0 * street), min.y + street, z);
+                (eye, Vec3::new(centre.x, centre.y, z))
+            }
+            Route::Average => {
+                let eye = Vec3::new(centre.x - 5.0 * street + t * 10.0 * street, centre.y, z);
+                let a = 0.6 * (t * std::f32::consts::TAU).sin();
+                (eye, eye + Vec3::new(a.cos(), a.sin(), 0.0))
+            }
+            Route::Worst => {
+                let eye = Vec3::new(max.x - street, max.y - 4.0 * street + t * 3.0 * street, z);
+                let a = t * std::f32::consts::FRAC_PI_2;
+                (eye, eye + Vec3::new(a.cos(), a.sin(), 0.0))
+            }
+        };
+        let mut camera = Camera { eye, target, up: Vec3::Z, fov_y: crate::camera::FOV_Y, near: 0.1, far: 1.0 };
+        camera.fit_depth(home);
+        camera
+    }
 }
 
 /// Runs the benchmark; `progress(done, total)` hears of every frame.
@@ -44,6 +109,7 @@ pub fn run(
     frames: usize,
     modes: &[CullMode],
     settings: &CullSettings,
+    route: Route,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<FrameRecord>> {
     let renderer = Renderer::new(&gpu.device, set)?;
@@ -63,7 +129,7 @@ pub fn run(
     let mut hidden: Vec<Vec<bool>> = Vec::with_capacity(frames);
     let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
     for i in 0..frames {
-        let camera = orbit_camera(&home, i, frames);
+        let camera = route.camera(&home, i, frames);
         let frame = FrameInput::new(set, &camera, layout);
         renderer.render_leaf_ids(&gpu.device, &gpu.queue, &target, &frame, set, &first_id);
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
@@ -81,7 +147,7 @@ pub fn run(
         let settings = CullSettings { mode, ..*settings };
         // One frame: cull, draw, wait for the GPU.
         let frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
-            let camera = orbit_camera(&home, i, frames);
+            let camera = route.camera(&home, i, frames);
             let (draw, stats) = cull(set, layout, &camera, target.aspect(), &settings);
             let input = FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) };
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
@@ -106,6 +172,8 @@ pub fn run(
                 triangles_drawn: stats.drawn,
                 culled_percent: stats.culled_percent(),
                 occluder_triangles: stats.occluder_triangles,
+                occluder_leaves: stats.occluder_leaves,
+                source: stats.source,
                 nodes_tested: stats.nodes_tested,
                 exact_hidden_leaves: exact,
                 culled_hidden_leaves: culled,

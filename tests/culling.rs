@@ -1,7 +1,9 @@
 //! Culling is conservative: over hundreds of random camera poses and organ layouts (moved, rotated,
 //! scaled, hidden and faded organs), images with occlusion culling on and off are identical, pixel
 //! for pixel, on the default brain and on a synthetic scene of high depth complexity. And it does
-//! cull: the test also requires a real share of triangles culled.
+//! cull: the test also requires a real share of triangles culled. Occluders come by projected size
+//! and from pre-computed minimum occluder sets (forced even after organs moved, and automatic while
+//! the layout is the pre-processed one), in turn.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
 
@@ -10,7 +12,7 @@ mod common;
 use common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
-use vbrain::cull::{cull, CullMode, CullSettings};
+use vbrain::cull::{cull, CullMode, CullSettings, Selection};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
@@ -96,9 +98,15 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
     let mut rng = Rng(seed);
     let (mut culled, mut total) = (0usize, 0usize);
     for pose in 0..poses {
-        let layout = random_layout(set, &mut rng, skull_opaque);
+        // Every fifth pose keeps the set's own layout, for which its occluder database was made.
+        let layout = if pose % 5 == 4 { Layout::new(set) } else { random_layout(set, &mut rng, skull_opaque) };
         let camera = random_camera(set, &layout, &mut rng);
-        let settings = CullSettings { width: 64 + (pose % 3) * 32, height: 64 + (pose % 2) * 64, ..Default::default() };
+        let settings = CullSettings {
+            width: 64 + (pose % 3) * 32,
+            height: 64 + (pose % 2) * 64,
+            selection: Selection::ALL[pose % 3],
+            ..Default::default()
+        };
         let mut images = Vec::new();
         for mode in [CullMode::None, CullMode::Occlusion] {
             let (draw, stats) = cull(set, &layout, &camera, target.aspect(), &CullSettings { mode, ..settings });
@@ -131,6 +139,10 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
 #[test]
 fn default_brain_culling_changes_no_pixel() {
     let set = organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set;
+    assert!(
+        set.occluders.is_some(),
+        "organs/brain/occluders.json is missing or stale: run `vbrain occluders organs/brain`"
+    );
     let share = identical_images(&set, 120, 0x5eed, true);
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
     identical_images(&set, 40, 0xbeef, false);
@@ -138,7 +150,9 @@ fn default_brain_culling_changes_no_pixel() {
 
 #[test]
 fn depth_complex_scene_culling_changes_no_pixel() {
-    let set = depth_complex_scene();
+    let mut set = depth_complex_scene();
+    let params = vbrain::mos::Params { limit: 32, ..Default::default() };
+    set.occluders = Some(vbrain::mos::preprocess(&set, &Layout::new(&set), 8, &params, &|_, _| {}));
     let share = identical_images(&set, 80, 0xfeed, false);
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
 }

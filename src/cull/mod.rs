@@ -4,14 +4,15 @@
 //! larger is farther).
 //!
 //! 1. View-frustum culling of each drawn organ's hierarchy ([`crate::bvh`]).
-//! 2. Occluders: opaque, visible organs by projected size, largest first; of each, its on-screen
-//!    leaves nearest first, up to a triangle budget (no pre-processing, so organs may move).
+//! 2. Occluders: opaque, visible organs by projected size, largest first; of each, its leaves in
+//!    the frustum nearest first, up to a triangle budget (no pre-processing, so organs may move);
+//!    or, for an unchanged layout, the pre-computed minimum occluder sets ([`crate::mos`]).
 //! 3. [`raster`]: their front triangles rasterised conservatively into coverage and depth.
 //! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
 //!    [`sparse_depth`] for the depth comparison over peaks only.
 //! 5. Hierarchical traversal: a node is culled when its outward-rounded rectangle is wholly covered
-//!    and its nearest depth is behind every occluder depth there; a node whose coverage ratio is below
-//!    the adaptive threshold is drawn whole without testing its descendants.
+//!    and its nearest depth is behind every occluder depth there; below a node whose coverage ratio
+//!    is under the adaptive threshold, descendants are tested against the frustum only.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -71,6 +72,81 @@ pub struct CullSettings {
     /// Approximate overlap test: tolerate this fraction of uncovered pixels. Not conservative;
     /// `None` (the default) keeps culling exact.
     pub hole_tolerance: Option<f32>,
+    /// Most occluder leaves per frame (`None`: only the triangle budget limits them).
+    pub occluder_leaves: Option<usize>,
+    /// Where the occluders come from.
+    pub selection: Selection,
+}
+
+/// How occluders are chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Selection {
+    /// The pre-computed minimum occluder sets while the layout is the pre-processed one, the set
+    /// has a fresh database and the camera is near one of its viewpoints; projected size otherwise.
+    #[default]
+    Auto,
+    /// Projected size every frame.
+    ProjectedSize,
+    /// The pre-computed minimum occluder sets of the nearest viewpoint, even after organs moved
+    /// (still conservative: occluders are rasterised where they are now; faded ones are skipped).
+    Mos,
+}
+
+impl Selection {
+    pub const ALL: [Selection; 3] = [Selection::Auto, Selection::ProjectedSize, Selection::Mos];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Selection::Auto => "auto",
+            Selection::ProjectedSize => "projected-size",
+            Selection::Mos => "mos",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Selection> {
+        match s {
+            "ps" => Some(Selection::ProjectedSize),
+            _ => Selection::ALL.into_iter().find(|m| m.name() == s),
+        }
+    }
+}
+
+/// Which occluders a frame used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum OccluderSource {
+    ProjectedSize,
+    Mos,
+}
+
+impl OccluderSource {
+    pub fn name(self) -> &'static str {
+        match self {
+            OccluderSource::ProjectedSize => "projected size",
+            OccluderSource::Mos => "minimum occluder set",
+        }
+    }
+}
+
+/// One occluder: a leaf of an organ's hierarchy (stored as `[organ, leaf]`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[serde(from = "[u32; 2]", into = "[u32; 2]")]
+pub struct LeafRef {
+    pub organ: u32,
+    pub leaf: u32,
+}
+
+impl From<[u32; 2]> for LeafRef {
+    fn from([organ, leaf]: [u32; 2]) -> Self {
+        LeafRef { organ, leaf }
+    }
+}
+
+impl From<LeafRef> for [u32; 2] {
+    fn from(r: LeafRef) -> Self {
+        [r.organ, r.leaf]
+    }
 }
 
 impl Default for CullSettings {
@@ -82,6 +158,8 @@ impl Default for CullSettings {
             occluder_triangles: 16_384,
             adaptive_ratio: 0.2,
             hole_tolerance: None,
+            occluder_leaves: None,
+            selection: Selection::Auto,
         }
     }
 }
@@ -117,6 +195,8 @@ pub struct CullStats {
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
     pub occluder_triangles: usize,
+    /// Where the occluders came from (`None` without occlusion culling).
+    pub source: Option<OccluderSource>,
     pub cull_ms: f64,
 }
 
@@ -132,7 +212,7 @@ impl CullStats {
 
 /// A box seen from the camera.
 #[derive(Clone, Copy, Debug, PartialEq)]
-enum Seen {
+pub(crate) enum Seen {
     /// Wholly outside one frustum plane.
     Outside,
     /// Reaches behind the eye: cannot be placed on screen.
@@ -141,7 +221,7 @@ enum Seen {
     Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32 },
 }
 
-fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
+pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
     let mut out = [true; 6];
     let mut behind = false;
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
@@ -187,18 +267,19 @@ pub struct Occluders {
     pub triangles: usize,
 }
 
-/// Selects occluders by projected size and rasterises them. Opaque, visible organs are taken in
-/// order of the projected area of their bounds (largest first); of each, its leaves on screen,
-/// nearest first, until the triangle budget is spent. Taking an organ's near side whole keeps the
+/// Occluders by projected size. Opaque, visible organs are taken in order of the projected area
+/// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
+/// its leaves in the frustum, nearest first, until the
+/// triangle budget (or the leaf limit) is spent. Taking an organ's near side whole keeps the
 /// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
 /// only the triangles that face the eye.
-pub fn occluders(
+pub fn by_projected_size(
     set: &OrganSet,
     layout: &Layout,
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
-) -> Occluders {
+) -> Vec<LeafRef> {
     let (w, h) = (settings.width, settings.height);
     let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
     for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
@@ -206,13 +287,17 @@ pub fn occluders(
             continue;
         }
         let mvp = *view_proj * state.transform.matrix();
-        if let Seen::Rect { x0, y0, x1, y1, .. } = see(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
-            organs.push(((x1 - x0 + 1) * (y1 - y0 + 1), o));
+        match see(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
+            Seen::Rect { x0, y0, x1, y1, .. } => organs.push(((x1 - x0 + 1) * (y1 - y0 + 1), o)),
+            // Around the eye (a wall the camera stands at): it may fill the screen.
+            Seen::Straddles => organs.push((w * h, o)),
+            Seen::Outside => {}
         }
     }
     organs.sort_unstable_by_key(|&(area, _)| std::cmp::Reverse(area));
-    let mut chosen: Vec<Vec<u32>> = vec![Vec::new(); set.organs.len()];
-    let (mut leaves, mut triangles) = (0, 0);
+    let max_leaves = settings.occluder_leaves.unwrap_or(usize::MAX);
+    let mut chosen = Vec::new();
+    let mut triangles = 0;
     for &(_, o) in &organs {
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
@@ -221,34 +306,81 @@ pub fn occluders(
         let mut near: Vec<(f32, u32)> = Vec::new();
         for (l, &n) in organ.bvh.leaves.iter().enumerate() {
             let bounds = &organ.bvh.nodes[n as usize].bounds;
-            if matches!(see(&mvp, bounds, w, h), Seen::Rect { .. }) {
+            if see(&mvp, bounds, w, h) != Seen::Outside {
                 near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
             }
         }
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         for (_, l) in near {
             let count = organ.bvh.nodes[organ.bvh.leaves[l as usize] as usize].count as usize;
-            if triangles + count <= settings.occluder_triangles {
-                chosen[o].push(l);
-                leaves += 1;
+            if triangles + count <= settings.occluder_triangles && chosen.len() < max_leaves {
+                chosen.push(LeafRef { organ: o as u32, leaf: l });
                 triangles += count;
             }
         }
-        if triangles >= settings.occluder_triangles {
+        if triangles >= settings.occluder_triangles || chosen.len() >= max_leaves {
             break;
         }
     }
+    chosen
+}
+
+/// The occluders of this frame: the pre-computed set of the nearest viewpoint where
+/// `settings.selection` allows it (automatic: the layout is the pre-processed one and the camera is
+/// near a viewpoint), else projected size. Faded, hidden or unknown
+/// organs never occlude, whatever the database says.
+pub fn choose_occluders(
+    set: &OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    view_proj: &Mat4,
+    settings: &CullSettings,
+) -> (Vec<LeafRef>, OccluderSource) {
+    let viewpoint = set.occluders.as_ref().and_then(|db| match settings.selection {
+        Selection::ProjectedSize => None,
+        Selection::Mos => db.nearest(camera),
+        Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
+    });
+    if let Some(viewpoint) = viewpoint {
+        let valid = |r: &&LeafRef| {
+            let o = r.organ as usize;
+            o < set.organs.len() && layout.organs[o].is_opaque() && (r.leaf as usize) < set.organs[o].bvh.leaves.len()
+        };
+        let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
+        let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
+        return (list, OccluderSource::Mos);
+    }
+    (by_projected_size(set, layout, camera, view_proj, settings), OccluderSource::ProjectedSize)
+}
+
+/// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
+/// patches) and builds the look-up structures.
+pub fn rasterise_occluders(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &Mat4,
+    list: &[LeafRef],
+    w: usize,
+    h: usize,
+) -> Occluders {
+    let mut chosen: Vec<Vec<u32>> = vec![Vec::new(); set.organs.len()];
+    let mut triangles = 0;
+    for r in list {
+        let organ = &set.organs[r.organ as usize];
+        chosen[r.organ as usize].push(r.leaf);
+        triangles += organ.bvh.nodes[organ.bvh.leaves[r.leaf as usize] as usize].count as usize;
+    }
     let mut raster = OccluderRaster::new(w, h);
-    for (o, list) in chosen.iter().enumerate() {
-        if !list.is_empty() {
+    for (o, leaves) in chosen.iter().enumerate() {
+        if !leaves.is_empty() {
             let mvp = *view_proj * layout.organs[o].transform.matrix();
-            rasterise_organ(&mut raster, &set.organs[o].mesh, &set.organs[o].bvh, list, &mvp, w, h);
+            rasterise_organ(&mut raster, &set.organs[o].mesh, &set.organs[o].bvh, leaves, &mvp, w, h);
         }
     }
     let maps = raster.finish();
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
-    Occluders { maps, opacity, sparse, leaves, triangles }
+    Occluders { maps, opacity, sparse, leaves: list.len(), triangles }
 }
 
 /// Rasterises the positively wound triangles of the chosen leaves of one organ, with the outline of
@@ -344,13 +476,33 @@ pub fn cull(
     aspect: f32,
     settings: &CullSettings,
 ) -> (DrawList, CullStats) {
+    cull_with(set, layout, camera, aspect, settings, None)
+}
+
+/// [`cull`] with the occluders given (`Some`, in place of the settings' selection): for the
+/// occluder-selection experiments.
+pub fn cull_with(
+    set: &OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    aspect: f32,
+    settings: &CullSettings,
+    given: Option<&[LeafRef]>,
+) -> (DrawList, CullStats) {
     let started = std::time::Instant::now();
     let view_proj = camera.view_projection(aspect);
     let (w, h) = (settings.width.max(1), settings.height.max(1));
     let settings = CullSettings { width: w, height: h, ..*settings };
-    let occ = (settings.mode == CullMode::Occlusion).then(|| occluders(set, layout, camera, &view_proj, &settings));
-    let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
     let mut stats = CullStats::default();
+    let occ = (settings.mode == CullMode::Occlusion).then(|| {
+        let (list, source) = match given {
+            Some(list) => (list.to_vec(), OccluderSource::Mos),
+            None => choose_occluders(set, layout, camera, &view_proj, &settings),
+        };
+        stats.source = given.is_none().then_some(source);
+        rasterise_occluders(set, layout, &view_proj, &list, w, h)
+    });
+    let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
@@ -364,8 +516,9 @@ pub fn cull(
             continue;
         }
         let mvp = view_proj * state.transform.matrix();
-        let mut stack = vec![0u32];
-        while let Some(n) = stack.pop() {
+        // (node, whether occlusion is still tested below it).
+        let mut stack = vec![(0u32, occ.is_some())];
+        while let Some((n, test)) = stack.pop() {
             let node = &organ.bvh.nodes[n as usize];
             let range = 3 * node.first..3 * (node.first + node.count);
             let seen = see(&mvp, &node.bounds, w, h);
@@ -373,7 +526,8 @@ pub fn cull(
                 stats.frustum_culled += node.count as usize;
                 continue;
             }
-            if let (Seen::Rect { x0, y0, x1, y1, z }, Some(o)) = (seen, &occ) {
+            let mut test_children = test;
+            if let (Seen::Rect { x0, y0, x1, y1, z }, Some(o), true) = (seen, &occ, test) {
                 stats.nodes_tested += 1;
                 let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
                 let covered = o.opacity.covered(x0, y0, x1, y1);
@@ -382,16 +536,15 @@ pub fn cull(
                     stats.occlusion_culled += node.count as usize;
                     continue;
                 }
-                if (covered as f32) < settings.adaptive_ratio * area as f32 {
-                    list.push(i, range);
-                    continue;
-                }
+                // Adaptive stop: too little of it is covered for a descendant to be hidden; only
+                // the frustum is tested below.
+                test_children = (covered as f32) >= settings.adaptive_ratio * area as f32;
             }
             if node.is_leaf() {
                 list.push(i, range);
             } else {
-                stack.push(node.children[1]);
-                stack.push(node.children[0]);
+                stack.push((node.children[1], test_children));
+                stack.push((node.children[0], test_children));
             }
         }
     }

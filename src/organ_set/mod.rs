@@ -54,6 +54,9 @@ pub struct OrganSet {
     pub description: String,
     pub sources: Vec<Source>,
     pub organs: Vec<Organ>,
+    /// Pre-computed occluders for the default layout ([`crate::mos`]), when a fresh database lies
+    /// beside the manifest.
+    pub occluders: Option<crate::mos::Database>,
 }
 
 /// An opened set with what went wrong on the way.
@@ -188,6 +191,10 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
     loaded.set.sources = manifest.sources;
+    match crate::mos::Database::load_for(dir, &loaded.set) {
+        Ok(db) => loaded.set.occluders = db,
+        Err(warning) => loaded.warnings.push(warning),
+    }
     Ok(loaded)
 }
 

@@ -362,6 +362,21 @@ impl App {
                         ui.radio_value(&mut c.mode, mode, mode.name());
                     }
                     ui.separator();
+                    ui.label("Occluders");
+                    let has_db = self.scene.as_ref().is_some_and(|s| s.set.occluders.is_some());
+                    let choices = [
+                        (vbrain::cull::Selection::Auto, "automatic: pre-computed while nothing moved"),
+                        (vbrain::cull::Selection::ProjectedSize, "projected size (every frame)"),
+                        (vbrain::cull::Selection::Mos, "pre-computed minimum occluder sets"),
+                    ];
+                    for (selection, label) in choices {
+                        let r = ui.radio_value(&mut c.selection, selection, label);
+                        crate::accessible(&r, format!("Occluders: {}", selection.name()));
+                    }
+                    if !has_db {
+                        ui.weak("This set has no occluder database (vbrain occluders PATH).");
+                    }
+                    ui.separator();
                     let r = ui.add(egui::Slider::new(&mut c.width, 32..=512).text("culling raster (pixels)"));
                     crate::accessible(&r, "Culling raster size");
                     c.height = c.width;

@@ -12,6 +12,7 @@ pub struct BenchOptions<'a> {
     pub frames: usize,
     pub size: (u32, u32),
     pub modes: &'a str,
+    pub route: vbrain::bench::Route,
     pub json: bool,
     pub out: &'a Path,
     pub settings: CullSettings,
@@ -37,10 +38,17 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
     }
     let gpu = vbrain::render::GpuContext::headless()?;
     let bar = indicatif::ProgressBar::new((opts.frames * modes.len()) as u64);
-    let records =
-        bench::run(&gpu, set, layout, [opts.size.0, opts.size.1], opts.frames, &modes, &opts.settings, &mut |d, _| {
-            bar.set_position(d as u64)
-        })?;
+    let records = bench::run(
+        &gpu,
+        set,
+        layout,
+        [opts.size.0, opts.size.1],
+        opts.frames,
+        &modes,
+        &opts.settings,
+        opts.route,
+        &mut |d, _| bar.set_position(d as u64),
+    )?;
     bar.finish_and_clear();
     std::fs::create_dir_all(opts.out).map_err(|e| anyhow!("{}: {e}", opts.out.display()))?;
     let csv = opts.out.join("bench.csv");
@@ -57,6 +65,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         out.insert("triangles".into(), json!(triangles));
         out.insert("triangles_drawn_organs".into(), json!(drawn_triangles));
         out.insert("frames".into(), json!(opts.frames));
+        out.insert("route".into(), json!(opts.route.name()));
         out.insert("size".into(), json!([opts.size.0, opts.size.1]));
         out.insert("adapter".into(), json!(gpu.adapter_description()));
         out.insert("csv".into(), json!(csv));
@@ -93,11 +102,11 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
 }
 
 fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_triangles,nodes_tested,exact_hidden_leaves,culled_hidden_leaves")?;
+    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,exact_hidden_leaves,culled_hidden_leaves")?;
     for r in records {
         writeln!(
             w,
-            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{}",
+            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{}",
             r.mode.name(),
             r.frame,
             r.cull_ms,
@@ -105,6 +114,11 @@ fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Re
             r.triangles,
             r.triangles_drawn,
             r.culled_percent,
+            r.source.map_or("", |s| match s {
+                vbrain::cull::OccluderSource::ProjectedSize => "ps",
+                vbrain::cull::OccluderSource::Mos => "mos",
+            }),
+            r.occluder_leaves,
             r.occluder_triangles,
             r.nodes_tested,
             r.exact_hidden_leaves,

@@ -80,6 +80,15 @@ pub enum Command {
         /// Culling raster size, WxH
         #[arg(long, default_value = "128x128")]
         raster: String,
+        /// Camera path: orbit (the Virtual Brain run) or a city walkthrough route: best, average, worst
+        #[arg(long, default_value = "orbit")]
+        route: String,
+        /// Occluder selection: auto (pre-computed sets while the layout is unchanged), ps or mos
+        #[arg(long, default_value = "auto")]
+        selection: String,
+        /// Most occluder leaves per frame (the thesis's city runs: 64)
+        #[arg(long)]
+        occluders: Option<usize>,
         /// Folder for bench.csv and bench.png
         #[arg(long, default_value = "bench-out")]
         out: PathBuf,
@@ -126,6 +135,52 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
+    /// layout into occluders.json beside it, or with --experiment compare occluder selections
+    Occluders {
+        path: PathBuf,
+        /// Directions of the viewpoint grid on a sphere around the set (each at two distances)
+        #[arg(long, default_value_t = 32)]
+        grid: usize,
+        /// Most occluders kept per viewpoint
+        #[arg(long, default_value_t = 128)]
+        limit: usize,
+        /// Culling raster side, pixels
+        #[arg(long, default_value_t = 128)]
+        raster: usize,
+        /// Show organs hidden by default (e.g. skull), by id
+        #[arg(long, num_args = 1..)]
+        show: Vec<String>,
+        /// Hide organs by id
+        #[arg(long, num_args = 1..)]
+        hide: Vec<String>,
+        /// Run the occluder-selection experiment (thesis Figure 14) instead: culled % against the
+        /// number of occluders for projected size, first hit and minimum occluder sets
+        #[arg(long)]
+        experiment: bool,
+        /// Experiment viewpoints: orbit (four views around the set) or frames of a city route (best,
+        /// average, worst)
+        #[arg(long, default_value = "orbit")]
+        views: String,
+        /// Experiment ID-render size (square), for first hit and projected size
+        #[arg(long, default_value_t = 512)]
+        image: usize,
+        /// Folder for occluders.csv and occluders.png (experiment)
+        #[arg(long, default_value = "bench-out")]
+        out: PathBuf,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Generate the synthetic city of the occluder experiments (about 300,000 triangles)
+    City {
+        /// Output folder for the organ set
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        #[arg(long)]
+        json: bool,
+    },
     /// Write a denser copy of a set (each triangle subdivided), for benchmarks
     Scale {
         set: PathBuf,
@@ -154,6 +209,10 @@ pub struct RenderArgs {
     /// Orbit AZ,EL in degrees from the anterior view (azimuth toward the right, elevation upward)
     #[arg(long, allow_hyphen_values = true)]
     pub orbit: Option<String>,
+    /// Camera of a bench route instead, ROUTE:FRAME of 120 (e.g. best:0; routes: orbit, best,
+    /// average, worst)
+    #[arg(long)]
+    pub route: Option<String>,
     /// Hide organs by id (repeatable)
     #[arg(long, num_args = 1..)]
     pub hide: Vec<String>,
@@ -209,6 +268,30 @@ fn run_command(command: Command) -> Result<bool> {
             import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
         }
         Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+        Command::Occluders { path, grid, limit, raster, show, hide, experiment, views, image, out, json } => {
+            let (set, ok) = open_reporting(&path)?;
+            let mut layout = Layout::new(&set);
+            apply_overrides(&set, &mut layout, &show, &hide, &[])?;
+            let opts = crate::occluders::Options {
+                grid,
+                params: vbrain::mos::Params { size: raster, limit, ..Default::default() },
+                views: parse_route(&views)?,
+                image,
+                out: &out,
+                json,
+            };
+            if experiment {
+                crate::occluders::experiment(&set, &layout, &opts)?;
+            } else {
+                crate::occluders::preprocess(&path, &set, &layout, &opts)?;
+            }
+            Ok(ok)
+        }
+        Command::City { out, seed, json } => {
+            let set = vbrain::city::generate(seed);
+            set.save(&out)?;
+            summary(json, "city", &set, &out)
+        }
         Command::BenchTransparency { path, size, region, out, json } => {
             let (set, ok) = open_reporting(&path)?;
             if !(1..=256).contains(&region) {
@@ -223,17 +306,41 @@ fn run_command(command: Command) -> Result<bool> {
             crate::masks::run(&crate::masks::MasksOptions { experiment, out: &out, json })?;
             Ok(true)
         }
-        Command::Bench { path, frames, size, cull, show, hide, opacity, occluder_triangles, raster, out, json } => {
+        Command::Bench {
+            path,
+            frames,
+            size,
+            cull,
+            show,
+            hide,
+            opacity,
+            occluder_triangles,
+            raster,
+            route,
+            selection,
+            occluders,
+            out,
+            json,
+        } => {
             let (set, ok) = open_reporting(&path)?;
             let mut layout = Layout::new(&set);
             apply_overrides(&set, &mut layout, &show, &hide, &opacity)?;
             let (rw, rh) = parse_size(&raster)?;
-            let settings =
-                CullSettings { width: rw as usize, height: rh as usize, occluder_triangles, ..Default::default() };
+            let selection = cull::Selection::parse(&selection)
+                .ok_or_else(|| anyhow!("unknown occluder selection \"{selection}\" (auto, ps, mos)"))?;
+            let settings = CullSettings {
+                width: rw as usize,
+                height: rh as usize,
+                occluder_triangles,
+                occluder_leaves: occluders,
+                selection,
+                ..Default::default()
+            };
             let opts = crate::bench::BenchOptions {
                 frames,
                 size: parse_size(&size)?,
                 modes: &cull,
+                route: parse_route(&route)?,
                 json,
                 out: &out,
                 settings,
@@ -242,6 +349,10 @@ fn run_command(command: Command) -> Result<bool> {
             Ok(ok)
         }
     }
+}
+
+pub fn parse_route(s: &str) -> Result<vbrain::bench::Route> {
+    vbrain::bench::Route::parse(s).ok_or_else(|| anyhow!("unknown route \"{s}\" (orbit, best, average, worst)"))
 }
 
 /// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
@@ -332,7 +443,19 @@ fn render(args: &RenderArgs) -> Result<bool> {
     apply_overrides(&set, &mut layout, &[], &args.hide, &args.opacity)?;
     let bounds = layout.bounds(&set);
     let camera = match (&args.view, &args.orbit) {
-        (Some(_), Some(_)) => bail!("give --view or --orbit, not both"),
+        _ if args.route.is_some() && (args.view.is_some() || args.orbit.is_some()) => {
+            bail!("give one of --view, --orbit and --route")
+        }
+        _ if args.route.is_some() => {
+            let spec = args.route.as_deref().unwrap_or_default();
+            let (route, frame) = spec.split_once(':').unwrap_or((spec, "0"));
+            let frame: usize = frame.trim().parse().with_context(|| format!("frame in \"{spec}\""))?;
+            if frame >= 120 {
+                bail!("frame {frame} outside 0..120");
+            }
+            parse_route(route)?.camera(&bounds, frame, 120)
+        }
+        (Some(_), Some(_)) => bail!("give one of --view, --orbit and --route"),
         (Some(v), None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
         (None, Some(o)) => {
             let (az, el) = o.split_once(',').ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;

@@ -13,6 +13,7 @@ pub mod export;
 pub mod files;
 pub mod jobs;
 pub mod masks;
+pub mod occluders;
 mod panels;
 pub mod plot;
 pub mod settings;

@@ -269,13 +269,14 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
     let mut lines = Vec::new();
     if app.settings.cull.mode != vbrain::cull::CullMode::None {
         lines.push(format!(
-            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles\n{} nodes tested, {:.2} ms",
+            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles{}\n{} nodes tested, {:.2} ms",
             app.settings.cull.mode.name(),
             cull.culled_percent(),
             cull.frustum_culled,
             cull.occlusion_culled,
             cull.occluder_leaves,
             cull.occluder_triangles,
+            cull.source.map_or(String::new(), |s| format!(" by {}", s.name())),
             cull.nodes_tested,
             cull.cull_ms
         ));

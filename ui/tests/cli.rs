@@ -273,3 +273,45 @@ fn render_rejects_an_unknown_transparency_mode() {
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("glass") && err.contains("screendoor"), "{err}");
 }
+
+#[test]
+fn city_then_occluders_then_the_selection_experiment() {
+    let dir = tempfile::tempdir().unwrap();
+    let city = dir.path().join("city");
+    let c = city.to_str().unwrap();
+    let v = json(&vbrain(&["city", "--out", c, "--json"]));
+    assert!((200_000..=400_000).contains(&v["triangles"].as_u64().unwrap()));
+    // Pre-processing writes the database beside the set; the set then loads it without a warning.
+    let v = json(&vbrain(&["occluders", c, "--grid", "4", "--limit", "32", "--json"]));
+    assert_eq!(v["viewpoints"], 8);
+    assert!(v["max_occluders"].as_u64().unwrap() <= 32);
+    assert!(city.join("occluders.json").is_file());
+    let info = vbrain(&["info", c]);
+    assert!(info.status.success() && info.stderr.is_empty(), "{}", String::from_utf8_lossy(&info.stderr));
+    // The experiment at frames of the best route.
+    let out = dir.path().join("exp");
+    let v = json(&vbrain(&[
+        "occluders",
+        c,
+        "--experiment",
+        "--views",
+        "best",
+        "--limit",
+        "64",
+        "--image",
+        "128",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]));
+    for m in ["ps", "fh", "mos"] {
+        let curve = v[m]["curve"].as_array().unwrap();
+        assert_eq!(curve.len(), 8, "{m}: counts 1..=64");
+        let best = v[m]["best_culled_percent"].as_f64().unwrap();
+        assert!(best > 50.0 && best <= 100.0, "{m} culls {best} %");
+        assert!(v[m]["occluders_to_best"].as_u64().unwrap() <= 64);
+    }
+    assert!(out.join("occluders.csv").is_file() && out.join("occluders.png").is_file());
+    let bad = vbrain(&["occluders", c, "--experiment", "--views", "sideways"]);
+    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("unknown route"));
+}

@@ -1,0 +1,174 @@
+//! The occluder database: per grid viewpoint (eye in world space), its minimum-occluder-set
+//! occluders; stored beside the set as `occluders.json` (versioned JSON, written atomically). It
+//! names the set's content and the layout it was computed for by fingerprints: a database whose set
+//! changed is stale and ignored; one whose layout differs from the current one is not used (the
+//! culler falls back to projected size), nor is it for a camera far from every viewpoint.
+
+use super::Params;
+use crate::camera::Camera;
+use crate::cull::LeafRef;
+use crate::error::{Error, Result};
+use crate::layout::Layout;
+use crate::organ_set::OrganSet;
+use glam::Vec3;
+use std::path::Path;
+
+/// File name beside the set's manifest.
+pub const FILE: &str = "occluders.json";
+/// Format version; another version is ignored.
+pub const VERSION: u32 = 1;
+/// How near a camera must be to a viewpoint, as a share of the viewpoint's distance from its target.
+pub const NEAR_DISTANCE: f32 = 0.6;
+/// How far a camera's line of sight may turn from a viewpoint's.
+pub const NEAR_ANGLE_DEG: f32 = 40.0;
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Viewpoint {
+    pub eye: [f32; 3],
+    /// Where it looks (the centre of the set's layout).
+    pub target: [f32; 3],
+    /// Occluders, best first, as [organ, leaf].
+    pub occluders: Vec<LeafRef>,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Database {
+    pub version: u32,
+    /// Fingerprint of the organs' ids and meshes (hex).
+    pub set: String,
+    /// Fingerprint of the layout: which organs are opaque and where every organ is (hex).
+    pub layout: String,
+    /// Grid directions, image size and occluder limit used.
+    pub directions: usize,
+    pub size: usize,
+    pub limit: usize,
+    pub viewpoints: Vec<Viewpoint>,
+}
+
+/// FNV-1a, 64 bits: stable across builds and machines.
+struct Fnv(u64);
+
+impl Fnv {
+    fn new() -> Fnv {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+    fn bytes(&mut self, b: &[u8]) {
+        for &x in b {
+            self.0 = (self.0 ^ x as u64).wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    fn u32(&mut self, v: u32) {
+        self.bytes(&v.to_le_bytes());
+    }
+}
+
+/// Fingerprint of the set's content: organ ids, positions and triangles (after the hierarchy's
+/// reordering, so leaf numbers mean the same leaves).
+pub fn set_fingerprint(set: &OrganSet) -> String {
+    let mut h = Fnv::new();
+    for o in &set.organs {
+        h.bytes(o.id.as_bytes());
+        h.u32(o.mesh.positions.len() as u32);
+        for p in &o.mesh.positions {
+            p.iter().for_each(|c| h.u32(c.to_bits()));
+        }
+        o.mesh.indices.iter().for_each(|&i| h.u32(i));
+        h.u32(o.bvh.leaves.len() as u32);
+    }
+    format!("{:016x}", h.0)
+}
+
+/// Fingerprint of what the pre-processing depends on in a layout: which organs are opaque and
+/// every organ's placement.
+pub fn layout_fingerprint(layout: &Layout) -> String {
+    let mut h = Fnv::new();
+    for s in &layout.organs {
+        h.u32(u32::from(s.is_opaque()) | u32::from(s.is_drawn()) << 1);
+        s.transform.matrix().to_cols_array().iter().for_each(|c| h.u32(c.to_bits()));
+    }
+    format!("{:016x}", h.0)
+}
+
+impl Database {
+    pub fn new(
+        set: &OrganSet,
+        layout: &Layout,
+        params: &Params,
+        directions: usize,
+        viewpoints: Vec<Viewpoint>,
+    ) -> Self {
+        Database {
+            version: VERSION,
+            set: set_fingerprint(set),
+            layout: layout_fingerprint(layout),
+            directions,
+            size: params.size,
+            limit: params.limit,
+            viewpoints,
+        }
+    }
+
+    /// Is `layout` the one pre-processed (same opaque organs, nothing moved)?
+    pub fn layout_matches(&self, layout: &Layout) -> bool {
+        layout_fingerprint(layout) == self.layout
+    }
+
+    /// The viewpoint nearest to the camera's eye (world space).
+    pub fn nearest(&self, camera: &Camera) -> Option<&Viewpoint> {
+        let eye = camera.eye;
+        self.viewpoints
+            .iter()
+            .min_by(|a, b| eye.distance_squared(a.eye.into()).total_cmp(&eye.distance_squared(b.eye.into())))
+    }
+
+    /// The nearest viewpoint if the camera is close to it: within [`NEAR_DISTANCE`] of the
+    /// viewpoint's distance from its target, looking within [`NEAR_ANGLE_DEG`] of its direction.
+    /// A camera elsewhere (walking inside the set, looking away) is better served by projected size.
+    pub fn near(&self, camera: &Camera) -> Option<&Viewpoint> {
+        self.nearest(camera).filter(|v| {
+            let (eye, target) = (Vec3::from(v.eye), Vec3::from(v.target));
+            let reach = NEAR_DISTANCE * eye.distance(target);
+            let forward = (target - eye).normalize_or_zero();
+            let look = (camera.target - camera.eye).normalize_or_zero();
+            camera.eye.distance(eye) <= reach && forward.dot(look) >= NEAR_ANGLE_DEG.to_radians().cos()
+        })
+    }
+
+    /// Writes `occluders.json` into the set's folder, atomically.
+    pub fn save(&self, dir: &Path) -> Result<()> {
+        let json = serde_json::to_string(self).map_err(|e| Error::Other(e.to_string()))?;
+        crate::atomic::write(&dir.join(FILE), |w| w.write_all(json.as_bytes()))
+    }
+
+    /// The database beside a set, if there is one and it fits the set. `Ok(None)`: no file. `Err`:
+    /// a message saying why the file there is not used (unreadable, another version, stale).
+    pub fn load_for(dir: &Path, set: &OrganSet) -> std::result::Result<Option<Database>, String> {
+        let path = dir.join(FILE);
+        let text = match std::fs::read(&path) {
+            Ok(t) => t,
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
+            Err(e) => return Err(format!("{}: {e}; occluders by projected size only", path.display())),
+        };
+        let db: Database = serde_json::from_slice(&text)
+            .map_err(|e| format!("{}:{}: {e}; occluders by projected size only", path.display(), e.line()))?;
+        if db.version != VERSION {
+            return Err(format!(
+                "{}: version {} (this vbrain reads {VERSION}); run `vbrain occluders` again",
+                path.display(),
+                db.version
+            ));
+        }
+        if db.set != set_fingerprint(set) {
+            return Err(format!(
+                "{}: stale (the organs changed since it was made); run `vbrain occluders` again",
+                path.display()
+            ));
+        }
+        let valid =
+            |r: &LeafRef| set.organs.get(r.organ as usize).is_some_and(|o| (r.leaf as usize) < o.bvh.leaves.len());
+        if !db.viewpoints.iter().flat_map(|v| &v.occluders).all(valid) {
+            return Err(format!("{}: names leaves the set does not have", path.display()));
+        }
+        Ok(Some(db))
+    }
+}
