@@ -402,10 +402,12 @@ fn rasterise_organ(
         slot[l as usize] = projected.len() as u32;
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         for t in node.first..node.first + node.count {
+            // A triangle counts only if it lies wholly beyond the near plane: the part nearer than
+            // that is clipped when drawn and hides nothing.
             let corner = |k: usize| {
                 let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
                 let c = *mvp * p.extend(1.0);
-                (c.w > 1e-5).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
+                (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
             };
             let tri = match (corner(0), corner(1), corner(2)) {
                 (Some(a), Some(b), Some(c)) => {

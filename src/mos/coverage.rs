@@ -53,7 +53,7 @@ pub fn rasterise_leaf(
         let corner = |k: usize| {
             let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
             let c = mvp * p.extend(1.0);
-            (c.w > 1e-5).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
+            (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
         };
         if let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) {
             for p in [a, b, c] {
