@@ -195,7 +195,7 @@ pub struct CullStats {
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
     pub occluder_triangles: usize,
-    /// Where the occluders came from (`None` without occlusion culling).
+    /// Where the occluders came from (`None` without occlusion culling or with occluders given).
     pub source: Option<OccluderSource>,
     pub cull_ms: f64,
 }
@@ -497,11 +497,14 @@ pub fn cull_with(
     let settings = CullSettings { width: w, height: h, ..*settings };
     let mut stats = CullStats::default();
     let occ = (settings.mode == CullMode::Occlusion).then(|| {
-        let (list, source) = match given {
-            Some(list) => (list.to_vec(), OccluderSource::Mos),
-            None => choose_occluders(set, layout, camera, &view_proj, &settings),
+        let list = match given {
+            Some(list) => list.to_vec(),
+            None => {
+                let (list, source) = choose_occluders(set, layout, camera, &view_proj, &settings);
+                stats.source = Some(source);
+                list
+            }
         };
-        stats.source = given.is_none().then_some(source);
         rasterise_occluders(set, layout, &view_proj, &list, w, h)
     });
     let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };

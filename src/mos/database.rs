@@ -83,7 +83,7 @@ pub fn set_fingerprint(set: &OrganSet) -> String {
 pub fn layout_fingerprint(layout: &Layout) -> String {
     let mut h = Fnv::new();
     for s in &layout.organs {
-        h.u32(u32::from(s.is_opaque()) | u32::from(s.is_drawn()) << 1);
+        h.u32(u32::from(s.is_opaque()));
         s.transform.matrix().to_cols_array().iter().for_each(|c| h.u32(c.to_bits()));
     }
     format!("{:016x}", h.0)

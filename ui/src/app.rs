@@ -492,7 +492,12 @@ impl App {
             ui.separator();
             ui.label(format!("transparency: {}", self.settings.transparency.mode.name()));
             ui.separator();
-            ui.label(format!("culling: {}", self.settings.cull.mode.name()));
+            let occluders = match self.viewport.cull.source {
+                Some(vbrain::cull::OccluderSource::Mos) => ", pre-computed occluders",
+                Some(vbrain::cull::OccluderSource::ProjectedSize) => ", occluders by projected size",
+                None => "",
+            };
+            ui.label(format!("culling: {}{occluders}", self.settings.cull.mode.name()));
             if let Some(sel) = self.selected {
                 ui.separator();
                 ui.label(format!("selected: {}", scene.set.organs[sel].name));
