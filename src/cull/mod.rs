@@ -6,7 +6,8 @@
 //! 1. View-frustum culling of each drawn organ's hierarchy ([`crate::bvh`]).
 //! 2. Occluders: opaque, visible organs by projected size, largest first; of each, its leaves in
 //!    the frustum nearest first, up to a triangle budget (no pre-processing, so organs may move);
-//!    or, for an unchanged layout, the pre-computed minimum occluder sets ([`crate::mos`]).
+//!    or, for an unchanged layout, the pre-computed minimum occluder sets ([`selection`],
+//!    [`crate::mos`]).
 //! 3. [`raster`]: their front triangles rasterised conservatively into coverage and depth.
 //! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
 //!    [`sparse_depth`] for the depth comparison over peaks only.
@@ -18,7 +19,10 @@
 
 pub mod opacity_map;
 pub mod raster;
+pub mod selection;
 pub mod sparse_depth;
+
+pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource, Selection};
 
 use crate::bvh::{Bvh, NONE};
 use crate::camera::Camera;
@@ -76,77 +80,6 @@ pub struct CullSettings {
     pub occluder_leaves: Option<usize>,
     /// Where the occluders come from.
     pub selection: Selection,
-}
-
-/// How occluders are chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Selection {
-    /// The pre-computed minimum occluder sets while the layout is the pre-processed one, the set
-    /// has a fresh database and the camera is near one of its viewpoints; projected size otherwise.
-    #[default]
-    Auto,
-    /// Projected size every frame.
-    ProjectedSize,
-    /// The pre-computed minimum occluder sets of the nearest viewpoint, even after organs moved
-    /// (still conservative: occluders are rasterised where they are now; faded ones are skipped).
-    Mos,
-}
-
-impl Selection {
-    pub const ALL: [Selection; 3] = [Selection::Auto, Selection::ProjectedSize, Selection::Mos];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Selection::Auto => "auto",
-            Selection::ProjectedSize => "projected-size",
-            Selection::Mos => "mos",
-        }
-    }
-
-    pub fn parse(s: &str) -> Option<Selection> {
-        match s {
-            "ps" => Some(Selection::ProjectedSize),
-            _ => Selection::ALL.into_iter().find(|m| m.name() == s),
-        }
-    }
-}
-
-/// Which occluders a frame used.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum OccluderSource {
-    ProjectedSize,
-    Mos,
-}
-
-impl OccluderSource {
-    pub fn name(self) -> &'static str {
-        match self {
-            OccluderSource::ProjectedSize => "projected size",
-            OccluderSource::Mos => "minimum occluder set",
-        }
-    }
-}
-
-/// One occluder: a leaf of an organ's hierarchy (stored as `[organ, leaf]`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
-#[serde(from = "[u32; 2]", into = "[u32; 2]")]
-pub struct LeafRef {
-    pub organ: u32,
-    pub leaf: u32,
-}
-
-impl From<[u32; 2]> for LeafRef {
-    fn from([organ, leaf]: [u32; 2]) -> Self {
-        LeafRef { organ, leaf }
-    }
-}
-
-impl From<LeafRef> for [u32; 2] {
-    fn from(r: LeafRef) -> Self {
-        [r.organ, r.leaf]
-    }
 }
 
 impl Default for CullSettings {
@@ -265,92 +198,6 @@ pub struct Occluders {
     pub sparse: SparseDepth,
     pub leaves: usize,
     pub triangles: usize,
-}
-
-/// Occluders by projected size. Opaque, visible organs are taken in order of the projected area
-/// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
-/// its leaves in the frustum, nearest first, until the
-/// triangle budget (or the leaf limit) is spent. Taking an organ's near side whole keeps the
-/// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
-/// only the triangles that face the eye.
-pub fn by_projected_size(
-    set: &OrganSet,
-    layout: &Layout,
-    camera: &Camera,
-    view_proj: &Mat4,
-    settings: &CullSettings,
-) -> Vec<LeafRef> {
-    let (w, h) = (settings.width, settings.height);
-    let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
-    for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
-        if !state.is_opaque() || organ.bvh.nodes.is_empty() {
-            continue;
-        }
-        let mvp = *view_proj * state.transform.matrix();
-        match see(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
-            Seen::Rect { x0, y0, x1, y1, .. } => organs.push(((x1 - x0 + 1) * (y1 - y0 + 1), o)),
-            // Around the eye (a wall the camera stands at): it may fill the screen.
-            Seen::Straddles => organs.push((w * h, o)),
-            Seen::Outside => {}
-        }
-    }
-    organs.sort_unstable_by_key(|&(area, _)| std::cmp::Reverse(area));
-    let max_leaves = settings.occluder_leaves.unwrap_or(usize::MAX);
-    let mut chosen = Vec::new();
-    let mut triangles = 0;
-    for &(_, o) in &organs {
-        let (organ, state) = (&set.organs[o], &layout.organs[o]);
-        let model = state.transform.matrix();
-        let mvp = *view_proj * model;
-        // Its leaves on screen, nearest first: the near side of a shell before its far wall.
-        let mut near: Vec<(f32, u32)> = Vec::new();
-        for (l, &n) in organ.bvh.leaves.iter().enumerate() {
-            let bounds = &organ.bvh.nodes[n as usize].bounds;
-            if see(&mvp, bounds, w, h) != Seen::Outside {
-                near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
-            }
-        }
-        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
-        for (_, l) in near {
-            let count = organ.bvh.nodes[organ.bvh.leaves[l as usize] as usize].count as usize;
-            if triangles + count <= settings.occluder_triangles && chosen.len() < max_leaves {
-                chosen.push(LeafRef { organ: o as u32, leaf: l });
-                triangles += count;
-            }
-        }
-        if triangles >= settings.occluder_triangles || chosen.len() >= max_leaves {
-            break;
-        }
-    }
-    chosen
-}
-
-/// The occluders of this frame: the pre-computed set of the nearest viewpoint where
-/// `settings.selection` allows it (automatic: the layout is the pre-processed one and the camera is
-/// near a viewpoint), else projected size. Faded, hidden or unknown
-/// organs never occlude, whatever the database says.
-pub fn choose_occluders(
-    set: &OrganSet,
-    layout: &Layout,
-    camera: &Camera,
-    view_proj: &Mat4,
-    settings: &CullSettings,
-) -> (Vec<LeafRef>, OccluderSource) {
-    let viewpoint = set.occluders.as_ref().and_then(|db| match settings.selection {
-        Selection::ProjectedSize => None,
-        Selection::Mos => db.nearest(camera),
-        Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
-    });
-    if let Some(viewpoint) = viewpoint {
-        let valid = |r: &&LeafRef| {
-            let o = r.organ as usize;
-            o < set.organs.len() && layout.organs[o].is_opaque() && (r.leaf as usize) < set.organs[o].bvh.leaves.len()
-        };
-        let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
-        let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
-        return (list, OccluderSource::Mos);
-    }
-    (by_projected_size(set, layout, camera, view_proj, settings), OccluderSource::ProjectedSize)
 }
 
 /// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
