@@ -241,13 +241,14 @@ fn rasterise_organ(
     w: usize,
     h: usize,
 ) {
-    // Per chosen leaf, where its triangles' projections start in `projected`.
-    let mut slot = vec![NONE; bvh.leaves.len()];
+    // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in
+    // `projected` (wrapping arithmetic; `None` for leaves not chosen).
+    let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
     let mut projected: Vec<Option<[Vec3; 3]>> = Vec::new();
     let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
     for &l in leaves {
-        slot[l as usize] = projected.len() as u32;
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
+        offset[l as usize] = Some((projected.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
             // A triangle counts only if it lies wholly beyond the near plane: the part nearer than
             // that is clipped when drawn and hides nothing.
@@ -269,12 +270,7 @@ fn rasterise_organ(
     }
     // Index into `projected` of a triangle, if it is in S (chosen leaf, positive winding).
     let index = |t: u32| -> Option<usize> {
-        if t == NONE {
-            return None;
-        }
-        let l = bvh.leaf_of[t as usize];
-        let s = slot[l as usize];
-        let i = (s != NONE).then(|| (s + t - bvh.nodes[bvh.leaves[l as usize] as usize].first) as usize)?;
+        let i = offset.get(*bvh.leaf_of.get(t as usize)? as usize).copied().flatten()?.wrapping_add(t) as usize;
         projected[i].is_some().then_some(i)
     };
     // Patches: connected components of S across shared edges (union-find over `projected`).
@@ -301,10 +297,17 @@ fn rasterise_organ(
             }
         }
     }
-    let mut patches: std::collections::HashMap<u32, (Vec<raster::Triangle>, Vec<[Vec3; 2]>)> = Default::default();
+    // Each component's triangles and outline edges (edges whose neighbour is not in S).
+    let mut label = vec![NONE; projected.len()];
+    let mut patches: Vec<(Vec<raster::Triangle>, Vec<[Vec3; 2]>)> = Vec::new();
     for &(t, i) in &triangles_of {
         let Some(tri) = projected[i] else { continue };
-        let (tris, outline) = patches.entry(root(&mut parent, i as u32)).or_default();
+        let r = root(&mut parent, i as u32) as usize;
+        if label[r] == NONE {
+            label[r] = patches.len() as u32;
+            patches.push(Default::default());
+        }
+        let (tris, outline) = &mut patches[label[r] as usize];
         tris.push(tri);
         for k in 0..3 {
             if index(bvh.neighbours[t as usize][k]).is_none() {
@@ -312,7 +315,7 @@ fn rasterise_organ(
             }
         }
     }
-    for (tris, outline) in patches.values() {
+    for (tris, outline) in &patches {
         raster.patch(tris, outline);
     }
 }
