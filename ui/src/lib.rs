@@ -4,7 +4,7 @@
 //! viewport, exported screenshots and `vbrain render` show the same pixels. Modules:
 //! [`app`] (state, menus, keys), `panels` (organ tree, inspector), `viewport` (drawing, camera and
 //! organ manipulation by mouse), `files` (open, import, recent, drag and drop), `export`
-//! (screenshots), `jobs` (work off the UI thread), `settings` (what persists), [`cli`] (headless), with `bench` and `masks` (experiments) and `plot`.
+//! (screenshots), `jobs` (work off the UI thread), `settings` (what persists), [`cli`] (headless), with `bench`, `masks` and `occluders` (experiments) and `plot`.
 
 pub mod app;
 pub mod bench;
