@@ -230,6 +230,19 @@ pub fn rasterise_occluders(
     Occluders { maps, opacity, sparse, leaves: list.len(), triangles }
 }
 
+/// Triangle `t` of `mesh` in the pixels of a `w` x `h` image (x right, y down, z = NDC depth), if
+/// it lies wholly beyond the near plane: the part of a triangle nearer than that is clipped when
+/// drawn and hides nothing.
+pub(crate) fn project_triangle(mesh: &crate::mesh::Mesh, t: u32, mvp: &Mat4, w: usize, h: usize) -> Option<[Vec3; 3]> {
+    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
+    let corner = |k: usize| {
+        let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
+        let c = *mvp * p.extend(1.0);
+        (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
+    };
+    Some([corner(0)?, corner(1)?, corner(2)?])
+}
+
 /// Rasterises the positively wound triangles of the chosen leaves of one organ, with the outline of
 /// that set (edges whose neighbour is not in it).
 fn rasterise_organ(
@@ -245,26 +258,14 @@ fn rasterise_organ(
     // `projected` (wrapping arithmetic; `None` for leaves not chosen).
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
     let mut projected: Vec<Option<[Vec3; 3]>> = Vec::new();
-    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         offset[l as usize] = Some((projected.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
-            // A triangle counts only if it lies wholly beyond the near plane: the part nearer than
-            // that is clipped when drawn and hides nothing.
-            let corner = |k: usize| {
-                let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
-                let c = *mvp * p.extend(1.0);
-                (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
-            };
-            let tri = match (corner(0), corner(1), corner(2)) {
-                (Some(a), Some(b), Some(c)) => {
-                    // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
-                    let area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-                    (area < 0.0).then_some([a, b, c])
-                }
-                _ => None,
-            };
+            let tri = project_triangle(mesh, t, mvp, w, h).filter(|[a, b, c]| {
+                // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
+                (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0.0
+            });
             projected.push(tri);
         }
     }

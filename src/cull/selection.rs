@@ -68,6 +68,13 @@ pub struct LeafRef {
     pub leaf: u32,
 }
 
+impl LeafRef {
+    /// Does the set have this organ and this leaf?
+    pub fn exists_in(self, set: &OrganSet) -> bool {
+        set.organs.get(self.organ as usize).is_some_and(|o| (self.leaf as usize) < o.bvh.leaves.len())
+    }
+}
+
 impl From<[u32; 2]> for LeafRef {
     fn from([organ, leaf]: [u32; 2]) -> Self {
         LeafRef { organ, leaf }
@@ -155,10 +162,7 @@ pub fn choose_occluders(
         Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
     });
     if let Some(viewpoint) = viewpoint {
-        let valid = |r: &&LeafRef| {
-            let o = r.organ as usize;
-            o < set.organs.len() && layout.organs[o].is_opaque() && (r.leaf as usize) < set.organs[o].bvh.leaves.len()
-        };
+        let valid = |r: &&LeafRef| r.exists_in(set) && layout.organs[r.organ as usize].is_opaque();
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
         return (list, OccluderSource::Mos);

@@ -3,7 +3,7 @@
 //! Space: pixels of a `width` x `height` image (x right, y down, pixel (i, j) sampled at its centre
 //! (i + 0.5, j + 0.5)); depth = NDC z, larger is farther.
 
-use crate::cull::LeafRef;
+use crate::cull::{project_triangle, LeafRef};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use glam::{Mat4, Vec3};
@@ -33,7 +33,8 @@ impl LeafImage {
     }
 }
 
-/// Rasterises one leaf (both windings; triangles reaching behind the eye are skipped).
+/// Rasterises one leaf (both windings; triangles reaching nearer than the near plane are skipped,
+/// as in the run-time rasteriser).
 pub fn rasterise_leaf(
     set: &OrganSet,
     layout: &Layout,
@@ -45,21 +46,14 @@ pub fn rasterise_leaf(
     let organ = &set.organs[r.organ as usize];
     let node = &organ.bvh.nodes[organ.bvh.leaves[r.leaf as usize] as usize];
     let mvp = *view_proj * layout.organs[r.organ as usize].transform.matrix();
-    let mesh = &organ.mesh;
-    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
     let mut tris = Vec::with_capacity(node.count as usize);
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for t in node.first..node.first + node.count {
-        let corner = |k: usize| {
-            let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
-            let c = mvp * p.extend(1.0);
-            (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
-        };
-        if let (Some(a), Some(b), Some(c)) = (corner(0), corner(1), corner(2)) {
-            for p in [a, b, c] {
+        if let Some(tri) = project_triangle(&organ.mesh, t, &mvp, w, h) {
+            for p in tri {
                 (lo, hi) = (lo.min(p), hi.max(p));
             }
-            tris.push([a, b, c]);
+            tris.push(tri);
         }
     }
     if tris.is_empty() || hi.x < 0.5 || hi.y < 0.5 || lo.x > w as f32 - 0.5 || lo.y > h as f32 - 0.5 {

@@ -164,9 +164,7 @@ impl Database {
                 path.display()
             ));
         }
-        let valid =
-            |r: &LeafRef| set.organs.get(r.organ as usize).is_some_and(|o| (r.leaf as usize) < o.bvh.leaves.len());
-        if !db.viewpoints.iter().flat_map(|v| &v.occluders).all(valid) {
+        if !db.viewpoints.iter().flat_map(|v| &v.occluders).all(|r| r.exists_in(set)) {
             return Err(format!("{}: names leaves the set does not have", path.display()));
         }
         Ok(Some(db))

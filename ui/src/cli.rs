@@ -442,12 +442,15 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let mut layout = Layout::new(&set);
     apply_overrides(&set, &mut layout, &[], &args.hide, &args.opacity)?;
     let bounds = layout.bounds(&set);
-    let camera = match (&args.view, &args.orbit) {
-        _ if args.route.is_some() && (args.view.is_some() || args.orbit.is_some()) => {
-            bail!("give one of --view, --orbit and --route")
+    let camera = match (&args.view, &args.orbit, &args.route) {
+        (Some(v), None, None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
+        (None, Some(o), None) => {
+            let (az, el) = o.split_once(',').ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;
+            let az: f32 = az.trim().parse().with_context(|| format!("azimuth in \"{o}\""))?;
+            let el: f32 = el.trim().parse().with_context(|| format!("elevation in \"{o}\""))?;
+            Camera::orbit(&bounds, az, el)
         }
-        _ if args.route.is_some() => {
-            let spec = args.route.as_deref().unwrap_or_default();
+        (None, None, Some(spec)) => {
             let (route, frame) = spec.split_once(':').unwrap_or((spec, "0"));
             let frame: usize = frame.trim().parse().with_context(|| format!("frame in \"{spec}\""))?;
             if frame >= 120 {
@@ -455,15 +458,8 @@ fn render(args: &RenderArgs) -> Result<bool> {
             }
             parse_route(route)?.camera(&bounds, frame, 120)
         }
-        (Some(_), Some(_)) => bail!("give one of --view, --orbit and --route"),
-        (Some(v), None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
-        (None, Some(o)) => {
-            let (az, el) = o.split_once(',').ok_or_else(|| anyhow!("orbit \"{o}\" is not AZ,EL"))?;
-            let az: f32 = az.trim().parse().with_context(|| format!("azimuth in \"{o}\""))?;
-            let el: f32 = el.trim().parse().with_context(|| format!("elevation in \"{o}\""))?;
-            Camera::orbit(&bounds, az, el)
-        }
-        (None, None) => Camera::view(&bounds, View::Anterior),
+        (None, None, None) => Camera::view(&bounds, View::Anterior),
+        _ => bail!("give one of --view, --orbit and --route"),
     };
     let started = std::time::Instant::now();
     let gpu = GpuContext::headless()?;
