@@ -1,6 +1,8 @@
 //! The culling hierarchy of one organ (organ space, millimetres): a binary bounding-volume tree
 //! whose leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1), with the mesh's triangles
-//! reordered so each leaf is one contiguous range of the index buffer; and, per triangle, its
+//! reordered so each leaf is one contiguous range of the index buffer. Within a leaf the triangles
+//! are split further, the same way, into contiguous *parts* of at most [`PART_TRIANGLES`], whose
+//! tighter boxes the occlusion test falls back on when a leaf's box fails. And, per triangle, its
 //! neighbours across its three edges (by position, consistently wound), which the occluder
 //! rasteriser needs to find the outline of a set of triangles.
 
@@ -10,6 +12,8 @@ use std::collections::HashMap;
 
 /// The most triangles in a leaf.
 pub const LEAF_TRIANGLES: usize = 256;
+/// The most triangles in a part of a leaf.
+pub const PART_TRIANGLES: usize = 32;
 /// No node, no neighbour.
 pub const NONE: u32 = u32::MAX;
 
@@ -31,6 +35,14 @@ impl Node {
     }
 }
 
+/// Triangles `first..first + count` of a leaf, and their bounds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Part {
+    pub bounds: Bounds,
+    pub first: u32,
+    pub count: u32,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     /// Root first.
@@ -39,6 +51,9 @@ pub struct Bvh {
     pub leaves: Vec<u32>,
     /// Per triangle: the leaf it belongs to.
     pub leaf_of: Vec<u32>,
+    /// The parts of all leaves, in triangle order; leaf l's are `leaf_parts[l]..leaf_parts[l + 1]`.
+    pub parts: Vec<Part>,
+    pub leaf_parts: Vec<u32>,
     /// Per triangle and edge (a->b, b->c, c->a): the triangle across it, or `NONE` at a border, a
     /// non-manifold edge, or a neighbour wound the other way.
     pub neighbours: Vec<[u32; 3]>,
@@ -67,21 +82,21 @@ impl Bvh {
             count: tri_count as u32,
             leaf: NONE,
         });
-        let mut stack = vec![0u32];
-        while let Some(n) = stack.pop() {
-            let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
-            let slice = &mut order[first..first + count];
+        // Bounds of a run of triangles, and the midpoint split of their centroids along the
+        // longest axis (the run reordered so the first half holds the lower centroids).
+        let bound = |slice: &[u32]| {
             let mut bounds = Bounds::EMPTY;
-            let mut cb = Bounds::EMPTY;
-            for &t in slice.iter() {
+            for &t in slice {
                 for p in tri(t) {
                     bounds.include(p.to_array());
                 }
-                cb.include(centroids[t as usize].to_array());
             }
-            bvh.nodes[n as usize].bounds = bounds;
-            if count <= LEAF_TRIANGLES {
-                continue;
+            bounds
+        };
+        let split = |slice: &mut [u32]| {
+            let mut cb = Bounds::EMPTY;
+            for &t in slice.iter() {
+                cb.include(centroids[t as usize].to_array());
             }
             let size = cb.size();
             let axis = if size.x >= size.y && size.x >= size.z {
@@ -91,10 +106,21 @@ impl Bvh {
             } else {
                 2
             };
-            let mid = count / 2;
+            let mid = slice.len() / 2;
             slice.select_nth_unstable_by(mid, |&a, &b| {
                 centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
             });
+            mid
+        };
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
+            let slice = &mut order[first..first + count];
+            bvh.nodes[n as usize].bounds = bound(slice);
+            if count <= LEAF_TRIANGLES {
+                continue;
+            }
+            let mid = split(slice);
             let left = bvh.nodes.len() as u32;
             for (f, c) in [(first, mid), (first + mid, count - mid)] {
                 bvh.nodes.push(Node {
@@ -118,11 +144,33 @@ impl Bvh {
             node.leaf = l as u32;
             bvh.leaf_of[node.first as usize..(node.first + node.count) as usize].fill(l as u32);
         }
+        // Parts of each leaf, in order (depth first, lower half first).
+        bvh.leaf_parts.push(0);
+        for &n in &leaves {
+            let node = &bvh.nodes[n as usize];
+            let mut runs = vec![(node.first as usize, node.count as usize)];
+            while let Some((first, count)) = runs.pop() {
+                let slice = &mut order[first..first + count];
+                if count <= PART_TRIANGLES {
+                    bvh.parts.push(Part { bounds: bound(slice), first: first as u32, count: count as u32 });
+                    continue;
+                }
+                let mid = split(slice);
+                runs.push((first + mid, count - mid));
+                runs.push((first, mid));
+            }
+            bvh.leaf_parts.push(bvh.parts.len() as u32);
+        }
         bvh.leaves = leaves;
         mesh.indices =
             order.iter().flat_map(|&t| (0..3).map(move |k| 3 * t as usize + k)).map(|i| mesh.indices[i]).collect();
         bvh.neighbours = neighbours(mesh);
         bvh
+    }
+
+    /// The parts of a leaf.
+    pub fn parts_of(&self, leaf: u32) -> &[Part] {
+        &self.parts[self.leaf_parts[leaf as usize] as usize..self.leaf_parts[leaf as usize + 1] as usize]
     }
 
     /// Index-buffer range (in indices) of a leaf.
@@ -220,6 +268,23 @@ mod tests {
             }
         }
         assert_eq!(covered as usize, m.triangle_count());
+        // Parts tile each leaf in order, bounded.
+        for (l, &n) in bvh.leaves.iter().enumerate() {
+            let node = &bvh.nodes[n as usize];
+            let mut at = node.first;
+            for part in bvh.parts_of(l as u32) {
+                assert!(part.count as usize <= PART_TRIANGLES && part.count > 0);
+                assert_eq!(part.first, at);
+                at += part.count;
+                for t in part.first..part.first + part.count {
+                    for k in 0..3 {
+                        let p = m.positions[m.indices[3 * t as usize + k] as usize];
+                        assert!((0..3).all(|i| part.bounds.min[i] <= p[i] && p[i] <= part.bounds.max[i]));
+                    }
+                }
+            }
+            assert_eq!(at, node.first + node.count);
+        }
         // Parents contain children.
         for n in &bvh.nodes {
             for &c in n.children.iter().filter(|&&c| c != NONE) {

@@ -150,12 +150,14 @@ pub(crate) enum Seen {
     Outside,
     /// Reaches behind the eye: cannot be placed on screen.
     Straddles,
-    /// Inclusive pixel rectangle (rounded outward, clamped) and nearest NDC depth.
-    Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32 },
+    /// Inclusive pixel rectangle (rounded outward, clamped) and nearest NDC depth; `inside`: wholly
+    /// inside the frustum.
+    Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32, inside: bool },
 }
 
 pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
     let mut out = [true; 6];
+    let mut inside = true;
     let mut behind = false;
     let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
     for c in b.corners() {
@@ -164,6 +166,7 @@ pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
         for k in 0..6 {
             out[k] &= tests[k];
         }
+        inside &= !tests.iter().any(|&t| t);
         if p.w <= 1e-5 {
             behind = true;
             continue;
@@ -188,7 +191,16 @@ pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
         y0: clamp(py0.floor(), hf),
         y1: clamp(py1.ceil() - 1.0, hf),
         z: lo.z,
+        inside,
     }
+}
+
+/// Does the box lie wholly beyond the near plane (so the eye is outside it)?
+pub(crate) fn wholly_ahead(mvp: &Mat4, b: &Bounds) -> bool {
+    b.corners().iter().all(|c| {
+        let p = *mvp * c.extend(1.0);
+        p.w > 1e-5 && p.z >= 0.0
+    })
 }
 
 /// The occluder maps and look-up structures of one frame.
@@ -196,8 +208,29 @@ pub struct Occluders {
     pub maps: OccluderMaps,
     pub opacity: OpacityMap,
     pub sparse: SparseDepth,
+    /// For the approximate test: the depth map with uncovered pixels never in the way (-inf), and
+    /// its sparse depth map.
+    pub approximate: Option<(Vec<f32>, SparseDepth)>,
     pub leaves: usize,
     pub triangles: usize,
+}
+
+impl Occluders {
+    /// Tests a box seen as the inclusive pixel rectangle with nearest depth `z`: how many of its
+    /// pixels are covered, and whether it is hidden (wholly covered, or but for `holes` pixels
+    /// with the approximate test, and behind every occluder depth there).
+    fn test(&self, [x0, y0, x1, y1]: [usize; 4], z: f32, holes: Option<f32>) -> (u32, bool) {
+        let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
+        let covered = self.opacity.covered(x0, y0, x1, y1);
+        let hidden = match (holes, &self.approximate) {
+            (Some(t), Some((depth, sparse))) => {
+                covered + (t.clamp(0.0, 1.0) * area as f32) as u32 >= area
+                    && sparse.all_in_front_of(depth, x0, y0, x1, y1, z)
+            }
+            _ => covered >= area && self.sparse.all_in_front_of(&self.maps.depth, x0, y0, x1, y1, z),
+        };
+        (covered, hidden)
+    }
 }
 
 /// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
@@ -210,24 +243,34 @@ pub fn rasterise_occluders(
     w: usize,
     h: usize,
 ) -> Occluders {
-    let mut chosen: Vec<Vec<u32>> = vec![Vec::new(); set.organs.len()];
+    // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
+    let mut chosen: Vec<[Vec<u32>; 2]> = vec![Default::default(); set.organs.len()];
     let mut triangles = 0;
     for r in list {
         let organ = &set.organs[r.organ as usize];
-        chosen[r.organ as usize].push(r.leaf);
-        triangles += organ.bvh.nodes[organ.bvh.leaves[r.leaf as usize] as usize].count as usize;
+        let bvh = match (&organ.stand_in, r.stand_in) {
+            (Some(s), true) => &s.bvh,
+            _ => &organ.bvh,
+        };
+        chosen[r.organ as usize][usize::from(r.stand_in)].push(r.leaf);
+        triangles += bvh.nodes[bvh.leaves[r.leaf as usize] as usize].count as usize;
     }
     let mut raster = OccluderRaster::new(w, h);
-    for (o, leaves) in chosen.iter().enumerate() {
-        if !leaves.is_empty() {
-            let mvp = *view_proj * layout.organs[o].transform.matrix();
-            rasterise_organ(&mut raster, &set.organs[o].mesh, &set.organs[o].bvh, leaves, &mvp, w, h);
+    for (o, [own, stand_in]) in chosen.iter().enumerate() {
+        let organ = &set.organs[o];
+        let mvp = *view_proj * layout.organs[o].transform.matrix();
+        if !own.is_empty() {
+            rasterise_organ(&mut raster, &organ.mesh, &organ.bvh, own, &mvp, w, h, 0.0);
+        }
+        if let (Some(s), false) = (&organ.stand_in, stand_in.is_empty()) {
+            // Pushed back a little: a stand-in on the surface must not hide the surface itself.
+            rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
         }
     }
     let maps = raster.finish();
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
-    Occluders { maps, opacity, sparse, leaves: list.len(), triangles }
+    Occluders { maps, opacity, sparse, approximate: None, leaves: list.len(), triangles }
 }
 
 /// Triangle `t` of `mesh` in the pixels of a `w` x `h` image (x right, y down, z = NDC depth), if
@@ -243,8 +286,12 @@ pub(crate) fn project_triangle(mesh: &crate::mesh::Mesh, t: u32, mvp: &Mat4, w: 
     Some([corner(0)?, corner(1)?, corner(2)?])
 }
 
-/// Rasterises the positively wound triangles of the chosen leaves of one organ, with the outline of
-/// that set (edges whose neighbour is not in it).
+/// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
+const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
+
+/// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
+/// its neighbours among them, pushed back by `bias` in NDC depth.
+#[allow(clippy::too_many_arguments)]
 fn rasterise_organ(
     raster: &mut OccluderRaster,
     mesh: &crate::mesh::Mesh,
@@ -253,72 +300,38 @@ fn rasterise_organ(
     mvp: &Mat4,
     w: usize,
     h: usize,
+    bias: f32,
 ) {
-    // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in
-    // `projected` (wrapping arithmetic; `None` for leaves not chosen).
+    // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in `slot`
+    // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
+    // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
-    let mut projected: Vec<Option<[Vec3; 3]>> = Vec::new();
+    let mut slot: Vec<u32> = Vec::new();
+    let (mut triangles, mut ids) = (Vec::new(), Vec::new());
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
-        offset[l as usize] = Some((projected.len() as u32).wrapping_sub(node.first));
+        offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
             let tri = project_triangle(mesh, t, mvp, w, h).filter(|[a, b, c]| {
                 // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
                 (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0.0
             });
-            projected.push(tri);
-        }
-    }
-    // Index into `projected` of a triangle, if it is in S (chosen leaf, positive winding).
-    let index = |t: u32| -> Option<usize> {
-        let i = offset.get(*bvh.leaf_of.get(t as usize)? as usize).copied().flatten()?.wrapping_add(t) as usize;
-        projected[i].is_some().then_some(i)
-    };
-    // Patches: connected components of S across shared edges (union-find over `projected`).
-    let mut parent: Vec<u32> = (0..projected.len() as u32).collect();
-    fn root(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            parent[i as usize] = parent[parent[i as usize] as usize];
-            i = parent[i as usize];
-        }
-        i
-    }
-    let mut triangles_of = Vec::with_capacity(projected.len());
-    for &l in leaves {
-        let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
-        for t in node.first..node.first + node.count {
-            if let Some(i) = index(t) {
-                triangles_of.push((t, i));
-                for &n in &bvh.neighbours[t as usize] {
-                    if let Some(j) = index(n) {
-                        let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j as u32));
-                        parent[a as usize] = b;
-                    }
+            match tri {
+                Some(tri) => {
+                    slot.push(triangles.len() as u32);
+                    triangles.push(tri.map(|v| v + Vec3::new(0.0, 0.0, bias)));
+                    ids.push(t);
                 }
+                None => slot.push(NONE),
             }
         }
     }
-    // Each component's triangles and outline edges (edges whose neighbour is not in S).
-    let mut label = vec![NONE; projected.len()];
-    let mut patches: Vec<(Vec<raster::Triangle>, Vec<[Vec3; 2]>)> = Vec::new();
-    for &(t, i) in &triangles_of {
-        let Some(tri) = projected[i] else { continue };
-        let r = root(&mut parent, i as u32) as usize;
-        if label[r] == NONE {
-            label[r] = patches.len() as u32;
-            patches.push(Default::default());
-        }
-        let (tris, outline) = &mut patches[label[r] as usize];
-        tris.push(tri);
-        for k in 0..3 {
-            if index(bvh.neighbours[t as usize][k]).is_none() {
-                outline.push([tri[k], tri[(k + 1) % 3]]);
-            }
-        }
-    }
-    for (tris, outline) in &patches {
-        raster.patch(tris, outline);
-    }
+    let index = |t: u32| -> u32 {
+        let leaf = bvh.leaf_of.get(t as usize).and_then(|&l| offset.get(l as usize)).copied().flatten();
+        leaf.map_or(NONE, |o| slot[o.wrapping_add(t) as usize])
+    };
+    let neighbours: Vec<[u32; 3]> = ids.iter().map(|&t| bvh.neighbours[t as usize].map(index)).collect();
+    raster.add(&triangles, &neighbours);
 }
 
 /// Culls the drawn organs of `layout` for `camera` at `aspect`; returns the draw list and counts.
@@ -356,7 +369,14 @@ pub fn cull_with(
                 list
             }
         };
-        rasterise_occluders(set, layout, &view_proj, &list, w, h)
+        let mut o = rasterise_occluders(set, layout, &view_proj, &list, w, h);
+        if settings.hole_tolerance.is_some() {
+            let depth: Vec<f32> =
+                o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
+            let sparse = SparseDepth::new(&depth, w, h);
+            o.approximate = Some((depth, sparse));
+        }
+        o
     });
     let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
     if let Some(o) = &occ {
@@ -376,31 +396,51 @@ pub fn cull_with(
         let mut stack = vec![(0u32, occ.is_some())];
         while let Some((n, test)) = stack.pop() {
             let node = &organ.bvh.nodes[n as usize];
-            let range = 3 * node.first..3 * (node.first + node.count);
             let seen = see(&mvp, &node.bounds, w, h);
             if seen == Seen::Outside {
                 stats.frustum_culled += node.count as usize;
                 continue;
             }
             let mut test_children = test;
-            if let (Seen::Rect { x0, y0, x1, y1, z }, Some(o), true) = (seen, &occ, test) {
+            if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, &occ, test) {
                 stats.nodes_tested += 1;
-                let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
-                let covered = o.opacity.covered(x0, y0, x1, y1);
-                let holes = settings.hole_tolerance.map_or(0, |t| (t.clamp(0.0, 1.0) * area as f32) as u32);
-                if covered + holes >= area && o.sparse.all_in_front_of(&o.maps.depth, x0, y0, x1, y1, z) {
+                let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance);
+                if hidden {
                     stats.occlusion_culled += node.count as usize;
                     continue;
                 }
                 // Adaptive stop: too little of it is covered for a descendant to be hidden; only
                 // the frustum is tested below.
-                test_children = (covered as f32) >= settings.adaptive_ratio * area as f32;
+                let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32;
+                test_children = covered as f32 >= settings.adaptive_ratio * area;
             }
-            if node.is_leaf() {
-                list.push(i, range);
-            } else {
-                stack.push((node.children[1], test_children));
-                stack.push((node.children[0], test_children));
+            let testing = test_children && occ.is_some();
+            if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {
+                // Wholly inside the frustum with nothing more to test: all of it, in one range.
+                list.push(i, 3 * node.first..3 * (node.first + node.count));
+                continue;
+            }
+            match (node.is_leaf(), &occ) {
+                // A leaf that failed: its parts' tighter boxes may still be hidden.
+                (true, Some(o)) if test_children => {
+                    for part in organ.bvh.parts_of(node.leaf) {
+                        match see(&mvp, &part.bounds, w, h) {
+                            Seen::Outside => stats.frustum_culled += part.count as usize,
+                            Seen::Rect { x0, y0, x1, y1, z, .. }
+                                if o.test([x0, y0, x1, y1], z, settings.hole_tolerance).1 =>
+                            {
+                                stats.occlusion_culled += part.count as usize
+                            }
+                            _ => list.push(i, 3 * part.first..3 * (part.first + part.count)),
+                        }
+                        stats.nodes_tested += 1;
+                    }
+                }
+                (true, _) => list.push(i, 3 * node.first..3 * (node.first + node.count)),
+                (false, _) => {
+                    stack.push((node.children[1], test_children));
+                    stack.push((node.children[0], test_children));
+                }
             }
         }
     }

@@ -1,31 +1,35 @@
 //! The software occluder rasteriser, in culling pixels (x right, y down, pixel (i, j) covers
 //! [i, i+1) x [j, j+1); depth = NDC z, larger is farther). It is conservative by construction.
 //!
-//! Occluders come as *patches*: connected sets of triangles that all project with the same winding
-//! (the front side of an organ's surface, say). The outline of a patch's image lies on its outline
-//! edges, the edges whose neighbour across is not in the patch. Per patch:
+//! Occluders come as triangles that all project with the same winding (the camera-facing side of
+//! organ surfaces), each with its neighbours across its three edges that are occluders too. Each
+//! triangle leaves a *fragment* in every pixel it touches: its farthest depth over the pixel (its
+//! depth plane at the pixel's corners, capped by its vertices), whether it holds the pixel's centre,
+//! and which of its edges touch the pixel.
 //!
-//! * a pixel is **covered** if its centre is inside a triangle of the patch and no outline edge of
-//!   the patch touches it: a square that holds a point of the image and meets none of its outline
-//!   lies wholly inside it;
-//! * its **depth** is the farthest the patch's triangles reach over that pixel (each triangle's
-//!   depth plane at the pixel's corners, capped by its vertices), so every point of the patch seen
-//!   in the pixel is at least that near.
-//!
-//! Patches merge by union: a pixel is covered if some patch covers it, with the nearest such bound.
+//! Per pixel, fragments joined across edges that touch the pixel form local components. A
+//! component none of whose touching edges leads to a triangle outside it (an outline edge, or a
+//! neighbour that does not reach the pixel) has no border inside the pixel; if it also holds the
+//! centre, the square holds a point of its image and meets none of its outline, so it lies wholly
+//! inside that image. The pixel is then **covered**, and its **depth** is the farthest depth of the
+//! component; of several such components the nearest counts. Components are local, so a surface
+//! that overlaps itself on screen (the near wall of a shell joined round its rim to the far wall)
+//! bounds a pixel by its near layer alone.
 
+use crate::bvh::NONE;
 use glam::Vec3;
 
 /// A projected occluder triangle: x, y in culling pixels, z = NDC depth.
 pub type Triangle = [Vec3; 3];
 
-/// Coverage and depth of occluders at low resolution, built patch by patch.
+/// Coverage and depth of occluders at low resolution, collected triangle by triangle.
 #[derive(Clone, Debug, PartialEq)]
 pub struct OccluderRaster {
     pub width: usize,
     pub height: usize,
-    covered: Vec<u8>,
-    depth: Vec<f32>,
+    /// Per triangle added, its occluder neighbours (indices among all triangles added, or NONE).
+    neighbours: Vec<[u32; 3]>,
+    fragments: Vec<Fragment>,
 }
 
 /// The result: a coverage bitmap (1 = wholly covered) and the farthest occluder depth of each
@@ -38,143 +42,193 @@ pub struct OccluderMaps {
     pub depth: Vec<f32>,
 }
 
-/// Margin (pixels) by which outline edges are widened against rounding.
+/// Margin (in pixel widths) by which triangles and edges are widened against rounding.
 const EPS: f32 = 1e-3;
 
-/// One patch rasterised over its bounding rectangle of pixels.
-struct Patch {
-    x0: usize,
-    y0: usize,
-    w: usize,
-    h: usize,
-    centre: Vec<bool>,
-    outline: Vec<bool>,
-    depth: Vec<f32>,
+/// One triangle over one pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Fragment {
+    pixel: u32,
+    triangle: u32,
+    /// Farthest depth of the triangle over the pixel.
+    z: f32,
+    /// The pixel's centre lies inside the triangle.
+    centre: bool,
+    /// Bit k: edge k (corner k to corner k + 1) touches the pixel.
+    edges: u8,
 }
 
-impl Patch {
-    fn triangle(&mut self, t: &Triangle) {
+impl OccluderRaster {
+    pub fn new(width: usize, height: usize) -> OccluderRaster {
+        OccluderRaster { width, height, neighbours: Vec::new(), fragments: Vec::new() }
+    }
+
+    /// Adds triangles of one winding; `neighbours[i][k]` is the index in `triangles` of the
+    /// triangle across edge k of triangle i (corner k to corner k + 1), or `NONE` where that
+    /// triangle is not an occluder.
+    pub fn add(&mut self, triangles: &[Triangle], neighbours: &[[u32; 3]]) {
+        debug_assert_eq!(triangles.len(), neighbours.len());
+        let base = self.neighbours.len() as u32;
+        for (t, n) in triangles.iter().zip(neighbours) {
+            let id = self.neighbours.len() as u32;
+            self.neighbours.push(n.map(|j| if j == NONE { NONE } else { base + j }));
+            self.fragments_of(id, t);
+        }
+    }
+
+    /// The fragments of triangle `id`, in row order.
+    fn fragments_of(&mut self, id: u32, t: &Triangle) {
         let min = t[0].min(t[1]).min(t[2]);
         let max = t[0].max(t[1]).max(t[2]);
         let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
-        if area == 0.0 || !area.is_finite() {
+        let (w, h) = (self.width as f32, self.height as f32);
+        if area == 0.0
+            || !area.is_finite()
+            || max.x + EPS < 0.0
+            || max.y + EPS < 0.0
+            || min.x - EPS >= w
+            || min.y - EPS >= h
+        {
             return;
         }
-        // Edge functions, positive inside whatever the winding.
+        // Edge functions, positive inside whatever the winding; `reach` is how far from the line
+        // (in edge-function units) a widened square centred at a point may still meet it.
         let s = area.signum();
         let edge = |a: Vec3, b: Vec3| {
             let (ea, eb) = ((a.y - b.y) * s, (b.x - a.x) * s);
-            (ea, eb, -(ea * a.x + eb * a.y))
+            (ea, eb, -(ea * a.x + eb * a.y), (0.5 + EPS) * (ea.abs() + eb.abs()))
         };
         let edges = [edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])];
         // Depth plane z = z0 + dzdx (x - x0) + dzdy (y - y0).
         let dzdx = ((t[1].z - t[0].z) * (t[2].y - t[0].y) - (t[2].z - t[0].z) * (t[1].y - t[0].y)) / area;
         let dzdy = ((t[2].z - t[0].z) * (t[1].x - t[0].x) - (t[1].z - t[0].z) * (t[2].x - t[0].x)) / area;
-        let zmax = t[0].z.max(t[1].z).max(t[2].z);
-        let clamp_x = |v: f32| (v.max(self.x0 as f32) as usize).clamp(self.x0, self.x0 + self.w - 1);
-        let clamp_y = |v: f32| (v.max(self.y0 as f32) as usize).clamp(self.y0, self.y0 + self.h - 1);
-        let (x0, x1) = (clamp_x(min.x.floor()), clamp_x(max.x.ceil() - 1.0));
-        let (y0, y1) = (clamp_y(min.y.floor()), clamp_y(max.y.ceil() - 1.0));
+        let zmax = max.z;
+        let span =
+            |lo: f32, hi: f32, n: f32| ((lo - EPS).floor().max(0.0) as usize, (hi + EPS).floor().min(n - 1.0) as usize);
+        let (x0, x1) = span(min.x, max.x, w);
+        let (y0, y1) = span(min.y, max.y, h);
         for y in y0..=y1 {
             for x in x0..=x1 {
                 let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
-                // Touches the square: no edge has the whole square outside.
-                if !edges.iter().all(|&(a, b, c)| a * cx + b * cy + c + 0.5 * (a.abs() + b.abs()) >= 0.0) {
+                let f = edges.map(|(a, b, c, _)| a * cx + b * cy + c);
+                // Touches the (widened) square: no edge has the whole square outside.
+                if (0..3).any(|k| f[k] + edges[k].3 < 0.0) {
                     continue;
                 }
-                let i = (y - self.y0) * self.w + (x - self.x0);
-                if edges.iter().all(|&(a, b, c)| a * cx + b * cy + c >= 0.0) {
-                    self.centre[i] = true;
+                let mut touching = 0u8;
+                for k in 0..3 {
+                    let (a, b) = (t[k], t[(k + 1) % 3]);
+                    let near_line = f[k].abs() <= edges[k].3;
+                    let in_box = a.x.min(b.x) - EPS <= cx + 0.5
+                        && a.x.max(b.x) + EPS >= cx - 0.5
+                        && a.y.min(b.y) - EPS <= cy + 0.5
+                        && a.y.max(b.y) + EPS >= cy - 0.5;
+                    if near_line && in_box {
+                        touching |= 1 << k;
+                    }
                 }
                 let z = t[0].z + dzdx * (cx - t[0].x) + dzdy * (cy - t[0].y) + 0.5 * (dzdx.abs() + dzdy.abs());
-                let z = if z.is_finite() { z.min(zmax) } else { zmax };
-                if z > self.depth[i] {
-                    self.depth[i] = z;
-                }
-            }
-        }
-    }
-
-    /// Marks every pixel the segment a-b touches (widened by a small margin) as on the outline.
-    fn outline_edge(&mut self, a: Vec3, b: Vec3) {
-        let (xs, ys) = (self.x0 as f32, self.y0 as f32);
-        let (xe, ye) = (xs + self.w as f32, ys + self.h as f32);
-        let (ymin, ymax) = (a.y.min(b.y) - EPS, a.y.max(b.y) + EPS);
-        if ymax < ys || ymin >= ye || a.x.max(b.x) + EPS < xs || a.x.min(b.x) - EPS >= xe {
-            return;
-        }
-        let (r0, r1) = (ymin.floor().max(ys) as usize, ymax.floor().min(ye - 1.0) as usize);
-        for row in r0..=r1 {
-            let (lo, hi) = (row as f32 - EPS, row as f32 + 1.0 + EPS);
-            // The part of the segment inside this row band.
-            let (xa, xb) = if (b.y - a.y).abs() < 1e-12 {
-                (a.x, b.x)
-            } else {
-                let ta = ((lo - a.y) / (b.y - a.y)).clamp(0.0, 1.0);
-                let tb = ((hi - a.y) / (b.y - a.y)).clamp(0.0, 1.0);
-                (a.x + (b.x - a.x) * ta, a.x + (b.x - a.x) * tb)
-            };
-            let (xl, xr) = (xa.min(xb) - EPS, xa.max(xb) + EPS);
-            if xr < xs || xl >= xe {
-                continue;
-            }
-            let (c0, c1) = (xl.floor().max(xs) as usize - self.x0, xr.floor().min(xe - 1.0) as usize - self.x0);
-            let at = (row - self.y0) * self.w;
-            self.outline[at + c0..=at + c1].fill(true);
-        }
-    }
-}
-
-impl OccluderRaster {
-    pub fn new(width: usize, height: usize) -> OccluderRaster {
-        let n = width * height;
-        OccluderRaster { width, height, covered: vec![0; n], depth: vec![f32::INFINITY; n] }
-    }
-
-    /// Adds one patch: its triangles (one winding) and its outline edges.
-    pub fn patch(&mut self, triangles: &[Triangle], outline: &[[Vec3; 2]]) {
-        let (w, h) = (self.width as f32, self.height as f32);
-        let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-        for t in triangles {
-            for p in t {
-                (min, max) = (min.min(*p), max.max(*p));
-            }
-        }
-        if !(min.is_finite() && max.is_finite()) || max.x <= 0.0 || max.y <= 0.0 || min.x >= w || min.y >= h {
-            return;
-        }
-        let (x0, y0) = (min.x.floor().max(0.0) as usize, min.y.floor().max(0.0) as usize);
-        let (x1, y1) = ((max.x.ceil().min(w) as usize).max(x0 + 1), (max.y.ceil().min(h) as usize).max(y0 + 1));
-        let (pw, ph) = (x1 - x0, y1 - y0);
-        let mut p = Patch {
-            x0,
-            y0,
-            w: pw,
-            h: ph,
-            centre: vec![false; pw * ph],
-            outline: vec![false; pw * ph],
-            depth: vec![f32::NEG_INFINITY; pw * ph],
-        };
-        for t in triangles {
-            p.triangle(t);
-        }
-        for [a, b] in outline {
-            p.outline_edge(*a, *b);
-        }
-        for y in 0..ph {
-            for x in 0..pw {
-                let i = y * pw + x;
-                if p.centre[i] && !p.outline[i] {
-                    let j = (y0 + y) * self.width + x0 + x;
-                    self.covered[j] = 1;
-                    self.depth[j] = self.depth[j].min(p.depth[i]);
-                }
+                self.fragments.push(Fragment {
+                    pixel: (y * self.width + x) as u32,
+                    triangle: id,
+                    z: if z.is_finite() { z.min(zmax) } else { zmax },
+                    centre: f.iter().all(|&v| v >= 0.0),
+                    edges: touching,
+                });
             }
         }
     }
 
     pub fn finish(self) -> OccluderMaps {
-        OccluderMaps { width: self.width, height: self.height, covered: self.covered, depth: self.depth }
+        let n = self.width * self.height;
+        let mut covered = vec![0u8; n];
+        let mut depth = vec![f32::INFINITY; n];
+        // Fragments by pixel (a stable counting sort: by triangle within a pixel).
+        let mut start = vec![0u32; n + 1];
+        for f in &self.fragments {
+            start[f.pixel as usize + 1] += 1;
+        }
+        for p in 0..n {
+            start[p + 1] += start[p];
+        }
+        let mut next = start.clone();
+        let mut sorted = vec![self.fragments.first().copied().unwrap_or(EMPTY); self.fragments.len()];
+        for f in &self.fragments {
+            sorted[next[f.pixel as usize] as usize] = *f;
+            next[f.pixel as usize] += 1;
+        }
+        let mut scratch = Scratch::default();
+        for p in 0..n {
+            let here = &sorted[start[p] as usize..start[p + 1] as usize];
+            if let Some(z) = scratch.pixel_depth(here, &self.neighbours) {
+                covered[p] = 1;
+                depth[p] = z;
+            }
+        }
+        OccluderMaps { width: self.width, height: self.height, covered, depth }
+    }
+}
+
+const EMPTY: Fragment = Fragment { pixel: 0, triangle: 0, z: 0.0, centre: false, edges: 0 };
+
+/// Buffers reused from pixel to pixel.
+#[derive(Default)]
+struct Scratch {
+    parent: Vec<u32>,
+    /// Per fragment: one of its touching edges leads outside the pixel's fragments.
+    border: Vec<bool>,
+    /// Per component root: (has a border in the pixel, holds the centre, farthest depth).
+    root: Vec<(bool, bool, f32)>,
+}
+
+impl Scratch {
+    /// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
+    fn pixel_depth(&mut self, here: &[Fragment], neighbours: &[[u32; 3]]) -> Option<f32> {
+        if !here.iter().any(|f| f.centre) {
+            return None;
+        }
+        let m = here.len();
+        self.parent.clear();
+        self.parent.extend(0..m as u32);
+        self.border.clear();
+        self.border.resize(m, false);
+        self.root.clear();
+        self.root.resize(m, (false, false, f32::NEG_INFINITY));
+        fn find(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                parent[i as usize] = parent[parent[i as usize] as usize];
+                i = parent[i as usize];
+            }
+            i
+        }
+        for (i, f) in here.iter().enumerate() {
+            for k in 0..3 {
+                if f.edges & (1 << k) == 0 {
+                    continue;
+                }
+                let across = neighbours[f.triangle as usize][k];
+                let j = (across != NONE).then(|| here.binary_search_by_key(&across, |g| g.triangle).ok()).flatten();
+                match j {
+                    Some(j) => {
+                        let (a, b) = (find(&mut self.parent, i as u32), find(&mut self.parent, j as u32));
+                        self.parent[a as usize] = b;
+                    }
+                    None => self.border[i] = true,
+                }
+            }
+        }
+        for (i, f) in here.iter().enumerate() {
+            let r = find(&mut self.parent, i as u32) as usize;
+            let c = &mut self.root[r];
+            (c.0, c.1, c.2) = (c.0 || self.border[i], c.1 || f.centre, c.2.max(f.z));
+        }
+        let mut best: Option<f32> = None;
+        for (i, &(border, centre, z)) in self.root.iter().enumerate() {
+            if self.parent[i] == i as u32 && !border && centre {
+                best = Some(best.map_or(z, |b| b.min(z)));
+            }
+        }
+        best
     }
 }
 
@@ -199,56 +253,55 @@ mod tests {
         hit as f32 / (n * n) as f32
     }
 
-    /// A fan of triangles around a centre (a closed polygon of one winding): its rim is the outline.
-    fn fan(cx: f32, cy: f32, r: f32, k: usize, z: f32) -> (Vec<Triangle>, Vec<[Vec3; 2]>) {
+    /// A fan of k triangles around a centre (a closed polygon of one winding): its rim has no
+    /// neighbours.
+    fn fan(cx: f32, cy: f32, r: f32, k: usize, z: f32) -> (Vec<Triangle>, Vec<[u32; 3]>) {
         let p = |i: usize| {
             let a = i as f32 / k as f32 * std::f32::consts::TAU;
             Vec3::new(cx + r * a.cos(), cy + r * a.sin(), z + 0.01 * a.sin())
         };
         let c = Vec3::new(cx, cy, z);
         let tris = (0..k).map(|i| [c, p(i), p(i + 1)]).collect();
-        let rim = (0..k).map(|i| [p(i), p(i + 1)]).collect();
-        (tris, rim)
+        let neighbours = (0..k).map(|i| [((i + k - 1) % k) as u32, NONE, ((i + 1) % k) as u32]).collect();
+        (tris, neighbours)
+    }
+
+    /// Two triangles making the square [a, b]^2 at depth z; only its four sides are outline.
+    fn square(a: f32, b: f32, z: f32) -> (Vec<Triangle>, Vec<[u32; 3]>) {
+        let q = [Vec3::new(a, a, z), Vec3::new(b, a, z), Vec3::new(b, b, z), Vec3::new(a, b, z)];
+        (vec![[q[0], q[1], q[2]], [q[0], q[2], q[3]]], vec![[NONE, NONE, 1], [0, NONE, NONE]])
     }
 
     #[test]
     fn coverage_never_exceeds_a_fine_reference() {
         let mut rng = crate::rng::XorShift(7);
         let mut rand = || rng.unit();
+        let mut total = 0;
         for _ in 0..30 {
-            let (tris, rim) =
+            let (tris, neighbours) =
                 fan(4.0 + 24.0 * rand(), 4.0 + 24.0 * rand(), 2.0 + 12.0 * rand(), 5 + (rand() * 20.0) as usize, 0.5);
             let mut r = OccluderRaster::new(32, 32);
-            r.patch(&tris, &rim);
+            r.add(&tris, &neighbours);
             let maps = r.finish();
-            let mut covered = 0;
             for y in 0..32 {
                 for x in 0..32 {
                     if maps.covered[y * 32 + x] == 1 {
-                        covered += 1;
+                        total += 1;
                         assert_eq!(coverage(&tris, x, y, 16), 1.0, "pixel {x},{y} counted covered but is not");
-                        // Depth is at least the farthest triangle vertex nearby... and never nearer
-                        // than the surface: the fan's depth varies in 0.49..=0.51.
+                        // Never nearer than the surface: the fan's depth varies in 0.49..=0.51.
                         assert!(maps.depth[y * 32 + x] >= 0.49 && maps.depth[y * 32 + x] <= 0.5101);
                     }
                 }
             }
-            let _ = covered;
         }
+        assert!(total > 1000, "only {total} pixels covered in 30 fans");
     }
 
     #[test]
     fn inner_edges_do_not_cut_coverage() {
-        // A square of two triangles: only its four sides are outline.
-        let q = [
-            Vec3::new(2.0, 2.0, 0.3),
-            Vec3::new(10.0, 2.0, 0.3),
-            Vec3::new(10.0, 10.0, 0.3),
-            Vec3::new(2.0, 10.0, 0.3),
-        ];
+        let (tris, neighbours) = square(2.0, 10.0, 0.3);
         let mut r = OccluderRaster::new(12, 12);
-        let sides: Vec<[Vec3; 2]> = (0..4).map(|i| [q[i], q[(i + 1) % 4]]).collect();
-        r.patch(&[[q[0], q[1], q[2]], [q[0], q[2], q[3]]], &sides);
+        r.add(&tris, &neighbours);
         let maps = r.finish();
         let count: usize = maps.covered.iter().map(|&c| c as usize).sum();
         // Pixels 2..10 are inside, but the ones the sides touch (2 and 9, widened) are not counted.
@@ -259,27 +312,59 @@ mod tests {
             d.is_infinite()
         }));
     }
-}
-
-#[cfg(test)]
-mod patch_tests {
-    use super::*;
 
     #[test]
-    fn a_hidden_patch_neither_cuts_coverage_nor_pushes_depth() {
-        let sq = |x0: f32, x1: f32, z: f32| {
-            let q = [Vec3::new(x0, x0, z), Vec3::new(x1, x0, z), Vec3::new(x1, x1, z), Vec3::new(x0, x1, z)];
-            let sides: Vec<[Vec3; 2]> = (0..4).map(|i| [q[i], q[(i + 1) % 4]]).collect();
-            (vec![[q[0], q[1], q[2]], [q[0], q[2], q[3]]], sides)
-        };
+    fn a_hidden_square_neither_cuts_coverage_nor_pushes_depth() {
         let mut r = OccluderRaster::new(16, 16);
-        let (near, near_rim) = sq(1.0, 15.0, 0.2);
-        let (far, far_rim) = sq(5.0, 9.0, 0.9);
-        r.patch(&near, &near_rim);
-        r.patch(&far, &far_rim);
+        let (near, near_n) = square(1.0, 15.0, 0.2);
+        let (far, far_n) = square(5.0, 9.0, 0.9);
+        r.add(&near, &near_n);
+        r.add(&far, &far_n);
         let maps = r.finish();
         // The far square's sides lie over the near square: they cut nothing, and depth stays near.
         assert_eq!(maps.covered.iter().map(|&c| c as usize).sum::<usize>(), 12 * 12);
         assert!(maps.depth.iter().zip(&maps.covered).all(|(&d, &c)| c == 0 || (d - 0.2).abs() < 1e-6));
+    }
+
+    #[test]
+    fn a_surface_overlapping_itself_is_bounded_by_its_near_layer() {
+        // A ramp winding 1.5 times round a ring, one connected surface: its first half turn
+        // (near, z about 0.2) lies over its last (far, z about 0.8) on screen.
+        let steps = 90;
+        let turn = 1.5 * std::f32::consts::TAU;
+        let at = |i: usize, r: f32| {
+            let a = turn * i as f32 / steps as f32;
+            Vec3::new(16.0 + r * a.cos(), 16.0 + r * a.sin(), 0.2 + 0.6 * i as f32 / steps as f32)
+        };
+        let (mut tris, mut neighbours) = (Vec::new(), Vec::new());
+        for i in 0..steps {
+            let (a, b, c, d) = (at(i, 6.0), at(i, 14.0), at(i + 1, 14.0), at(i + 1, 6.0));
+            let (t0, t1) = (2 * i as u32, 2 * i as u32 + 1);
+            tris.push([a, b, c]);
+            neighbours.push([if i == 0 { NONE } else { t0 - 1 }, NONE, t1]);
+            tris.push([a, c, d]);
+            neighbours.push([t0, NONE, if i + 1 == steps { NONE } else { t1 + 1 }]);
+        }
+        let mut r = OccluderRaster::new(32, 32);
+        r.add(&tris, &neighbours);
+        let maps = r.finish();
+        // Over the overlap (angles 90..180 degrees, away from the ramp's ends and rims) every covered
+        // pixel takes the near layer's depth.
+        let mut overlap = 0;
+        for y in 0..32 {
+            for x in 0..32 {
+                let (dx, dy) = (x as f32 + 0.5 - 16.0, y as f32 + 0.5 - 16.0);
+                let (r, a) = (dx.hypot(dy), dy.atan2(dx).to_degrees());
+                if maps.covered[y * 32 + x] == 1 {
+                    assert_eq!(coverage(&tris, x, y, 16), 1.0);
+                }
+                if (8.0..12.0).contains(&r) && (100.0..170.0).contains(&a) {
+                    assert_eq!(maps.covered[y * 32 + x], 1, "pixel {x},{y}");
+                    assert!(maps.depth[y * 32 + x] < 0.5, "pixel {x},{y}: depth {}", maps.depth[y * 32 + x]);
+                    overlap += 1;
+                }
+            }
+        }
+        assert!(overlap > 10);
     }
 }

@@ -3,7 +3,7 @@
 //! organs (no pre-processing, so organs may move), or the pre-computed minimum occluder sets of the
 //! nearest grid viewpoint ([`crate::mos`]) while the layout is the pre-processed one.
 
-use super::{see, CullSettings, Seen};
+use super::{see, wholly_ahead, CullSettings, Seen};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -60,24 +60,31 @@ impl OccluderSource {
     }
 }
 
-/// One occluder: a leaf of an organ's hierarchy (stored as `[organ, leaf]`).
+/// One occluder: a leaf of an organ's hierarchy, or of its occluder stand-in's (stored as
+/// `[organ, leaf]`; stored ones are the organ's own).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
 #[serde(from = "[u32; 2]", into = "[u32; 2]")]
 pub struct LeafRef {
     pub organ: u32,
     pub leaf: u32,
+    /// A leaf of the organ's stand-in ([`crate::organ_set::StandIn`]).
+    pub stand_in: bool,
 }
 
 impl LeafRef {
     /// Does the set have this organ and this leaf?
     pub fn exists_in(self, set: &OrganSet) -> bool {
-        set.organs.get(self.organ as usize).is_some_and(|o| (self.leaf as usize) < o.bvh.leaves.len())
+        set.organs.get(self.organ as usize).is_some_and(|o| match (self.stand_in, &o.stand_in) {
+            (false, _) => (self.leaf as usize) < o.bvh.leaves.len(),
+            (true, Some(s)) => (self.leaf as usize) < s.bvh.leaves.len(),
+            (true, None) => false,
+        })
     }
 }
 
 impl From<[u32; 2]> for LeafRef {
     fn from([organ, leaf]: [u32; 2]) -> Self {
-        LeafRef { organ, leaf }
+        LeafRef { organ, leaf, stand_in: false }
     }
 }
 
@@ -89,8 +96,10 @@ impl From<LeafRef> for [u32; 2] {
 
 /// Occluders by projected size. Opaque, visible organs are taken in order of the projected area
 /// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
-/// its leaves in the frustum, nearest first, until the
-/// triangle budget (or the leaf limit) is spent. Taking an organ's near side whole keeps the
+/// its leaves in the frustum, nearest first, until the triangle budget (or the leaf limit) is
+/// spent. An organ with an occluder stand-in offers the stand-in's leaves instead while the organ
+/// lies wholly beyond the near plane (then the eye is outside it, and every ray meets its drawn
+/// surface before a point inside). Taking an organ's near side whole keeps the
 /// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
 /// only the triangles that face the eye.
 pub fn by_projected_size(
@@ -122,19 +131,21 @@ pub fn by_projected_size(
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
         let mvp = *view_proj * model;
+        let stand_in = organ.stand_in.as_ref().filter(|_| wholly_ahead(&mvp, &organ.bvh.nodes[0].bounds));
+        let bvh = stand_in.map_or(&organ.bvh, |s| &s.bvh);
         // Its leaves on screen, nearest first: the near side of a shell before its far wall.
         let mut near: Vec<(f32, u32)> = Vec::new();
-        for (l, &n) in organ.bvh.leaves.iter().enumerate() {
-            let bounds = &organ.bvh.nodes[n as usize].bounds;
+        for (l, &n) in bvh.leaves.iter().enumerate() {
+            let bounds = &bvh.nodes[n as usize].bounds;
             if see(&mvp, bounds, w, h) != Seen::Outside {
                 near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
             }
         }
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         for (_, l) in near {
-            let count = organ.bvh.nodes[organ.bvh.leaves[l as usize] as usize].count as usize;
+            let count = bvh.nodes[bvh.leaves[l as usize] as usize].count as usize;
             if triangles + count <= settings.occluder_triangles && chosen.len() < max_leaves {
-                chosen.push(LeafRef { organ: o as u32, leaf: l });
+                chosen.push(LeafRef { organ: o as u32, leaf: l, stand_in: stand_in.is_some() });
                 triangles += count;
             }
         }

@@ -87,7 +87,7 @@ pub fn candidates(set: &OrganSet, layout: &Layout, camera: &Camera, size: usize)
         let mvp = view_proj * state.transform.matrix();
         for (l, &n) in organ.bvh.leaves.iter().enumerate() {
             if see(&mvp, &organ.bvh.nodes[n as usize].bounds, size, size) != Seen::Outside {
-                out.push(LeafRef { organ: o as u32, leaf: l as u32 });
+                out.push(LeafRef { organ: o as u32, leaf: l as u32, stand_in: false });
             }
         }
     }
@@ -120,7 +120,7 @@ pub fn select_for_view(set: &OrganSet, layout: &Layout, camera: &Camera, params:
         let mvp = view_proj * state.transform.matrix();
         for node in &organ.bvh.nodes {
             if node.count > params.min_occludee_triangles {
-                if let Seen::Rect { x0, y0, x1, y1, z } = see(&mvp, &node.bounds, n, n) {
+                if let Seen::Rect { x0, y0, x1, y1, z, .. } = see(&mvp, &node.bounds, n, n) {
                     occludees.push((node.count as f64, [x0, y0, x1, y1], z));
                 }
             }

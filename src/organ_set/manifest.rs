@@ -45,6 +45,10 @@ pub struct OrganEntry {
     pub name: String,
     /// Path of the `.vbo`/`.obj` file relative to the manifest's folder; must stay inside it.
     pub mesh: String,
+    /// Optional mesh with fewer triangles on or inside the organ's surface that stands in for it
+    /// as an occluder (relative path, like `mesh`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub occluder: Option<String>,
     /// `#rrggbb` (sRGB).
     pub colour: String,
     #[serde(default = "one")]
@@ -118,7 +122,11 @@ impl OrganEntry {
         if parse_colour(&self.colour).is_none() {
             return Err(format!("organ \"{}\": colour \"{}\" is not #rrggbb", self.id, self.colour));
         }
-        mesh_path_ok(&self.mesh).map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))
+        mesh_path_ok(&self.mesh).map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))?;
+        match &self.occluder {
+            Some(p) => mesh_path_ok(p).map_err(|e| format!("organ \"{}\": occluder \"{p}\" {e}", self.id)),
+            None => Ok(()),
+        }
     }
 }
 

@@ -32,19 +32,49 @@ pub struct Organ {
     /// Triangles in the order of `bvh`'s leaves.
     pub mesh: Mesh,
     pub bvh: Bvh,
+    /// A mesh with fewer triangles on or inside this organ's surface (organ space) that stands in
+    /// for it as an occluder, e.g. the original of a subdivided set.
+    pub stand_in: Option<StandIn>,
+}
+
+/// An occluder stand-in: its mesh (in the order of its own hierarchy's leaves) and hierarchy.
+#[derive(Clone, Debug, Default)]
+pub struct StandIn {
+    pub mesh: Mesh,
+    pub bvh: Bvh,
+}
+
+impl StandIn {
+    pub fn new(mut mesh: Mesh) -> StandIn {
+        let bvh = Bvh::build(&mut mesh);
+        StandIn { mesh, bvh }
+    }
 }
 
 impl Organ {
     /// An organ with the set's defaults; builds its hierarchy (reordering the mesh's triangles).
     pub fn new(id: String, name: String, colour: [f32; 3], mut mesh: Mesh) -> Organ {
         let bvh = Bvh::build(&mut mesh);
-        Organ { id, name, group: String::new(), colour, opacity: 1.0, visible: true, info: String::new(), mesh, bvh }
+        Organ {
+            id,
+            name,
+            group: String::new(),
+            colour,
+            opacity: 1.0,
+            visible: true,
+            info: String::new(),
+            mesh,
+            bvh,
+            stand_in: None,
+        }
     }
 
-    /// Replaces the mesh, rebuilding the hierarchy.
+    /// Replaces the mesh, rebuilding the hierarchy; the occluder stand-in is dropped (it may no
+    /// longer lie inside).
     pub fn set_mesh(&mut self, mut mesh: Mesh) {
         self.bvh = Bvh::build(&mut mesh);
         self.mesh = mesh;
+        self.stand_in = None;
     }
 }
 
@@ -82,7 +112,8 @@ impl OrganSet {
         self.organs.iter().position(|o| o.id == id)
     }
 
-    /// The manifest that describes this set with meshes at `meshes/<id>.vbo`.
+    /// The manifest that describes this set with meshes at `meshes/<id>.vbo` (and occluder
+    /// stand-ins at `meshes/<id>.occluder.vbo`).
     pub fn manifest(&self) -> Manifest {
         Manifest {
             format: manifest::FORMAT.into(),
@@ -98,6 +129,7 @@ impl OrganSet {
                     id: o.id.clone(),
                     name: o.name.clone(),
                     mesh: format!("meshes/{}.vbo", o.id),
+                    occluder: o.stand_in.as_ref().map(|_| format!("meshes/{}.occluder.vbo", o.id)),
                     colour: manifest::format_colour(o.colour),
                     opacity: o.opacity,
                     visible: o.visible,
@@ -114,6 +146,10 @@ impl OrganSet {
         std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
         for o in &self.organs {
             crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
+            if let Some(stand_in) = &o.stand_in {
+                let path = meshes.join(format!("{}.occluder.vbo", o.id));
+                crate::atomic::write(&path, |w| obj::write_vbo(&[(&o.name, &stand_in.mesh)], w))?;
+            }
         }
         let json = serde_json::to_string_pretty(&self.manifest()).map_err(|e| Error::Other(e.to_string()))?;
         crate::atomic::write(&dir.join(MANIFEST_FILE), |w| w.write_all(json.as_bytes()))
@@ -206,14 +242,29 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
         mesh.append(&o.mesh);
     }
     let colour = manifest::parse_colour(&entry.colour).unwrap_or([0.8; 3]);
+    let mut warnings = file.warnings;
+    // A broken stand-in costs only speed: the organ occludes with its own triangles.
+    let stand_in = entry.occluder.as_ref().and_then(|p| match obj::read(&dir.join(p)) {
+        Ok(f) => {
+            warnings.extend(f.warnings);
+            let mut mesh = Mesh::default();
+            f.objects.iter().for_each(|o| mesh.append(&o.mesh));
+            Some(StandIn::new(mesh))
+        }
+        Err(e) => {
+            warnings.push(format!("organ \"{}\": occluder stand-in ignored: {e}", entry.id));
+            None
+        }
+    });
     let organ = Organ {
+        stand_in,
         group: entry.group.clone(),
         opacity: entry.opacity,
         visible: entry.visible,
         info: entry.info.clone(),
         ..Organ::new(entry.id.clone(), entry.name.clone(), colour, mesh)
     };
-    Ok((organ, file.warnings))
+    Ok((organ, warnings))
 }
 
 /// One organ per object of each file; a broken file is reported and skipped.
