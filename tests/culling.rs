@@ -3,7 +3,7 @@
 //! for pixel, on the default brain and on a synthetic scene of high depth complexity. And it does
 //! cull: the test also requires a real share of triangles culled. Occluders come by projected size
 //! and from pre-computed minimum occluder sets (forced even after organs moved, and automatic while
-//! the layout is the pre-processed one), in turn.
+//! the layout is the pre-processed one), in turn; and from occluder stand-ins on a subdivided scene.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
 
@@ -154,5 +154,14 @@ fn depth_complex_scene_culling_changes_no_pixel() {
     let params = vbrain::mos::Params { limit: 32, ..Default::default() };
     set.occluders = Some(vbrain::mos::preprocess(&set, &Layout::new(&set), 8, &params, &|_, _| {}));
     let share = identical_images(&set, 80, 0xfeed, false);
+    assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
+}
+
+#[test]
+fn occluder_stand_ins_change_no_pixel() {
+    // Subdivided 2 x 2: every organ keeps its original mesh as occluder stand-in, on its surface.
+    let set = organ_set::scale::scale_set(&depth_complex_scene(), 2, &mut |_, _, _| {});
+    assert!(set.organs.iter().all(|o| o.stand_in.is_some()));
+    let share = identical_images(&set, 40, 0x57a1d, false);
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
 }

@@ -263,3 +263,32 @@ mod fuzz {
         }
     }
 }
+
+#[test]
+fn occluder_stand_ins_round_trip_and_a_broken_one_is_only_a_warning() {
+    // A closed tetrahedron, scaled: each organ keeps its original mesh as occluder stand-in.
+    let dir = tempfile::tempdir().unwrap();
+    let tet = "v 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+    write(dir.path(), "tet.obj", tet);
+    write(dir.path(), "organset.json", &manifest(&organ("tet", "tet.obj", "")));
+    let set = organ_set::open(dir.path()).unwrap().set;
+    assert!(set.organs[0].stand_in.is_none());
+    let scaled = organ_set::scale::scale_set(&set, 3, &mut |_, _, _| {});
+    let out = dir.path().join("scaled");
+    scaled.save(&out).unwrap();
+    let loaded = organ_set::open(&out).unwrap();
+    assert!(loaded.warnings.is_empty() && loaded.errors.is_empty(), "{:?} {:?}", loaded.warnings, loaded.errors);
+    let o = &loaded.set.organs[0];
+    assert_eq!(o.mesh.triangle_count(), 4 * 9);
+    assert_eq!(o.stand_in.as_ref().map(|s| s.mesh.triangle_count()), Some(4));
+    // A broken stand-in: the organ loads without it, and a warning names the file and line.
+    write(&out, "meshes/tet.occluder.vbo", "v 0 0 0\nf 1 2 3\n");
+    let loaded = organ_set::open(&out).unwrap();
+    assert_eq!(loaded.set.organs.len(), 1);
+    assert!(loaded.set.organs[0].stand_in.is_none());
+    assert!(
+        loaded.warnings.iter().any(|w| w.contains("tet.occluder.vbo") && w.contains("stand-in")),
+        "{:?}",
+        loaded.warnings
+    );
+}

@@ -5,15 +5,17 @@
 //!
 //! 1. View-frustum culling of each drawn organ's hierarchy ([`crate::bvh`]).
 //! 2. Occluders: opaque, visible organs by projected size, largest first; of each, its leaves in
-//!    the frustum nearest first, up to a triangle budget (no pre-processing, so organs may move);
-//!    or, for an unchanged layout, the pre-computed minimum occluder sets ([`selection`],
-//!    [`crate::mos`]).
+//!    the frustum nearest first (of its occluder stand-in where it has one and lies wholly ahead),
+//!    up to a triangle budget (no pre-processing, so organs may move); or, for an unchanged layout,
+//!    the pre-computed minimum occluder sets ([`selection`], [`crate::mos`]).
 //! 3. [`raster`]: their front triangles rasterised conservatively into coverage and depth.
 //! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
 //!    [`sparse_depth`] for the depth comparison over peaks only.
 //! 5. Hierarchical traversal: a node is culled when its outward-rounded rectangle is wholly covered
 //!    and its nearest depth is behind every occluder depth there; below a node whose coverage ratio
-//!    is under the adaptive threshold, descendants are tested against the frustum only.
+//!    is under the adaptive threshold, descendants are tested against the frustum only. A leaf
+//!    that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own; a node
+//!    wholly inside the frustum with nothing more to test is drawn as one range.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -402,7 +404,11 @@ pub fn cull_with(
                 continue;
             }
             let mut test_children = test;
+            // Whether a failing leaf's parts are worth testing: not where its box reaches in front
+            // of the occluders at its centre (the occluders' own surface, mostly).
+            let mut parts = true;
             if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, &occ, test) {
+                parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
                 stats.nodes_tested += 1;
                 let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance);
                 if hidden {
@@ -422,7 +428,7 @@ pub fn cull_with(
             }
             match (node.is_leaf(), &occ) {
                 // A leaf that failed: its parts' tighter boxes may still be hidden.
-                (true, Some(o)) if test_children => {
+                (true, Some(o)) if test_children && parts => {
                     for part in organ.bvh.parts_of(node.leaf) {
                         match see(&mvp, &part.bounds, w, h) {
                             Seen::Outside => stats.frustum_culled += part.count as usize,

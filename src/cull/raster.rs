@@ -27,9 +27,9 @@ pub type Triangle = [Vec3; 3];
 pub struct OccluderRaster {
     pub width: usize,
     pub height: usize,
+    triangles: Vec<Triangle>,
     /// Per triangle added, its occluder neighbours (indices among all triangles added, or NONE).
     neighbours: Vec<[u32; 3]>,
-    fragments: Vec<Fragment>,
 }
 
 /// The result: a coverage bitmap (1 = wholly covered) and the farthest occluder depth of each
@@ -60,7 +60,7 @@ struct Fragment {
 
 impl OccluderRaster {
     pub fn new(width: usize, height: usize) -> OccluderRaster {
-        OccluderRaster { width, height, neighbours: Vec::new(), fragments: Vec::new() }
+        OccluderRaster { width, height, triangles: Vec::new(), neighbours: Vec::new() }
     }
 
     /// Adds triangles of one winding; `neighbours[i][k]` is the index in `triangles` of the
@@ -69,15 +69,12 @@ impl OccluderRaster {
     pub fn add(&mut self, triangles: &[Triangle], neighbours: &[[u32; 3]]) {
         debug_assert_eq!(triangles.len(), neighbours.len());
         let base = self.neighbours.len() as u32;
-        for (t, n) in triangles.iter().zip(neighbours) {
-            let id = self.neighbours.len() as u32;
-            self.neighbours.push(n.map(|j| if j == NONE { NONE } else { base + j }));
-            self.fragments_of(id, t);
-        }
+        self.triangles.extend_from_slice(triangles);
+        self.neighbours.extend(neighbours.iter().map(|n| n.map(|j| if j == NONE { NONE } else { base + j })));
     }
 
-    /// The fragments of triangle `id`, in row order.
-    fn fragments_of(&mut self, id: u32, t: &Triangle) {
+    /// Appends the fragments of triangle `id` to `out`, in row order.
+    fn fragments_of(&self, out: &mut Vec<Fragment>, id: u32, t: &Triangle) {
         let min = t[0].min(t[1]).min(t[2]);
         let max = t[0].max(t[1]).max(t[2]);
         let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
@@ -128,7 +125,7 @@ impl OccluderRaster {
                     }
                 }
                 let z = t[0].z + dzdx * (cx - t[0].x) + dzdy * (cy - t[0].y) + 0.5 * (dzdx.abs() + dzdy.abs());
-                self.fragments.push(Fragment {
+                out.push(Fragment {
                     pixel: (y * self.width + x) as u32,
                     triangle: id,
                     z: if z.is_finite() { z.min(zmax) } else { zmax },
@@ -139,32 +136,52 @@ impl OccluderRaster {
         }
     }
 
+    /// Coverage and depth of every pixel (triangles and pixel rows shared among threads).
     pub fn finish(self) -> OccluderMaps {
-        let n = self.width * self.height;
-        let mut covered = vec![0u8; n];
-        let mut depth = vec![f32::INFINITY; n];
+        use rayon::prelude::*;
+        const CHUNK: usize = 1024;
+        let chunks: Vec<Vec<Fragment>> = self
+            .triangles
+            .par_chunks(CHUNK)
+            .enumerate()
+            .map(|(c, tris)| {
+                let mut out = Vec::with_capacity(4 * tris.len());
+                for (k, t) in tris.iter().enumerate() {
+                    self.fragments_of(&mut out, (c * CHUNK + k) as u32, t);
+                }
+                out
+            })
+            .collect();
+        let (w, n) = (self.width, self.width * self.height);
         // Fragments by pixel (a stable counting sort: by triangle within a pixel).
         let mut start = vec![0u32; n + 1];
-        for f in &self.fragments {
+        for f in chunks.iter().flatten() {
             start[f.pixel as usize + 1] += 1;
         }
         for p in 0..n {
             start[p + 1] += start[p];
         }
         let mut next = start.clone();
-        let mut sorted = vec![self.fragments.first().copied().unwrap_or(EMPTY); self.fragments.len()];
-        for f in &self.fragments {
+        let mut sorted = vec![EMPTY; start[n] as usize];
+        for f in chunks.iter().flatten() {
             sorted[next[f.pixel as usize] as usize] = *f;
             next[f.pixel as usize] += 1;
         }
-        let mut scratch = Scratch::default();
-        for p in 0..n {
-            let here = &sorted[start[p] as usize..start[p + 1] as usize];
-            if let Some(z) = scratch.pixel_depth(here, &self.neighbours) {
-                covered[p] = 1;
-                depth[p] = z;
-            }
-        }
+        let mut covered = vec![0u8; n];
+        let mut depth = vec![f32::INFINITY; n];
+        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each_init(
+            Scratch::default,
+            |scratch, (y, (covered, depth))| {
+                for x in 0..w {
+                    let p = y * w + x;
+                    let here = &sorted[start[p] as usize..start[p + 1] as usize];
+                    if let Some(z) = scratch.pixel_depth(here, &self.neighbours) {
+                        covered[x] = 1;
+                        depth[x] = z;
+                    }
+                }
+            },
+        );
         OccluderMaps { width: self.width, height: self.height, covered, depth }
     }
 }
@@ -343,7 +360,7 @@ mod tests {
             tris.push([a, b, c]);
             neighbours.push([if i == 0 { NONE } else { t0 - 1 }, NONE, t1]);
             tris.push([a, c, d]);
-            neighbours.push([t0, NONE, if i + 1 == steps { NONE } else { t1 + 1 }]);
+            neighbours.push([t0, if i + 1 == steps { NONE } else { t1 + 1 }, NONE]);
         }
         let mut r = OccluderRaster::new(32, 32);
         r.add(&tris, &neighbours);
