@@ -71,7 +71,7 @@ pub struct CullSettings {
     /// Culling raster size in pixels.
     pub width: usize,
     pub height: usize,
-    /// Most occluder triangles rasterised per frame.
+    /// Most occluder triangles rasterised per frame (those facing the eye).
     pub occluder_triangles: usize,
     /// Stop descending below this coverage ratio (thesis: 0.2); 0 disables the adaptive stop.
     pub adaptive_ratio: f32,
@@ -90,7 +90,7 @@ impl Default for CullSettings {
             mode: CullMode::Occlusion,
             width: 128,
             height: 128,
-            occluder_triangles: 16_384,
+            occluder_triangles: 1024,
             adaptive_ratio: 0.2,
             hole_tolerance: None,
             occluder_leaves: None,
@@ -107,15 +107,19 @@ pub struct DrawList {
 
 impl DrawList {
     fn push(&mut self, organ: usize, r: Range<u32>) {
-        let list = &mut self.ranges[organ];
-        match list.last_mut() {
-            Some(last) if last.end == r.start => last.end = r.end,
-            _ => list.push(r),
-        }
+        push_merged(&mut self.ranges[organ], r);
     }
 
     pub fn triangles(&self) -> usize {
         self.ranges.iter().flatten().map(|r| (r.end - r.start) as usize / 3).sum()
+    }
+}
+
+/// Appends a range, merged into the last one where they meet.
+fn push_merged(list: &mut Vec<Range<u32>>, r: Range<u32>) {
+    match list.last_mut() {
+        Some(last) if last.end == r.start => last.end = r.end,
+        _ => list.push(r),
     }
 }
 
@@ -384,73 +388,101 @@ pub fn cull_with(
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
-    for (i, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
-        if !state.is_drawn() || organ.bvh.nodes.is_empty() {
-            continue;
-        }
-        stats.triangles += organ.mesh.triangle_count();
-        if settings.mode == CullMode::None {
-            list.push(i, 0..organ.mesh.indices.len() as u32);
-            continue;
-        }
-        let mvp = view_proj * state.transform.matrix();
-        // (node, whether occlusion is still tested below it).
-        let mut stack = vec![(0u32, occ.is_some())];
-        while let Some((n, test)) = stack.pop() {
-            let node = &organ.bvh.nodes[n as usize];
-            let seen = see(&mvp, &node.bounds, w, h);
-            if seen == Seen::Outside {
-                stats.frustum_culled += node.count as usize;
-                continue;
+    // Organs in parallel, each into its own list and counts.
+    use rayon::prelude::*;
+    let organs: Vec<(Vec<Range<u32>>, CullStats)> = set
+        .organs
+        .par_iter()
+        .zip(&layout.organs)
+        .map(|(organ, state)| {
+            if !state.is_drawn() || organ.bvh.nodes.is_empty() {
+                return Default::default();
             }
-            let mut test_children = test;
-            // Whether a failing leaf's parts are worth testing: not where its box reaches in front
-            // of the occluders at its centre (the occluders' own surface, mostly).
-            let mut parts = true;
-            if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, &occ, test) {
-                parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
-                stats.nodes_tested += 1;
-                let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance);
-                if hidden {
-                    stats.occlusion_culled += node.count as usize;
-                    continue;
-                }
-                // Adaptive stop: too little of it is covered for a descendant to be hidden; only
-                // the frustum is tested below.
-                let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32;
-                test_children = covered as f32 >= settings.adaptive_ratio * area;
-            }
-            let testing = test_children && occ.is_some();
-            if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {
-                // Wholly inside the frustum with nothing more to test: all of it, in one range.
-                list.push(i, 3 * node.first..3 * (node.first + node.count));
-                continue;
-            }
-            match (node.is_leaf(), &occ) {
-                // A leaf that failed: its parts' tighter boxes may still be hidden.
-                (true, Some(o)) if test_children && parts => {
-                    for part in organ.bvh.parts_of(node.leaf) {
-                        match see(&mvp, &part.bounds, w, h) {
-                            Seen::Outside => stats.frustum_culled += part.count as usize,
-                            Seen::Rect { x0, y0, x1, y1, z, .. }
-                                if o.test([x0, y0, x1, y1], z, settings.hole_tolerance).1 =>
-                            {
-                                stats.occlusion_culled += part.count as usize
-                            }
-                            _ => list.push(i, 3 * part.first..3 * (part.first + part.count)),
-                        }
-                        stats.nodes_tested += 1;
-                    }
-                }
-                (true, _) => list.push(i, 3 * node.first..3 * (node.first + node.count)),
-                (false, _) => {
-                    stack.push((node.children[1], test_children));
-                    stack.push((node.children[0], test_children));
-                }
-            }
-        }
+            let mvp = view_proj * state.transform.matrix();
+            traverse(organ, &mvp, occ.as_ref(), &settings)
+        })
+        .collect();
+    for (i, (ranges, s)) in organs.into_iter().enumerate() {
+        ranges.into_iter().for_each(|r| list.push(i, r));
+        stats.triangles += s.triangles;
+        stats.frustum_culled += s.frustum_culled;
+        stats.occlusion_culled += s.occlusion_culled;
+        stats.nodes_tested += s.nodes_tested;
     }
     stats.drawn = list.triangles();
     stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
+    (list, stats)
+}
+
+/// The index ranges of one drawn organ that survive culling (contiguous ones merged), with its
+/// triangle, culled and tested counts.
+fn traverse(
+    organ: &crate::organ_set::Organ,
+    mvp: &Mat4,
+    occ: Option<&Occluders>,
+    settings: &CullSettings,
+) -> (Vec<Range<u32>>, CullStats) {
+    let (w, h) = (settings.width, settings.height);
+    let mut stats = CullStats { triangles: organ.mesh.triangle_count(), ..Default::default() };
+    let mut list: Vec<Range<u32>> = Vec::new();
+    if settings.mode == CullMode::None {
+        push_merged(&mut list, 0..organ.mesh.indices.len() as u32);
+        return (list, stats);
+    }
+    // (node, whether occlusion is still tested below it).
+    let mut stack = vec![(0u32, occ.is_some())];
+    while let Some((n, test)) = stack.pop() {
+        let node = &organ.bvh.nodes[n as usize];
+        let seen = see(mvp, &node.bounds, w, h);
+        if seen == Seen::Outside {
+            stats.frustum_culled += node.count as usize;
+            continue;
+        }
+        let mut test_children = test;
+        // Whether a failing leaf's parts are worth testing: not where its box reaches in front
+        // of the occluders at its centre (the occluders' own surface, mostly).
+        let mut parts = true;
+        if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
+            parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
+            stats.nodes_tested += 1;
+            let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance);
+            if hidden {
+                stats.occlusion_culled += node.count as usize;
+                continue;
+            }
+            // Adaptive stop: too little of it is covered for a descendant to be hidden; only
+            // the frustum is tested below.
+            let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32;
+            test_children = covered as f32 >= settings.adaptive_ratio * area;
+        }
+        let testing = test_children && occ.is_some();
+        if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {
+            // Wholly inside the frustum with nothing more to test: all of it, in one range.
+            push_merged(&mut list, 3 * node.first..3 * (node.first + node.count));
+            continue;
+        }
+        match (node.is_leaf(), occ) {
+            // A leaf that failed: its parts' tighter boxes may still be hidden.
+            (true, Some(o)) if test_children && parts => {
+                for part in organ.bvh.parts_of(node.leaf) {
+                    match see(mvp, &part.bounds, w, h) {
+                        Seen::Outside => stats.frustum_culled += part.count as usize,
+                        Seen::Rect { x0, y0, x1, y1, z, .. }
+                            if o.test([x0, y0, x1, y1], z, settings.hole_tolerance).1 =>
+                        {
+                            stats.occlusion_culled += part.count as usize
+                        }
+                        _ => push_merged(&mut list, 3 * part.first..3 * (part.first + part.count)),
+                    }
+                    stats.nodes_tested += 1;
+                }
+            }
+            (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),
+            (false, _) => {
+                stack.push((node.children[1], test_children));
+                stack.push((node.children[0], test_children));
+            }
+        }
+    }
     (list, stats)
 }

@@ -105,15 +105,33 @@ impl OccluderRaster {
         let (x0, x1) = span(min.x, max.x, w);
         let (y0, y1) = span(min.y, max.y, h);
         for y in y0..=y1 {
-            for x in x0..=x1 {
-                let (cx, cy) = (x as f32 + 0.5, y as f32 + 0.5);
+            let cy = y as f32 + 0.5;
+            // The pixels whose widened square an edge's line leaves wholly outside lie beyond a
+            // point on the row; the exact test below runs only between those points (less a pixel).
+            let (mut lo, mut hi) = (x0 as f32, x1 as f32);
+            for &(a, b, c, reach) in &edges {
+                // a (x + 0.5) + b cy + c + reach >= 0.
+                let at = -(b * cy + c + reach) / a - 0.5;
+                if a > 0.0 {
+                    lo = lo.max(at.floor() - 1.0);
+                } else if a < 0.0 {
+                    hi = hi.min(at.ceil() + 1.0);
+                }
+            }
+            if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
+                continue;
+            }
+            for x in lo as usize..=hi as usize {
+                let cx = x as f32 + 0.5;
                 let f = edges.map(|(a, b, c, _)| a * cx + b * cy + c);
                 // Touches the (widened) square: no edge has the whole square outside.
                 if (0..3).any(|k| f[k] + edges[k].3 < 0.0) {
                     continue;
                 }
                 let mut touching = 0u8;
-                for k in 0..3 {
+                // Wholly inside every edge: no edge touches the square.
+                let interior = (0..3).all(|k| f[k] > edges[k].3);
+                for k in (0..3).filter(|_| !interior) {
                     let (a, b) = (t[k], t[(k + 1) % 3]);
                     let near_line = f[k].abs() <= edges[k].3;
                     let in_box = a.x.min(b.x) - EPS <= cx + 0.5
@@ -139,7 +157,7 @@ impl OccluderRaster {
     /// Coverage and depth of every pixel (triangles and pixel rows shared among threads).
     pub fn finish(self) -> OccluderMaps {
         use rayon::prelude::*;
-        const CHUNK: usize = 1024;
+        const CHUNK: usize = 128;
         let chunks: Vec<Vec<Fragment>> = self
             .triangles
             .par_chunks(CHUNK)
@@ -169,13 +187,12 @@ impl OccluderRaster {
         }
         let mut covered = vec![0u8; n];
         let mut depth = vec![f32::INFINITY; n];
-        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each_init(
-            Scratch::default,
-            |scratch, (y, (covered, depth))| {
+        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each(
+            |(y, (covered, depth))| {
                 for x in 0..w {
                     let p = y * w + x;
                     let here = &sorted[start[p] as usize..start[p + 1] as usize];
-                    if let Some(z) = scratch.pixel_depth(here, &self.neighbours) {
+                    if let Some(z) = pixel_depth(here, &self.neighbours) {
                         covered[x] = 1;
                         depth[x] = z;
                     }
@@ -188,65 +205,74 @@ impl OccluderRaster {
 
 const EMPTY: Fragment = Fragment { pixel: 0, triangle: 0, z: 0.0, centre: false, edges: 0 };
 
-/// Buffers reused from pixel to pixel.
-#[derive(Default)]
-struct Scratch {
-    parent: Vec<u32>,
-    /// Per fragment: one of its touching edges leads outside the pixel's fragments.
-    border: Vec<bool>,
-    /// Per component root: (has a border in the pixel, holds the centre, farthest depth).
-    root: Vec<(bool, bool, f32)>,
-}
+/// The most fragments with an edge in a pixel that [`pixel_depth`] joins; further ones are left
+/// out, which only adds borders to the components of the others.
+const MAX_EDGED: usize = 64;
 
-impl Scratch {
-    /// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
-    fn pixel_depth(&mut self, here: &[Fragment], neighbours: &[[u32; 3]]) -> Option<f32> {
-        if !here.iter().any(|f| f.centre) {
-            return None;
-        }
-        let m = here.len();
-        self.parent.clear();
-        self.parent.extend(0..m as u32);
-        self.border.clear();
-        self.border.resize(m, false);
-        self.root.clear();
-        self.root.resize(m, (false, false, f32::NEG_INFINITY));
-        fn find(parent: &mut [u32], mut i: u32) -> u32 {
-            while parent[i as usize] != i {
-                parent[i as usize] = parent[parent[i as usize] as usize];
-                i = parent[i as usize];
+/// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
+fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]]) -> Option<f32> {
+    // A fragment with no edge in the pixel that holds the centre covers it alone. (Were it joined
+    // to others, they would only make its component's depth farther.)
+    let mut best = f32::INFINITY;
+    let mut edged = [0u16; MAX_EDGED];
+    let (mut m, mut centre) = (0, false);
+    for (i, f) in here.iter().enumerate() {
+        if f.edges == 0 {
+            if f.centre {
+                best = best.min(f.z);
             }
-            i
+        } else if m < MAX_EDGED {
+            edged[m] = i as u16;
+            m += 1;
+            centre |= f.centre;
         }
-        for (i, f) in here.iter().enumerate() {
-            for k in 0..3 {
-                if f.edges & (1 << k) == 0 {
-                    continue;
-                }
-                let across = neighbours[f.triangle as usize][k];
-                let j = (across != NONE).then(|| here.binary_search_by_key(&across, |g| g.triangle).ok()).flatten();
-                match j {
-                    Some(j) => {
-                        let (a, b) = (find(&mut self.parent, i as u32), find(&mut self.parent, j as u32));
-                        self.parent[a as usize] = b;
-                    }
-                    None => self.border[i] = true,
-                }
-            }
-        }
-        for (i, f) in here.iter().enumerate() {
-            let r = find(&mut self.parent, i as u32) as usize;
-            let c = &mut self.root[r];
-            (c.0, c.1, c.2) = (c.0 || self.border[i], c.1 || f.centre, c.2.max(f.z));
-        }
-        let mut best: Option<f32> = None;
-        for (i, &(border, centre, z)) in self.root.iter().enumerate() {
-            if self.parent[i] == i as u32 && !border && centre {
-                best = Some(best.map_or(z, |b| b.min(z)));
-            }
-        }
-        best
     }
+    let found = |best: f32| (best < f32::INFINITY).then_some(best);
+    if !centre {
+        return found(best);
+    }
+    // The others form components across their touching edges; one whose edge leads to a fragment
+    // not among them (or to none) has a border. Union-find over `edged`.
+    let edged = &edged[..m];
+    let mut parent: [u8; MAX_EDGED] = std::array::from_fn(|i| i as u8);
+    let mut border = [false; MAX_EDGED];
+    fn find(parent: &mut [u8; MAX_EDGED], mut i: u8) -> u8 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for (i, &fi) in edged.iter().enumerate() {
+        let f = &here[fi as usize];
+        for k in 0..3 {
+            if f.edges & (1 << k) == 0 {
+                continue;
+            }
+            let across = neighbours[f.triangle as usize][k];
+            let j = edged.iter().position(|&g| here[g as usize].triangle == across && across != NONE);
+            match j {
+                Some(j) => {
+                    let (a, b) = (find(&mut parent, i as u8), find(&mut parent, j as u8));
+                    parent[a as usize] = b;
+                }
+                None => border[i] = true,
+            }
+        }
+    }
+    // Per root: (has a border, holds the centre, farthest depth).
+    let mut root = [(false, false, f32::NEG_INFINITY); MAX_EDGED];
+    for (i, &fi) in edged.iter().enumerate() {
+        let f = &here[fi as usize];
+        let c = &mut root[find(&mut parent, i as u8) as usize];
+        (c.0, c.1, c.2) = (c.0 || border[i], c.1 || f.centre, c.2.max(f.z));
+    }
+    for (i, &(border, centre, z)) in root[..m].iter().enumerate() {
+        if parent[i] == i as u8 && !border && centre {
+            best = best.min(z);
+        }
+    }
+    found(best)
 }
 
 #[cfg(test)]

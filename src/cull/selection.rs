@@ -97,7 +97,8 @@ impl From<LeafRef> for [u32; 2] {
 /// Occluders by projected size. Opaque, visible organs are taken in order of the projected area
 /// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
 /// its leaves in the frustum, nearest first, until the triangle budget (or the leaf limit) is
-/// spent. An organ with an occluder stand-in offers the stand-in's leaves instead while the organ
+/// spent. The budget counts the triangles that face the eye, the only ones rasterised; a leaf
+/// with none is skipped. An organ with an occluder stand-in offers the stand-in's leaves instead while the organ
 /// lies wholly beyond the near plane (then the eye is outside it, and every ray meets its drawn
 /// surface before a point inside). Taking an organ's near side whole keeps the
 /// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
@@ -142,9 +143,15 @@ pub fn by_projected_size(
             }
         }
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+        let mesh = stand_in.map_or(&organ.mesh, |s| &s.mesh);
+        let eye = model.inverse().transform_point3(camera.eye);
         for (_, l) in near {
-            let count = bvh.nodes[bvh.leaves[l as usize] as usize].count as usize;
-            if triangles + count <= settings.occluder_triangles && chosen.len() < max_leaves {
+            // Only the triangles facing the eye are rasterised, so only they count.
+            let count = facing(mesh, bvh.leaf_range(l), eye);
+            if triangles + count > settings.occluder_triangles || chosen.len() >= max_leaves {
+                break;
+            }
+            if count > 0 {
                 chosen.push(LeafRef { organ: o as u32, leaf: l, stand_in: stand_in.is_some() });
                 triangles += count;
             }
@@ -154,6 +161,18 @@ pub fn by_projected_size(
         }
     }
     chosen
+}
+
+/// How many triangles of an index range face `eye` (counter-clockwise seen from it; organ space).
+fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3) -> usize {
+    let p = |i: u32| glam::Vec3::from(mesh.positions[mesh.indices[i as usize] as usize]);
+    range
+        .step_by(3)
+        .filter(|&i| {
+            let (a, b, c) = (p(i), p(i + 1), p(i + 2));
+            (b - a).cross(c - a).dot(eye - a) > 0.0
+        })
+        .count()
 }
 
 /// The occluders of this frame: the pre-computed set of the nearest viewpoint where

@@ -9,6 +9,7 @@ pub mod import;
 pub mod manifest;
 pub mod obj;
 pub mod scale;
+pub mod stand_in;
 
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
@@ -140,12 +141,23 @@ impl OrganSet {
         }
     }
 
-    /// Writes the set as a folder: `organset.json` and `meshes/<id>.vbo`, each file atomically.
+    /// Writes the set as a folder: `organset.json`, `meshes/<id>.vbo` and the stand-ins, each file
+    /// atomically.
     pub fn save(&self, dir: &Path) -> Result<()> {
         let meshes = dir.join("meshes");
         std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
         for o in &self.organs {
             crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
+        }
+        self.save_stand_ins(dir)
+    }
+
+    /// Writes the occluder stand-ins and `organset.json` into the set's folder `dir`, leaving the
+    /// organs' meshes as they are (so their triangle order, which `occluders.json` names, stays).
+    pub fn save_stand_ins(&self, dir: &Path) -> Result<()> {
+        let meshes = dir.join("meshes");
+        std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
+        for o in &self.organs {
             if let Some(stand_in) = &o.stand_in {
                 let path = meshes.join(format!("{}.occluder.vbo", o.id));
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&o.name, &stand_in.mesh)], w))?;

@@ -381,7 +381,7 @@ impl App {
                     crate::accessible(&r, "Culling raster size");
                     c.height = c.width;
                     let r = ui.add(
-                        egui::Slider::new(&mut c.occluder_triangles, 1024..=131_072)
+                        egui::Slider::new(&mut c.occluder_triangles, 128..=131_072)
                             .logarithmic(true)
                             .text("occluder triangles"),
                     );

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use vbrain::camera::{Camera, View};
 use vbrain::cull::{self, CullMode, CullSettings};
 use vbrain::layout::Layout;
-use vbrain::organ_set::{self, import, scale, Loaded, OrganSet};
+use vbrain::organ_set::{self, import, scale, stand_in, Loaded, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
@@ -74,7 +74,7 @@ pub enum Command {
         /// Set opacity, ID=A or all=A
         #[arg(long, num_args = 1..)]
         opacity: Vec<String>,
-        /// Occluder triangle budget per frame
+        /// Occluder triangle budget per frame (triangles facing the eye)
         #[arg(long, default_value_t = CullSettings::default().occluder_triangles)]
         occluder_triangles: usize,
         /// Culling raster size, WxH
@@ -192,6 +192,25 @@ pub enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Build occluder stand-ins: for each closed organ, a coarse mesh verified to lie inside it,
+    /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo)
+    StandIns {
+        path: PathBuf,
+        /// Stand-in triangles as a share of the organ's
+        #[arg(long, default_value_t = 0.0625)]
+        ratio: f64,
+        /// Most inward offset of the stand-in from the surface, millimetres
+        #[arg(long, default_value_t = 2.0)]
+        offset: f32,
+        /// Organs with fewer triangles get none
+        #[arg(long, default_value_t = 2048)]
+        min_triangles: usize,
+        /// Output folder (default: the set's own folder)
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[arg(long)]
+        json: bool,
+    },
 }
 
 #[derive(clap::Args)]
@@ -268,6 +287,9 @@ fn run_command(command: Command) -> Result<bool> {
             import_cmd(&volume, &labels, &out, triangles, smooth, title, json)
         }
         Command::Scale { set, factor, out, json } => scale_cmd(&set, factor, &out, json),
+        Command::StandIns { path, ratio, offset, min_triangles, out, json } => {
+            stand_ins_cmd(&path, ratio, offset, min_triangles, out.as_deref(), json)
+        }
         Command::Occluders { path, grid, limit, raster, show, hide, experiment, views, image, out, json } => {
             let (set, ok) = open_reporting(&path)?;
             let mut layout = Layout::new(&set);
@@ -615,4 +637,78 @@ fn scale_cmd(path: &Path, factor: f64, out: &Path, json: bool) -> Result<bool> {
     bar.finish_and_clear();
     scaled.save(out)?;
     Ok(summary(json, "scale", &scaled, out)? && ok)
+}
+
+/// Builds an inner stand-in for every closed organ of at least `min_triangles`, keeps those with at
+/// most half the organ's triangles, and saves them (in place: only the stand-ins and the manifest).
+fn stand_ins_cmd(
+    path: &Path,
+    ratio: f64,
+    offset: f32,
+    min_triangles: usize,
+    out: Option<&Path>,
+    json: bool,
+) -> Result<bool> {
+    if !(ratio > 0.0 && ratio <= 0.5) {
+        bail!("--ratio {ratio} outside (0, 0.5]");
+    }
+    if !(offset > 0.0 && offset.is_finite()) {
+        bail!("--offset {offset} must be a positive number of millimetres");
+    }
+    if out.is_none() && !path.join(organ_set::MANIFEST_FILE).is_file() {
+        bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);
+    }
+    let (mut set, ok) = open_reporting(path)?;
+    let bar = progress_bar(set.organs.len() as u64);
+    // Per organ tried: id, triangles, and the stand-in's triangles and those left out, or why none.
+    type Row = (String, usize, std::result::Result<(usize, usize), String>);
+    let mut rows: Vec<Row> = Vec::new();
+    for organ in &mut set.organs {
+        bar.set_message(organ.id.clone());
+        bar.inc(1);
+        let triangles = organ.mesh.triangle_count();
+        if triangles < min_triangles {
+            continue;
+        }
+        let options = stand_in::InnerOptions { triangles: (triangles as f64 * ratio) as usize, offset };
+        let result = stand_in::build_inner(&organ.mesh, &organ.bvh, options).and_then(|built| {
+            let n = built.stand_in.mesh.triangle_count();
+            if 2 * n > triangles {
+                return Err(format!("{n} triangles, not under half"));
+            }
+            organ.stand_in = Some(built.stand_in);
+            Ok((n, built.dropped))
+        });
+        rows.push((organ.id.clone(), triangles, result));
+    }
+    bar.finish_and_clear();
+    let out = match out {
+        Some(out) => {
+            set.save(out)?;
+            out
+        }
+        None => {
+            set.save_stand_ins(path)?;
+            path
+        }
+    };
+    if json {
+        let organs: Vec<_> = rows
+            .iter()
+            .map(|(id, triangles, r)| match r {
+                Ok((n, dropped)) => json!({"id": id, "triangles": triangles, "stand_in": n, "left_out": dropped}),
+                Err(why) => json!({"id": id, "triangles": triangles, "skipped": why}),
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs}))?);
+    } else {
+        for (id, triangles, r) in &rows {
+            match r {
+                Ok((n, dropped)) => println!("{id:<24} {triangles:>8} triangles -> {n:>6} (left out {dropped})"),
+                Err(why) => println!("{id:<24} {triangles:>8} triangles: none ({why})"),
+            }
+        }
+        println!("stand-ins: wrote {}", out.display());
+    }
+    Ok(ok)
 }

@@ -1,0 +1,345 @@
+//! Occluder stand-ins built from an organ's own closed surface (organ space, millimetres).
+//!
+//! A stand-in is a mesh of fewer triangles that lies inside the organ's solid. Seen from outside
+//! the organ, it hides nothing the organ does not hide: a ray from the eye to a point inside the
+//! solid crosses the organ's surface first. So the culler may rasterise it in place of the organ.
+//!
+//! [`build_inner`] makes one in three steps:
+//! 1. The surface's vertices (welded by position) move inward along their normals to the middle of
+//!    the solid there (half the distance to the surface across, found by a ray), at most `offset`.
+//! 2. meshoptimizer simplifies that inner surface towards the target triangle count, within an
+//!    absolute error of half the offset.
+//! 3. Every triangle of the result is verified: it keeps a margin from every triangle of the surface
+//!    (a separating-axis test) and its centre is inside (ray parity, three rays agreeing). One that
+//!    fails is left out, so the stand-in never rests on the simplifier's error bound.
+
+use super::StandIn;
+use crate::bvh::Bvh;
+use crate::mesh::{Bounds, Mesh};
+use glam::Vec3;
+use std::collections::HashMap;
+
+/// How a stand-in is made.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct InnerOptions {
+    /// Triangles to simplify towards.
+    pub triangles: usize,
+    /// Most inward offset, in millimetres.
+    pub offset: f32,
+}
+
+/// A stand-in and what verification left out.
+#[derive(Clone, Debug)]
+pub struct Inner {
+    pub stand_in: StandIn,
+    /// Triangles of the simplified surface that failed verification.
+    pub dropped: usize,
+}
+
+/// Builds a verified inner stand-in for a closed surface (`bvh` built over `mesh`).
+pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inner, String> {
+    let (positions, indices) = welded(mesh);
+    let open = open_edges(&indices);
+    if open > 0 || indices.is_empty() {
+        return Err(format!("not a closed surface ({open} edges with no matching edge the other way)"));
+    }
+    let surface = Surface { mesh, bvh, margin: 1e-4 * mesh.bounds().size().max_element() };
+    // Outward is where the triangles wind counter-clockwise.
+    let outward = if mesh.signed_volume() < 0.0 { -1.0 } else { 1.0 };
+    let mut normals = vec![Vec3::ZERO; positions.len()];
+    for t in indices.chunks_exact(3) {
+        let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
+        let n = (b - a).cross(c - a);
+        for &v in t {
+            normals[v as usize] += n;
+        }
+    }
+    use rayon::prelude::*;
+    let inner: Vec<[f32; 3]> = positions
+        .par_iter()
+        .zip(&normals)
+        .map(|(&p, &n)| {
+            let inward = -outward * n.normalize_or_zero();
+            let across = surface.nearest_hit(p, inward).unwrap_or(0.0);
+            (p + inward * (0.5 * across).min(options.offset)).to_array()
+        })
+        .collect();
+    let bytes: &[u8] = bytemuck::cast_slice(&inner);
+    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).map_err(|e| e.to_string())?;
+    let simplified = meshopt::simplify(
+        &indices,
+        &adapter,
+        options.triangles * 3,
+        0.5 * options.offset,
+        meshopt::SimplifyOptions::ErrorAbsolute,
+        None,
+    );
+    let kept: Vec<[u32; 3]> = simplified
+        .par_chunks_exact(3)
+        .map(|t| [t[0], t[1], t[2]])
+        .filter(|t| surface.holds(t.map(|v| Vec3::from(inner[v as usize]))))
+        .collect();
+    let dropped = simplified.len() / 3 - kept.len();
+    let mut out = Mesh { positions: inner, normals: Vec::new(), indices: kept.into_iter().flatten().collect() };
+    crate::surface::compact(&mut out);
+    out.compute_normals();
+    Ok(Inner { stand_in: StandIn::new(out), dropped })
+}
+
+/// Vertices welded by position, and the triangles over them.
+fn welded(mesh: &Mesh) -> (Vec<Vec3>, Vec<u32>) {
+    let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
+    let mut positions = Vec::new();
+    let remap: Vec<u32> = mesh
+        .positions
+        .iter()
+        .map(|p| {
+            *ids.entry(p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).or_insert_with(|| {
+                positions.push(Vec3::from(*p));
+                positions.len() as u32 - 1
+            })
+        })
+        .collect();
+    (positions, mesh.indices.iter().map(|&i| remap[i as usize]).collect())
+}
+
+/// Directed edges (a, b) used more often than (b, a): none where the surface is closed (every ray
+/// from outside to a point inside crosses it), even where more than two triangles share an edge.
+fn open_edges(indices: &[u32]) -> usize {
+    let mut balance: HashMap<(u32, u32), i32> = HashMap::with_capacity(indices.len());
+    for t in indices.chunks_exact(3) {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if a != b {
+                *balance.entry((a.min(b), a.max(b))).or_insert(0) += if a < b { 1 } else { -1 };
+            }
+        }
+    }
+    balance.values().filter(|&&d| d != 0).count()
+}
+
+/// A closed surface with its hierarchy, for ray and proximity queries.
+struct Surface<'a> {
+    mesh: &'a Mesh,
+    bvh: &'a Bvh,
+    /// Distances below this count as touching.
+    margin: f32,
+}
+
+impl Surface<'_> {
+    fn triangle(&self, t: u32) -> [Vec3; 3] {
+        [0, 1, 2].map(|k| Vec3::from(self.mesh.positions[self.mesh.indices[3 * t as usize + k] as usize]))
+    }
+
+    /// Calls `visit` with each triangle whose leaf's box passes `near`.
+    fn each_triangle(&self, near: impl Fn(&Bounds) -> bool, mut visit: impl FnMut(u32)) {
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let node = &self.bvh.nodes[n as usize];
+            if !near(&node.bounds) {
+                continue;
+            }
+            if node.is_leaf() {
+                (node.first..node.first + node.count).for_each(&mut visit);
+            } else {
+                stack.extend(node.children);
+            }
+        }
+    }
+
+    /// Distances along the ray `origin + t dir` (t > margin) at which it crosses the surface.
+    fn hits(&self, origin: Vec3, dir: Vec3) -> Vec<f32> {
+        let mut out = Vec::new();
+        self.each_triangle(
+            |b| ray_meets_box(origin, dir, b),
+            |t| {
+                if let Some(d) = ray_triangle(origin, dir, self.triangle(t)).filter(|&d| d > self.margin) {
+                    out.push(d);
+                }
+            },
+        );
+        out
+    }
+
+    fn nearest_hit(&self, origin: Vec3, dir: Vec3) -> Option<f32> {
+        self.hits(origin, dir).into_iter().reduce(f32::min)
+    }
+
+    /// Is the triangle wholly inside: apart from every surface triangle, its centre inside?
+    fn holds(&self, tri: [Vec3; 3]) -> bool {
+        let mut bounds = Bounds::EMPTY;
+        tri.iter().for_each(|p| bounds.include(p.to_array()));
+        let m = self.margin;
+        let mut apart = true;
+        self.each_triangle(
+            |b| (0..3).all(|k| b.min[k] - m <= bounds.max[k] && bounds.min[k] <= b.max[k] + m),
+            |t| apart &= separated(&tri, &self.triangle(t), m),
+        );
+        let centre = (tri[0] + tri[1] + tri[2]) / 3.0;
+        // Three rays in unrelated directions must all cross an odd number of times.
+        apart
+            && [Vec3::new(0.5773, 0.6172, 0.5345), Vec3::new(-0.2673, 0.8018, -0.5345), Vec3::new(0.69, -0.42, -0.59)]
+                .iter()
+                .all(|&d| self.hits(centre, d.normalize()).len() % 2 == 1)
+    }
+}
+
+/// Slab test: does the ray (t >= 0) meet the box?
+fn ray_meets_box(origin: Vec3, dir: Vec3, b: &Bounds) -> bool {
+    let inv = dir.recip();
+    let (lo, hi) = ((Vec3::from(b.min) - origin) * inv, (Vec3::from(b.max) - origin) * inv);
+    let (near, far) = (lo.min(hi).max_element(), lo.max(hi).min_element());
+    // NaN (a zero direction component on the slab's plane) compares false: treated as meeting.
+    !(near > far || far < 0.0)
+}
+
+/// Möller-Trumbore: the distance along the ray to the triangle, if it crosses it.
+fn ray_triangle(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> Option<f32> {
+    let (e1, e2) = (b - a, c - a);
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = dir.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t.is_finite()).then_some(t)
+}
+
+/// Separating-axis test of two triangles: is there an axis (a face normal or a cross product of
+/// edges) along which they lie more than `margin` apart? Coplanar triangles are never separated
+/// here (their in-plane axes are not tried), which only leaves more out.
+fn separated(a: &[Vec3; 3], b: &[Vec3; 3], margin: f32) -> bool {
+    let edges = |t: &[Vec3; 3]| [t[1] - t[0], t[2] - t[1], t[0] - t[2]];
+    let (ea, eb) = (edges(a), edges(b));
+    let mut axes = vec![ea[0].cross(ea[1]), eb[0].cross(eb[1])];
+    for i in 0..3 {
+        for j in 0..3 {
+            axes.push(ea[i].cross(eb[j]));
+        }
+    }
+    let interval = |t: &[Vec3; 3], n: Vec3| {
+        let d = t.map(|p| p.dot(n));
+        (d[0].min(d[1]).min(d[2]), d[0].max(d[1]).max(d[2]))
+    };
+    axes.into_iter().any(|axis| {
+        let n = axis.normalize_or_zero();
+        if n == Vec3::ZERO {
+            return false;
+        }
+        let ((a0, a1), (b0, b1)) = (interval(a, n), interval(b, n));
+        a1 + margin < b0 || b1 + margin < a0
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed box surface, counter-clockwise from outside, split into `n` x `n` squares a side.
+    fn cube(n: usize, half: Vec3) -> Mesh {
+        let mut m = Mesh::default();
+        for axis in 0..3 {
+            for sign in [-1.0f32, 1.0] {
+                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+                let base = m.positions.len() as u32;
+                for j in 0..=n {
+                    for i in 0..=n {
+                        let mut p = Vec3::ZERO;
+                        p[axis] = sign * half[axis];
+                        p[u] = half[u] * (2.0 * i as f32 / n as f32 - 1.0);
+                        p[v] = half[v] * (2.0 * j as f32 / n as f32 - 1.0);
+                        m.positions.push(p.to_array());
+                    }
+                }
+                let at = |i: usize, j: usize| base + (j * (n + 1) + i) as u32;
+                for j in 0..n {
+                    for i in 0..n {
+                        let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                        // u x v = axis: counter-clockwise seen from +axis.
+                        if sign > 0.0 {
+                            m.indices.extend([a, b, c, a, c, d]);
+                        } else {
+                            m.indices.extend([a, c, b, a, d, c]);
+                        }
+                    }
+                }
+            }
+        }
+        m.compute_normals();
+        m
+    }
+
+    fn inside_box(p: Vec3, half: Vec3) -> bool {
+        (0..3).all(|k| p[k].abs() < half[k])
+    }
+
+    #[test]
+    fn cube_stand_in_is_inside_and_smaller() {
+        let half = Vec3::new(10.0, 8.0, 6.0);
+        let mut mesh = cube(12, half);
+        let bvh = Bvh::build(&mut mesh);
+        assert!(mesh.signed_volume() > 0.0);
+        let built = build_inner(&mesh, &bvh, InnerOptions { triangles: 48, offset: 1.0 }).unwrap();
+        let s = &built.stand_in.mesh;
+        assert!(s.triangle_count() > 0 && s.triangle_count() <= 200, "{} triangles", s.triangle_count());
+        for p in &s.positions {
+            assert!(inside_box(Vec3::from(*p), half), "{p:?} outside");
+        }
+        // It still spans most of the box.
+        let b = s.bounds();
+        assert!(b.size().x > 15.0, "{b:?}");
+    }
+
+    #[test]
+    fn shell_stand_in_stays_inside_the_wall() {
+        // A hollow box: outer surface outward, inner surface facing the cavity (wound inward).
+        let (outer, inner) = (Vec3::splat(10.0), Vec3::splat(8.0));
+        let mut mesh = cube(10, outer);
+        let mut hole = cube(8, inner);
+        hole.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        mesh.append(&hole);
+        mesh.compute_normals();
+        let bvh = Bvh::build(&mut mesh);
+        let built = build_inner(&mesh, &bvh, InnerOptions { triangles: 100, offset: 3.0 }).unwrap();
+        let s = &built.stand_in.mesh;
+        assert!(s.triangle_count() > 0);
+        // Every vertex in the wall (between 8 and 10 from the centre along some axis).
+        for p in &s.positions {
+            let p = Vec3::from(*p);
+            assert!(inside_box(p, outer) && !inside_box(p, inner - Vec3::splat(1e-3)), "{p:?} outside the wall");
+        }
+        // Offsets capped by half the wall's thickness: about 9 from the centre.
+        let b = s.bounds();
+        assert!((b.max[0] - 9.0).abs() < 0.2, "{b:?}");
+    }
+
+    #[test]
+    fn a_triangle_crossing_the_surface_is_left_out() {
+        let half = Vec3::splat(5.0);
+        let mut mesh = cube(4, half);
+        let bvh = Bvh::build(&mut mesh);
+        let s = Surface { mesh: &mesh, bvh: &bvh, margin: 1e-3 };
+        let inside = [Vec3::new(-1., -1., 0.), Vec3::new(1., -1., 0.), Vec3::new(0., 1., 0.)];
+        assert!(s.holds(inside));
+        let crossing = [Vec3::new(-1., -1., 0.), Vec3::new(7., -1., 0.), Vec3::new(0., 1., 0.)];
+        assert!(!s.holds(crossing));
+        let outside = inside.map(|p| p + Vec3::new(20.0, 0.0, 0.0));
+        assert!(!s.holds(outside));
+        // Touching the surface within the margin counts as crossing it.
+        let touching = [Vec3::new(-1., -1., 0.), Vec3::new(5.0 - 1e-4, -1., 0.), Vec3::new(0., 1., 0.)];
+        assert!(!s.holds(touching));
+    }
+
+    #[test]
+    fn open_surfaces_are_refused() {
+        let mut mesh = cube(2, Vec3::ONE);
+        mesh.indices.truncate(mesh.indices.len() - 3);
+        let bvh = Bvh::build(&mut mesh);
+        let err = build_inner(&mesh, &bvh, InnerOptions { triangles: 8, offset: 0.1 }).unwrap_err();
+        assert!(err.contains("not a closed surface"), "{err}");
+    }
+}
