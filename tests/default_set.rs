@@ -118,3 +118,45 @@ fn one_space_cortex_in_skull_in_scalp() {
     }
     assert!(checked > 150);
 }
+
+/// Does a ray from `origin` along `dir` cross the mesh an odd number of times?
+fn inside(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
+    let crossings = mesh
+        .indices
+        .chunks_exact(3)
+        .filter(|t| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
+            let (e1, e2) = (b - a, c - a);
+            let p = dir.cross(e2);
+            let det = e1.dot(p);
+            if det.abs() < 1e-12 {
+                return false;
+            }
+            let s = origin - a;
+            let (u, q) = (s.dot(p) / det, s.cross(e1));
+            let v = dir.dot(q) / det;
+            u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
+        })
+        .count();
+    crossings % 2 == 1
+}
+
+#[test]
+fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
+    let set = default_set();
+    let with: Vec<_> = set.organs.iter().filter_map(|o| o.stand_in.as_ref().map(|s| (o, s))).collect();
+    for id in ["skull", "white_matter_l", "white_matter_r", "frontal_l", "frontal_r"] {
+        assert!(
+            with.iter().any(|(o, _)| o.id == id),
+            "{id} has no occluder stand-in: run `vbrain stand-ins organs/brain`"
+        );
+    }
+    let dir = Vec3::new(0.31, 0.52, 0.79).normalize();
+    for (organ, stand_in) in with {
+        let (n, m) = (stand_in.mesh.triangle_count(), organ.mesh.triangle_count());
+        assert!(n > 0 && 2 * n <= m, "{}: stand-in of {n} triangles for {m}", organ.id);
+        for p in stand_in.mesh.positions.iter().step_by(32) {
+            assert!(inside(&organ.mesh, Vec3::from(*p), dir), "{}: stand-in vertex {p:?} outside", organ.id);
+        }
+    }
+}

@@ -15,7 +15,8 @@
 //!    and its nearest depth is behind every occluder depth there; below a node whose coverage ratio
 //!    is under the adaptive threshold, descendants are tested against the frustum only. A leaf
 //!    that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own; a node
-//!    wholly inside the frustum with nothing more to test is drawn as one range.
+//!    wholly inside the frustum with nothing more to test is drawn as one range. Organs, and the
+//!    halves of big subtrees, are traversed in parallel.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -140,6 +141,14 @@ pub struct CullStats {
 }
 
 impl CullStats {
+    /// Adds the counts of a traversal (of an organ or a subtree).
+    fn add_traversal(&mut self, o: &CullStats) {
+        self.triangles += o.triangles;
+        self.frustum_culled += o.frustum_culled;
+        self.occlusion_culled += o.occlusion_culled;
+        self.nodes_tested += o.nodes_tested;
+    }
+
     pub fn culled_percent(&self) -> f64 {
         if self.triangles == 0 {
             0.0
@@ -388,26 +397,23 @@ pub fn cull_with(
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
-    // Organs in parallel, each into its own list and counts.
+    // Each organ into its own list and counts; in parallel where occlusion is tested (without it,
+    // the work is too small to pay for waking the threads).
+    let one = |(organ, state): (&crate::organ_set::Organ, &crate::layout::OrganState)| {
+        if !state.is_drawn() || organ.bvh.nodes.is_empty() {
+            return Default::default();
+        }
+        let mvp = view_proj * state.transform.matrix();
+        traverse(organ, &mvp, occ.as_ref(), &settings)
+    };
     use rayon::prelude::*;
-    let organs: Vec<(Vec<Range<u32>>, CullStats)> = set
-        .organs
-        .par_iter()
-        .zip(&layout.organs)
-        .map(|(organ, state)| {
-            if !state.is_drawn() || organ.bvh.nodes.is_empty() {
-                return Default::default();
-            }
-            let mvp = view_proj * state.transform.matrix();
-            traverse(organ, &mvp, occ.as_ref(), &settings)
-        })
-        .collect();
+    let organs: Vec<(Vec<Range<u32>>, CullStats)> = match occ {
+        Some(_) => set.organs.par_iter().zip(&layout.organs).map(one).collect(),
+        None => set.organs.iter().zip(&layout.organs).map(one).collect(),
+    };
     for (i, (ranges, s)) in organs.into_iter().enumerate() {
         ranges.into_iter().for_each(|r| list.push(i, r));
-        stats.triangles += s.triangles;
-        stats.frustum_culled += s.frustum_culled;
-        stats.occlusion_culled += s.occlusion_culled;
-        stats.nodes_tested += s.nodes_tested;
+        stats.add_traversal(&s);
     }
     stats.drawn = list.triangles();
     stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
@@ -422,15 +428,31 @@ fn traverse(
     occ: Option<&Occluders>,
     settings: &CullSettings,
 ) -> (Vec<Range<u32>>, CullStats) {
+    let (list, mut stats) = match settings.mode {
+        CullMode::None => (std::iter::once(0..organ.mesh.indices.len() as u32).collect(), CullStats::default()),
+        _ => traverse_below(organ, mvp, occ, settings, 0, occ.is_some()),
+    };
+    stats.triangles = organ.mesh.triangle_count();
+    (list, stats)
+}
+
+/// Nodes with more triangles than this have their two children traversed in parallel.
+const PARALLEL_TRIANGLES: u32 = 1 << 16;
+
+/// [`traverse`] from node `root` (`test`: whether occlusion is still tested there).
+fn traverse_below(
+    organ: &crate::organ_set::Organ,
+    mvp: &Mat4,
+    occ: Option<&Occluders>,
+    settings: &CullSettings,
+    root: u32,
+    test: bool,
+) -> (Vec<Range<u32>>, CullStats) {
     let (w, h) = (settings.width, settings.height);
-    let mut stats = CullStats { triangles: organ.mesh.triangle_count(), ..Default::default() };
+    let mut stats = CullStats::default();
     let mut list: Vec<Range<u32>> = Vec::new();
-    if settings.mode == CullMode::None {
-        push_merged(&mut list, 0..organ.mesh.indices.len() as u32);
-        return (list, stats);
-    }
     // (node, whether occlusion is still tested below it).
-    let mut stack = vec![(0u32, occ.is_some())];
+    let mut stack = vec![(root, test)];
     while let Some((n, test)) = stack.pop() {
         let node = &organ.bvh.nodes[n as usize];
         let seen = see(mvp, &node.bounds, w, h);
@@ -478,6 +500,15 @@ fn traverse(
                 }
             }
             (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),
+            (false, _) if node.count > PARALLEL_TRIANGLES => {
+                // Depth first: the subtrees' ranges come before those of the nodes still stacked.
+                let below = |c: u32| traverse_below(organ, mvp, occ, settings, c, test_children);
+                let (left, right) = rayon::join(|| below(node.children[0]), || below(node.children[1]));
+                for (ranges, s) in [left, right] {
+                    ranges.into_iter().for_each(|r| push_merged(&mut list, r));
+                    stats.add_traversal(&s);
+                }
+            }
             (false, _) => {
                 stack.push((node.children[1], test_children));
                 stack.push((node.children[0], test_children));

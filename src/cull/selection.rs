@@ -199,3 +199,33 @@ pub fn choose_occluders(
     }
     (by_projected_size(set, layout, camera, view_proj, settings), OccluderSource::ProjectedSize)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn facing_counts_the_triangles_turned_to_the_eye() {
+        // A unit cube, counter-clockwise from outside, two triangles a face.
+        let mut mesh = crate::mesh::Mesh {
+            positions: (0..8).map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]).collect(),
+            normals: vec![],
+            indices: vec![
+                0, 2, 1, 1, 2, 3, // z = 0, facing -z
+                4, 5, 6, 5, 7, 6, // z = 1, facing +z
+                0, 1, 4, 1, 5, 4, // y = 0, facing -y
+                2, 6, 3, 3, 6, 7, // y = 1, facing +y
+                0, 4, 2, 2, 4, 6, // x = 0, facing -x
+                1, 3, 5, 3, 7, 5, // x = 1, facing +x
+            ],
+        };
+        mesh.compute_normals();
+        assert!(mesh.signed_volume() > 0.0);
+        let all = 0..mesh.indices.len() as u32;
+        assert_eq!(facing(&mesh, all.clone(), Vec3::new(5.0, 0.5, 0.5)), 2);
+        assert_eq!(facing(&mesh, all.clone(), Vec3::new(5.0, 5.0, 0.5)), 4);
+        assert_eq!(facing(&mesh, all.clone(), Vec3::new(5.0, 5.0, 5.0)), 6);
+        assert_eq!(facing(&mesh, all, Vec3::splat(0.5)), 0);
+    }
+}

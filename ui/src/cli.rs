@@ -232,6 +232,9 @@ pub struct RenderArgs {
     /// average, worst)
     #[arg(long)]
     pub route: Option<String>,
+    /// Show organs hidden by default (e.g. skull), by id
+    #[arg(long, num_args = 1..)]
+    pub show: Vec<String>,
     /// Hide organs by id (repeatable)
     #[arg(long, num_args = 1..)]
     pub hide: Vec<String>,
@@ -462,7 +465,7 @@ fn render(args: &RenderArgs) -> Result<bool> {
     let (width, height) = parse_size(&args.size)?;
     let (set, ok) = open_reporting(&args.path)?;
     let mut layout = Layout::new(&set);
-    apply_overrides(&set, &mut layout, &[], &args.hide, &args.opacity)?;
+    apply_overrides(&set, &mut layout, &args.show, &args.hide, &args.opacity)?;
     let bounds = layout.bounds(&set);
     let camera = match (&args.view, &args.orbit, &args.route) {
         (Some(v), None, None) => Camera::view(&bounds, View::parse(v).ok_or_else(|| anyhow!("unknown view \"{v}\""))?),
