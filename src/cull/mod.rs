@@ -134,6 +134,7 @@ pub struct CullStats {
     pub occlusion_culled: usize,
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
+    /// Occluder triangles rasterised (facing the eye).
     pub occluder_triangles: usize,
     /// Where the occluders came from (`None` without occlusion culling or with occluders given).
     pub source: Option<OccluderSource>,
@@ -227,6 +228,7 @@ pub struct Occluders {
     /// its sparse depth map.
     pub approximate: Option<(Vec<f32>, SparseDepth)>,
     pub leaves: usize,
+    /// Triangles rasterised: those of the leaves that face the eye, beyond the near plane.
     pub triangles: usize,
 }
 
@@ -260,26 +262,20 @@ pub fn rasterise_occluders(
 ) -> Occluders {
     // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
     let mut chosen: Vec<[Vec<u32>; 2]> = vec![Default::default(); set.organs.len()];
-    let mut triangles = 0;
     for r in list {
-        let organ = &set.organs[r.organ as usize];
-        let bvh = match (&organ.stand_in, r.stand_in) {
-            (Some(s), true) => &s.bvh,
-            _ => &organ.bvh,
-        };
         chosen[r.organ as usize][usize::from(r.stand_in)].push(r.leaf);
-        triangles += bvh.nodes[bvh.leaves[r.leaf as usize] as usize].count as usize;
     }
     let mut raster = OccluderRaster::new(w, h);
+    let mut triangles = 0;
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
         if !own.is_empty() {
-            rasterise_organ(&mut raster, &organ.mesh, &organ.bvh, own, &mvp, w, h, 0.0);
+            triangles += rasterise_organ(&mut raster, &organ.mesh, &organ.bvh, own, &mvp, w, h, 0.0);
         }
         if let (Some(s), false) = (&organ.stand_in, stand_in.is_empty()) {
             // Pushed back a little: a stand-in on the surface must not hide the surface itself.
-            rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
+            triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
         }
     }
     let maps = raster.finish();
@@ -305,7 +301,7 @@ pub(crate) fn project_triangle(mesh: &crate::mesh::Mesh, t: u32, mvp: &Mat4, w: 
 const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
 
 /// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
-/// its neighbours among them, pushed back by `bias` in NDC depth.
+/// its neighbours among them, pushed back by `bias` in NDC depth; returns how many.
 #[allow(clippy::too_many_arguments)]
 fn rasterise_organ(
     raster: &mut OccluderRaster,
@@ -316,7 +312,7 @@ fn rasterise_organ(
     w: usize,
     h: usize,
     bias: f32,
-) {
+) -> usize {
     // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in `slot`
     // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
     // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
@@ -347,6 +343,7 @@ fn rasterise_organ(
     };
     let neighbours: Vec<[u32; 3]> = ids.iter().map(|&t| bvh.neighbours[t as usize].map(index)).collect();
     raster.add(&triangles, &neighbours);
+    triangles.len()
 }
 
 /// Culls the drawn organs of `layout` for `camera` at `aspect`; returns the draw list and counts.
