@@ -98,11 +98,10 @@ impl From<LeafRef> for [u32; 2] {
 /// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
 /// its leaves in the frustum, nearest first, until the triangle budget (or the leaf limit) is
 /// spent. The budget counts the triangles that face the eye, the only ones rasterised; a leaf
-/// with none is skipped. An organ with an occluder stand-in offers the stand-in's leaves instead while the organ
-/// lies wholly beyond the near plane (then the eye is outside it, and every ray meets its drawn
-/// surface before a point inside). Taking an organ's near side whole keeps the
-/// occluder patches large, so their coverage has few outline pixels inside; the rasteriser keeps
-/// only the triangles that face the eye.
+/// with none is skipped. An organ with an occluder stand-in offers the stand-in's leaves instead
+/// while the organ lies wholly beyond the near plane (then the eye is outside it, and every ray
+/// meets its drawn surface before a point inside). Taking an organ's near side whole keeps the
+/// occluder patches large, so their coverage has few outline pixels inside.
 pub fn by_projected_size(
     set: &OrganSet,
     layout: &Layout,
