@@ -184,6 +184,35 @@ fn import_a_label_volume_then_scale_it() {
     ]));
     assert!(std::fs::read_to_string(out2.join("organset.json")).unwrap().contains("#dcd814"));
 
+    // Occluder stand-ins, in place: only the stand-ins and the manifest are written.
+    let mesh = std::fs::read(out.join("meshes").read_dir().unwrap().next().unwrap().unwrap().path()).unwrap();
+    let st = json(&vbrain(&[
+        "stand-ins",
+        out.to_str().unwrap(),
+        "--min-triangles",
+        "100",
+        "--ratio",
+        "0.2",
+        "--offset",
+        "1",
+        "--json",
+    ]));
+    let built: Vec<_> = st["organs"].as_array().unwrap().iter().filter(|o| o["stand_in"].is_u64()).collect();
+    assert!(!built.is_empty(), "{st}");
+    for o in &built {
+        assert!(2 * o["stand_in"].as_u64().unwrap() <= o["triangles"].as_u64().unwrap(), "{o}");
+    }
+    assert!(std::fs::read_to_string(out.join("organset.json")).unwrap().contains("occluder.vbo"));
+    assert!(std::fs::read_dir(out.join("meshes"))
+        .unwrap()
+        .any(|e| { e.unwrap().file_name().to_string_lossy().ends_with(".occluder.vbo") }));
+    let again =
+        out.join("meshes").read_dir().unwrap().map(|e| e.unwrap().path()).find(|p| std::fs::read(p).unwrap() == mesh);
+    assert!(again.is_some(), "the organs' meshes were rewritten");
+    json(&vbrain(&["info", out.to_str().unwrap(), "--json"]));
+    let r = vbrain(&["stand-ins", vol.to_str().unwrap()]);
+    assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("give --out"));
+
     let scaled = dir.path().join("scaled");
     let s =
         json(&vbrain(&["scale", out.to_str().unwrap(), "--factor", "4", "--out", scaled.to_str().unwrap(), "--json"]));
