@@ -183,15 +183,7 @@ impl Bvh {
 /// Neighbours across edges, matching vertices by position so split vertices (seams of normals)
 /// still connect.
 fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
-    let mut weld: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
-    let ids: Vec<u32> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            let n = weld.len() as u32;
-            *weld.entry(p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).or_insert(n)
-        })
-        .collect();
+    let (ids, _) = crate::mesh::weld(&mesh.positions);
     let tris = mesh.triangle_count();
     let corner = |t: usize, k: usize| ids[mesh.indices[3 * t + k] as usize];
     // Directed edge -> triangle, and how often each undirected edge occurs.

@@ -141,6 +141,40 @@ impl Mesh {
     }
 }
 
+/// Vertices welded by position (-0 and +0 alike): per vertex, its welded index (numbered in order
+/// of first use), and the welded positions.
+pub fn weld(positions: &[[f32; 3]]) -> (Vec<u32>, Vec<[f32; 3]>) {
+    let mut ids: std::collections::HashMap<[u32; 3], u32> = std::collections::HashMap::with_capacity(positions.len());
+    let mut welded = Vec::new();
+    let remap = positions
+        .iter()
+        .map(|p| {
+            *ids.entry(p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).or_insert_with(|| {
+                welded.push(*p);
+                welded.len() as u32 - 1
+            })
+        })
+        .collect();
+    (remap, welded)
+}
+
+/// Möller-Trumbore: the distance along the ray `origin + t dir` (any sign of t) at which it
+/// crosses the triangle, if it does (either side; none where the ray runs parallel to it).
+pub fn ray_triangle(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> Option<f32> {
+    let (e1, e2) = (b - a, c - a);
+    let p = dir.cross(e2);
+    let det = e1.dot(p);
+    if det.abs() < 1e-12 {
+        return None;
+    }
+    let s = origin - a;
+    let u = s.dot(p) / det;
+    let q = s.cross(e1);
+    let v = dir.dot(q) / det;
+    let t = e2.dot(q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t.is_finite()).then_some(t)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

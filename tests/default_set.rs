@@ -121,22 +121,11 @@ fn one_space_cortex_in_skull_in_scalp() {
 
 /// Does a ray from `origin` along `dir` cross the mesh an odd number of times?
 fn inside(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
+    let triangle = |t: &[u32]| [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
     let crossings = mesh
         .indices
         .chunks_exact(3)
-        .filter(|t| {
-            let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
-            let (e1, e2) = (b - a, c - a);
-            let p = dir.cross(e2);
-            let det = e1.dot(p);
-            if det.abs() < 1e-12 {
-                return false;
-            }
-            let s = origin - a;
-            let (u, q) = (s.dot(p) / det, s.cross(e1));
-            let v = dir.dot(q) / det;
-            u >= 0.0 && v >= 0.0 && u + v <= 1.0 && e2.dot(q) / det > 0.0
-        })
+        .filter(|t| vbrain::mesh::ray_triangle(origin, dir, triangle(t)).is_some_and(|d| d > 0.0))
         .count();
     crossings % 2 == 1
 }

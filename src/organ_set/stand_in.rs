@@ -15,7 +15,7 @@
 
 use super::StandIn;
 use crate::bvh::Bvh;
-use crate::mesh::{Bounds, Mesh};
+use crate::mesh::{ray_triangle, Bounds, Mesh};
 use glam::Vec3;
 use std::collections::HashMap;
 
@@ -88,19 +88,8 @@ pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inne
 
 /// Vertices welded by position, and the triangles over them.
 fn welded(mesh: &Mesh) -> (Vec<Vec3>, Vec<u32>) {
-    let mut ids: HashMap<[u32; 3], u32> = HashMap::with_capacity(mesh.positions.len());
-    let mut positions = Vec::new();
-    let remap: Vec<u32> = mesh
-        .positions
-        .iter()
-        .map(|p| {
-            *ids.entry(p.map(|c| if c == 0.0 { 0 } else { c.to_bits() })).or_insert_with(|| {
-                positions.push(Vec3::from(*p));
-                positions.len() as u32 - 1
-            })
-        })
-        .collect();
-    (positions, mesh.indices.iter().map(|&i| remap[i as usize]).collect())
+    let (remap, positions) = crate::mesh::weld(&mesh.positions);
+    (positions.into_iter().map(Vec3::from).collect(), mesh.indices.iter().map(|&i| remap[i as usize]).collect())
 }
 
 /// Directed edges (a, b) used more often than (b, a): none where the surface is closed (every ray
@@ -191,22 +180,6 @@ fn ray_meets_box(origin: Vec3, dir: Vec3, b: &Bounds) -> bool {
     let (near, far) = (lo.min(hi).max_element(), lo.max(hi).min_element());
     // NaN (a zero direction component on the slab's plane) compares false: treated as meeting.
     !(near > far || far < 0.0)
-}
-
-/// Möller-Trumbore: the distance along the ray to the triangle, if it crosses it.
-fn ray_triangle(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> Option<f32> {
-    let (e1, e2) = (b - a, c - a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let s = origin - a;
-    let u = s.dot(p) / det;
-    let q = s.cross(e1);
-    let v = dir.dot(q) / det;
-    let t = e2.dot(q) / det;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t.is_finite()).then_some(t)
 }
 
 /// Separating-axis test of two triangles: is there an axis (a face normal or a cross product of
