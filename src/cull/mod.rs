@@ -20,6 +20,7 @@
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
+pub mod box_depth;
 pub mod opacity_map;
 pub mod raster;
 pub mod selection;
@@ -32,7 +33,8 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
-use glam::{Mat4, Vec3, Vec4};
+use box_depth::BoxDepth;
+use glam::{DMat4, Mat4, Vec3, Vec4};
 use opacity_map::OpacityMap;
 use raster::{OccluderMaps, OccluderRaster};
 use sparse_depth::SparseDepth;
@@ -172,43 +174,45 @@ pub(crate) enum Seen {
 }
 
 pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
-    let mut out = [true; 6];
-    let mut inside = true;
-    let mut behind = false;
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for c in b.corners() {
-        let p: Vec4 = *mvp * c.extend(1.0);
-        let tests = [p.x < -p.w, p.x > p.w, p.y < -p.w, p.y > p.w, p.z < 0.0, p.z > p.w];
-        for k in 0..6 {
-            out[k] &= tests[k];
-        }
-        inside &= !tests.iter().any(|&t| t);
-        if p.w <= 1e-5 {
-            behind = true;
-            continue;
-        }
-        let ndc = p.truncate() / p.w;
-        lo = lo.min(ndc);
-        hi = hi.max(ndc);
-    }
-    if out.iter().any(|&o| o) {
+    // The eight corners in clip space, four at a time: lane i of `near` is corner i (offset along
+    // the box's x if i & 1, along y if i & 2), and `far` is the same four offset along z.
+    let min = Vec3::from(b.min);
+    let size = Vec3::from(b.max) - min;
+    let base = *mvp * min.extend(1.0);
+    let (dx, dy, dz) = (mvp.x_axis * size.x, mvp.y_axis * size.y, mvp.z_axis * size.z);
+    let lanes = |k: usize| Vec4::new(base[k], base[k] + dx[k], base[k] + dy[k], base[k] + dx[k] + dy[k]);
+    let near = [lanes(0), lanes(1), lanes(2), lanes(3)];
+    let far = [near[0] + dz.x, near[1] + dz.y, near[2] + dz.z, near[3] + dz.w];
+    // Per frustum plane, a bit per corner outside it.
+    let outside = |[x, y, z, cw]: [Vec4; 4]| {
+        [x.cmplt(-cw), x.cmpgt(cw), y.cmplt(-cw), y.cmpgt(cw), z.cmplt(Vec4::ZERO), z.cmpgt(cw)].map(|m| m.bitmask())
+    };
+    let (a, c) = (outside(near), outside(far));
+    if (0..6).any(|k| a[k] & c[k] == 0b1111) {
         return Seen::Outside;
     }
-    if behind || !lo.is_finite() || !hi.is_finite() {
+    let inside = (0..6).all(|k| a[k] | c[k] == 0);
+    let eps = Vec4::splat(1e-5);
+    if near[3].cmple(eps).any() || far[3].cmple(eps).any() {
+        return Seen::Straddles;
+    }
+    let ndc = |k: usize| (near[k] / near[3], far[k] / far[3]);
+    let range = |(n, f): (Vec4, Vec4)| (n.min(f).min_element(), n.max(f).max_element());
+    let ((x_lo, x_hi), (y_lo, y_hi), (z_lo, z_hi)) = (range(ndc(0)), range(ndc(1)), range(ndc(2)));
+    if ![x_lo, x_hi, y_lo, y_hi, z_lo, z_hi].iter().all(|v| v.is_finite()) {
         return Seen::Straddles;
     }
     let (wf, hf) = (w as f32, h as f32);
-    let (px0, px1) = ((lo.x + 1.0) * 0.5 * wf, (hi.x + 1.0) * 0.5 * wf);
-    let (py0, py1) = ((1.0 - hi.y) * 0.5 * hf, (1.0 - lo.y) * 0.5 * hf);
-    let clamp = |v: f32, n: f32| v.clamp(0.0, n - 1.0) as usize;
-    Seen::Rect {
-        x0: clamp(px0.floor(), wf),
-        x1: clamp(px1.ceil() - 1.0, wf),
-        y0: clamp(py0.floor(), hf),
-        y1: clamp(py1.ceil() - 1.0, hf),
-        z: lo.z,
-        inside,
-    }
+    let (px0, px1) = ((x_lo + 1.0) * 0.5 * wf, (x_hi + 1.0) * 0.5 * wf);
+    let (py0, py1) = ((1.0 - y_hi) * 0.5 * hf, (1.0 - y_lo) * 0.5 * hf);
+    // Rounded outward and clamped (without calls to floor and ceil: these values are not negative).
+    let first = |v: f32, n: f32| v.clamp(0.0, n - 1.0) as usize;
+    let last = |v: f32, n: f32| {
+        let v = v.clamp(0.0, n);
+        let t = v as usize;
+        (t + usize::from((t as f32) < v)).saturating_sub(1).min(n as usize - 1)
+    };
+    Seen::Rect { x0: first(px0, wf), x1: last(px1, wf), y0: first(py0, hf), y1: last(py1, hf), z: z_lo, inside }
 }
 
 /// Does the box lie wholly beyond the near plane (so the eye is outside it)?
@@ -235,17 +239,20 @@ pub struct Occluders {
 impl Occluders {
     /// Tests a box seen as the inclusive pixel rectangle with nearest depth `z`: how many of its
     /// pixels are covered, and whether it is hidden (wholly covered, or but for `holes` pixels
-    /// with the approximate test, and behind every occluder depth there).
-    fn test(&self, [x0, y0, x1, y1]: [usize; 4], z: f32, holes: Option<f32>) -> (u32, bool) {
+    /// with the approximate test, and behind every occluder depth there: behind the farthest over
+    /// the rectangle, or else pixel by pixel behind each, by the box's depth bound `bound`).
+    fn test(&self, rect: [usize; 4], z: f32, holes: Option<f32>, bound: impl FnOnce() -> BoxDepth) -> (u32, bool) {
+        let [x0, y0, x1, y1] = rect;
         let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
         let covered = self.opacity.covered(x0, y0, x1, y1);
-        let hidden = match (holes, &self.approximate) {
+        let (overlapped, depth, sparse) = match (holes, &self.approximate) {
             (Some(t), Some((depth, sparse))) => {
-                covered + (t.clamp(0.0, 1.0) * area as f32) as u32 >= area
-                    && sparse.all_in_front_of(depth, x0, y0, x1, y1, z)
+                (covered + (t.clamp(0.0, 1.0) * area as f32) as u32 >= area, depth, sparse)
             }
-            _ => covered >= area && self.sparse.all_in_front_of(&self.maps.depth, x0, y0, x1, y1, z),
+            _ => (covered >= area, &self.maps.depth, &self.sparse),
         };
+        let hidden = overlapped
+            && (sparse.all_in_front_of(depth, x0, y0, x1, y1, z) || bound().behind(depth, self.maps.width, rect));
         (covered, hidden)
     }
 }
@@ -400,8 +407,8 @@ pub fn cull_with(
         if !state.is_drawn() || organ.bvh.nodes.is_empty() {
             return Default::default();
         }
-        let mvp = view_proj * state.transform.matrix();
-        traverse(organ, &mvp, occ.as_ref(), &settings)
+        let view = OrganView::new(&view_proj, &state.transform.matrix(), camera.eye);
+        traverse(organ, &view, occ.as_ref(), &settings)
     };
     use rayon::prelude::*;
     let organs: Vec<(Vec<Range<u32>>, CullStats)> = match occ {
@@ -417,17 +424,36 @@ pub fn cull_with(
     (list, stats)
 }
 
+/// How one organ is seen: its model-view-projection matrix, that matrix's inverse and the eye in
+/// organ space (for the boxes' depth bounds).
+struct OrganView {
+    mvp: Mat4,
+    inverse: DMat4,
+    eye: Vec3,
+}
+
+impl OrganView {
+    fn new(view_proj: &Mat4, model: &Mat4, eye: Vec3) -> OrganView {
+        let mvp = *view_proj * *model;
+        OrganView { mvp, inverse: mvp.as_dmat4().inverse(), eye: model.inverse().transform_point3(eye) }
+    }
+
+    fn depth_bound(&self, b: &Bounds, nearest: f32, w: usize, h: usize) -> BoxDepth {
+        BoxDepth::new(&self.inverse, self.eye, b, nearest, w, h)
+    }
+}
+
 /// The index ranges of one drawn organ that survive culling (contiguous ones merged), with its
 /// triangle, culled and tested counts.
 fn traverse(
     organ: &crate::organ_set::Organ,
-    mvp: &Mat4,
+    view: &OrganView,
     occ: Option<&Occluders>,
     settings: &CullSettings,
 ) -> (Vec<Range<u32>>, CullStats) {
     let (list, mut stats) = match settings.mode {
         CullMode::None => (std::iter::once(0..organ.mesh.indices.len() as u32).collect(), CullStats::default()),
-        _ => traverse_below(organ, mvp, occ, settings, 0, occ.is_some()),
+        _ => traverse_below(organ, view, occ, settings, 0, occ.is_some()),
     };
     stats.triangles = organ.mesh.triangle_count();
     (list, stats)
@@ -439,7 +465,7 @@ const PARALLEL_TRIANGLES: u32 = 1 << 16;
 /// [`traverse`] from node `root` (`test`: whether occlusion is still tested there).
 fn traverse_below(
     organ: &crate::organ_set::Organ,
-    mvp: &Mat4,
+    view: &OrganView,
     occ: Option<&Occluders>,
     settings: &CullSettings,
     root: u32,
@@ -452,7 +478,7 @@ fn traverse_below(
     let mut stack = vec![(root, test)];
     while let Some((n, test)) = stack.pop() {
         let node = &organ.bvh.nodes[n as usize];
-        let seen = see(mvp, &node.bounds, w, h);
+        let seen = see(&view.mvp, &node.bounds, w, h);
         if seen == Seen::Outside {
             stats.frustum_culled += node.count as usize;
             continue;
@@ -464,7 +490,8 @@ fn traverse_below(
         if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
             parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
             stats.nodes_tested += 1;
-            let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance);
+            let bound = || view.depth_bound(&node.bounds, z, w, h);
+            let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
                 continue;
@@ -484,10 +511,11 @@ fn traverse_below(
             // A leaf that failed: its parts' tighter boxes may still be hidden.
             (true, Some(o)) if test_children && parts => {
                 for part in organ.bvh.parts_of(node.leaf) {
-                    match see(mvp, &part.bounds, w, h) {
+                    let bound = |z| move || view.depth_bound(&part.bounds, z, w, h);
+                    match see(&view.mvp, &part.bounds, w, h) {
                         Seen::Outside => stats.frustum_culled += part.count as usize,
                         Seen::Rect { x0, y0, x1, y1, z, .. }
-                            if o.test([x0, y0, x1, y1], z, settings.hole_tolerance).1 =>
+                            if o.test([x0, y0, x1, y1], z, settings.hole_tolerance, bound(z)).1 =>
                         {
                             stats.occlusion_culled += part.count as usize
                         }
@@ -499,7 +527,7 @@ fn traverse_below(
             (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),
             (false, _) if node.count > PARALLEL_TRIANGLES => {
                 // Depth first: the subtrees' ranges come before those of the nodes still stacked.
-                let below = |c: u32| traverse_below(organ, mvp, occ, settings, c, test_children);
+                let below = |c: u32| traverse_below(organ, view, occ, settings, c, test_children);
                 let (left, right) = rayon::join(|| below(node.children[0]), || below(node.children[1]));
                 for (ranges, s) in [left, right] {
                     ranges.into_iter().for_each(|r| push_merged(&mut list, r));

@@ -1,0 +1,138 @@
+//! A lower bound of a box's depth at each culling pixel, for the depth test of a node whose nearest
+//! depth alone is in front of some occluder depth over its rectangle (a tilted box over a tilted
+//! occluder surface). Spaces: the box in organ space; pixels of the culling raster (x right, y
+//! down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
+//!
+//! A ray from the eye enters a convex box where it crosses the last of the box's faces that face
+//! the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least each front
+//! face's plane depth on that ray. A plane's NDC depth is linear in screen position (projection
+//! maps planes to planes), so over a pixel's square its least value is at a corner; the bound at
+//! a pixel is the largest of these over the (at most three) front faces, and never less than the
+//! box's nearest corner depth.
+
+use crate::mesh::Bounds;
+use glam::{DMat4, DVec4, Vec3};
+
+/// Planes steeper than this (NDC depth per culling pixel) are left out: nearly edge-on, they
+/// bound nothing and their coefficients lose precision.
+const MAX_SLOPE: f64 = 1.0;
+
+/// Subtracted from every bound against rounding (NDC depth; depth maps hold f32 values near 1).
+const EPS: f32 = 1e-6;
+
+/// The depth bound of one box over the pixels of a `width` x `height` raster.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoxDepth {
+    /// Per front face, (c, a, b): the bound at pixel (x, y) is c + a x + b y.
+    planes: [[f32; 3]; 3],
+    count: usize,
+    /// The box's nearest corner depth.
+    nearest: f32,
+}
+
+impl BoxDepth {
+    /// The bound for box `b` seen through `inverse` (the inverse of its model-view-projection
+    /// matrix) from `eye` (in organ space), with nearest corner depth `nearest`.
+    pub fn new(inverse: &DMat4, eye: Vec3, b: &Bounds, nearest: f32, width: usize, height: usize) -> BoxDepth {
+        let (w, h) = (width as f64, height as f64);
+        let mut bound = BoxDepth { planes: [[0.0; 3]; 3], count: 0, nearest };
+        for k in 0..3 {
+            // The face toward the eye on axis k, if the eye lies outside the box's slab there.
+            let d = if eye[k] < b.min[k] {
+                b.min[k]
+            } else if eye[k] > b.max[k] {
+                b.max[k]
+            } else {
+                continue;
+            };
+            // Points (X, Y, Z) in NDC on the plane p_k = d satisfy q . (X, Y, Z, 1) = 0.
+            let q: DVec4 = inverse.row(k) - d as f64 * inverse.row(3);
+            if q.z == 0.0 {
+                continue;
+            }
+            // Z = -(q.x X + q.y Y + q.w) / q.z with X = 2 x / w - 1 and Y = 1 - 2 y / h.
+            let a = -2.0 * q.x / (w * q.z);
+            let b = 2.0 * q.y / (h * q.z);
+            let c = (q.x - q.y - q.w) / q.z;
+            if !(a.is_finite() && b.is_finite() && c.is_finite()) || a.abs() + b.abs() > MAX_SLOPE {
+                continue;
+            }
+            // Least over the pixel's square: at its centre, less half the slope across it.
+            let c = c + 0.5 * (a + b) - 0.5 * (a.abs() + b.abs());
+            bound.planes[bound.count] = [c as f32, a as f32, b as f32];
+            bound.count += 1;
+        }
+        bound
+    }
+
+    /// The least depth of the box on any ray through pixel (x, y) that meets it.
+    pub fn at(&self, x: usize, y: usize) -> f32 {
+        let (x, y) = (x as f32, y as f32);
+        let planes = self.planes[..self.count].iter().map(|&[c, a, b]| c + a * x + b * y);
+        planes.fold(self.nearest, f32::max) - EPS
+    }
+
+    /// Whether every pixel of the inclusive rectangle holds an occluder depth in front of the box.
+    pub fn behind(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+        (y0..=y1).all(|y| (x0..=x1).all(|x| depth[y * width + x] < self.at(x, y)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::XorShift;
+    use glam::{Mat4, Vec4};
+
+    /// Where the ray from `eye` along `dir` enters the box, if it meets it (slab test).
+    fn entry(eye: Vec3, dir: Vec3, b: &Bounds) -> Option<Vec3> {
+        let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
+        for k in 0..3 {
+            let (lo, hi) = ((b.min[k] - eye[k]) / dir[k], (b.max[k] - eye[k]) / dir[k]);
+            t0 = t0.max(lo.min(hi));
+            t1 = t1.min(lo.max(hi));
+        }
+        (t0 <= t1).then(|| eye + dir * t0)
+    }
+
+    #[test]
+    fn bound_never_exceeds_the_depth_where_rays_enter() {
+        let mut rng = XorShift(5);
+        let mut rand = || rng.unit();
+        let (w, h) = (64, 48);
+        let mut hits = 0;
+        let mut useful = 0;
+        for _ in 0..200 {
+            let eye = Vec3::new(rand() - 0.5, rand() - 0.5, 0.5 + rand()) * 40.0;
+            let centre = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * 10.0;
+            let half = Vec3::new(0.5 + rand() * 4.0, 0.5 + rand() * 4.0, 0.2 + rand() * 4.0);
+            let b = Bounds { min: (centre - half).into(), max: (centre + half).into() };
+            let model = Mat4::from_rotation_z(rand() * 6.0) * Mat4::from_rotation_x(rand() - 0.5);
+            let world_eye = model.transform_point3(eye);
+            let view = Mat4::look_at_rh(world_eye, model.transform_point3(centre), Vec3::Y);
+            let mvp = Mat4::perspective_rh(0.8, w as f32 / h as f32, 5.0, 120.0) * view * model;
+            let nearest = b.corners().iter().map(|&c| mvp.project_point3(c).z).fold(f32::INFINITY, f32::min);
+            let bound = BoxDepth::new(&mvp.as_dmat4().inverse(), eye, &b, nearest, w, h);
+            // Rays through random points of the box, seen in whatever pixel they fall.
+            for _ in 0..100 {
+                let inner = Vec3::from(b.min) + Vec3::new(rand(), rand(), rand()) * 2.0 * half;
+                let s = mvp.project_point3(inner);
+                let (sx, sy) = ((s.x + 1.0) * 0.5 * w as f32, (1.0 - s.y) * 0.5 * h as f32);
+                if !(0.0..w as f32).contains(&sx) || !(0.0..h as f32).contains(&sy) {
+                    continue;
+                }
+                let (x, y) = (sx as usize, sy as usize);
+                let dir = (inner - eye).normalize();
+                if let Some(p) = entry(eye, dir, &b) {
+                    hits += 1;
+                    let z = mvp.project_point3(p).z;
+                    assert!(bound.at(x, y) <= z + 1e-6, "pixel {x},{y}: bound {} over entry depth {z}", bound.at(x, y));
+                    useful += usize::from(bound.at(x, y) > nearest + 1e-4);
+                }
+            }
+        }
+        assert!(hits > 10000, "only {hits} rays met their boxes");
+        // Tilted boxes: the bound is often well behind the nearest corner.
+        assert!(useful > hits / 4, "bound beyond the nearest corner on only {useful} of {hits} rays");
+    }
+}
