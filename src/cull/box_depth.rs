@@ -82,7 +82,7 @@ impl BoxDepth {
 mod tests {
     use super::*;
     use crate::rng::XorShift;
-    use glam::{Mat4, Vec4};
+    use glam::Mat4;
 
     /// Where the ray from `eye` along `dir` enters the box, if it meets it (slab test).
     fn entry(eye: Vec3, dir: Vec3, b: &Bounds) -> Option<Vec3> {
