@@ -20,7 +20,7 @@
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
-pub mod box_depth;
+pub mod depth_bound;
 pub mod opacity_map;
 pub mod raster;
 pub mod selection;
@@ -33,7 +33,7 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
-use box_depth::BoxDepth;
+use depth_bound::DepthBound;
 use glam::{DMat4, Mat4, Vec3, Vec4};
 use opacity_map::OpacityMap;
 use raster::{OccluderMaps, OccluderRaster};
@@ -205,14 +205,22 @@ pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
     let (wf, hf) = (w as f32, h as f32);
     let (px0, px1) = ((x_lo + 1.0) * 0.5 * wf, (x_hi + 1.0) * 0.5 * wf);
     let (py0, py1) = ((1.0 - y_hi) * 0.5 * hf, (1.0 - y_lo) * 0.5 * hf);
-    // Rounded outward and clamped (without calls to floor and ceil: these values are not negative).
-    let first = |v: f32, n: f32| v.clamp(0.0, n - 1.0) as usize;
-    let last = |v: f32, n: f32| {
-        let v = v.clamp(0.0, n);
-        let t = v as usize;
-        (t + usize::from((t as f32) < v)).saturating_sub(1).min(n as usize - 1)
-    };
+    let (first, last) = (first_pixel, last_pixel);
     Seen::Rect { x0: first(px0, wf), x1: last(px1, wf), y0: first(py0, hf), y1: last(py1, hf), z: z_lo, inside }
+}
+
+/// The first of `n` pixels that a span starting at `v` (in pixels) reaches, clamped (without a
+/// call to floor).
+fn first_pixel(v: f32, n: f32) -> usize {
+    v.clamp(0.0, n - 1.0) as usize
+}
+
+/// The last of `n` pixels that a span ending at `v` (in pixels) reaches, clamped (without a call
+/// to ceil).
+fn last_pixel(v: f32, n: f32) -> usize {
+    let v = v.clamp(0.0, n);
+    let t = v as usize;
+    (t + usize::from((t as f32) < v)).saturating_sub(1).min(n as usize - 1)
 }
 
 /// Does the box lie wholly beyond the near plane (so the eye is outside it)?
@@ -241,7 +249,7 @@ impl Occluders {
     /// pixels are covered, and whether it is hidden (wholly covered, or but for `holes` pixels
     /// with the approximate test, and behind every occluder depth there: behind the farthest over
     /// the rectangle, or else pixel by pixel behind each, by the box's depth bound `bound`).
-    fn test(&self, rect: [usize; 4], z: f32, holes: Option<f32>, bound: impl FnOnce() -> BoxDepth) -> (u32, bool) {
+    fn test(&self, rect: [usize; 4], z: f32, holes: Option<f32>, bound: impl FnOnce() -> DepthBound) -> (u32, bool) {
         let [x0, y0, x1, y1] = rect;
         let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as u32;
         let covered = self.opacity.covered(x0, y0, x1, y1);
@@ -254,6 +262,22 @@ impl Occluders {
         let hidden = overlapped
             && (sparse.all_in_front_of(depth, x0, y0, x1, y1, z) || bound().behind(depth, self.maps.width, rect));
         (covered, hidden)
+    }
+
+    /// Whether each of the triangles of `mesh` is hidden on its own (tested as above, with its
+    /// own rectangle and depth plane); one reaching before the near plane is not.
+    fn triangles_hidden(&self, mesh: &crate::mesh::Mesh, triangles: Range<u32>, mvp: &Mat4, holes: Option<f32>) -> bool {
+        let (w, h) = (self.maps.width, self.maps.height);
+        let (wf, hf) = (w as f32, h as f32);
+        triangles.into_iter().all(|t| {
+            let Some(tri) = project_triangle(mesh, t, mvp, w, h) else { return false };
+            let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
+            if hi.x <= 0.0 || hi.y <= 0.0 || lo.x >= wf || lo.y >= hf {
+                return true; // off the screen: it draws nothing
+            }
+            let rect = [first_pixel(lo.x, wf), first_pixel(lo.y, hf), last_pixel(hi.x, wf), last_pixel(hi.y, hf)];
+            self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1
+        })
     }
 }
 
@@ -438,8 +462,8 @@ impl OrganView {
         OrganView { mvp, inverse: mvp.as_dmat4().inverse(), eye: model.inverse().transform_point3(eye) }
     }
 
-    fn depth_bound(&self, b: &Bounds, nearest: f32, w: usize, h: usize) -> BoxDepth {
-        BoxDepth::new(&self.inverse, self.eye, b, nearest, w, h)
+    fn depth_bound(&self, b: &Bounds, nearest: f32, w: usize, h: usize) -> DepthBound {
+        DepthBound::of_box(&self.inverse, self.eye, b, nearest, w, h)
     }
 }
 
@@ -459,6 +483,10 @@ fn traverse(
     (list, stats)
 }
 
+/// A leaf part that fails has its triangles tested one by one where it has at most this many per
+/// pixel of its rectangle (where they are much smaller than pixels, its box is about as tight).
+const TRIANGLES_PER_PIXEL: usize = 4;
+
 /// Nodes with more triangles than this have their two children traversed in parallel.
 const PARALLEL_TRIANGLES: u32 = 1 << 16;
 
@@ -472,6 +500,7 @@ fn traverse_below(
     test: bool,
 ) -> (Vec<Range<u32>>, CullStats) {
     let (w, h) = (settings.width, settings.height);
+    let holes = settings.hole_tolerance;
     let mut stats = CullStats::default();
     let mut list: Vec<Range<u32>> = Vec::new();
     // (node, whether occlusion is still tested below it).
@@ -491,7 +520,7 @@ fn traverse_below(
             parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
             stats.nodes_tested += 1;
             let bound = || view.depth_bound(&node.bounds, z, w, h);
-            let (covered, hidden) = o.test([x0, y0, x1, y1], z, settings.hole_tolerance, bound);
+            let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
                 continue;
@@ -511,17 +540,27 @@ fn traverse_below(
             // A leaf that failed: its parts' tighter boxes may still be hidden.
             (true, Some(o)) if test_children && parts => {
                 for part in organ.bvh.parts_of(node.leaf) {
-                    let bound = |z| move || view.depth_bound(&part.bounds, z, w, h);
-                    match see(&view.mvp, &part.bounds, w, h) {
-                        Seen::Outside => stats.frustum_culled += part.count as usize,
-                        Seen::Rect { x0, y0, x1, y1, z, .. }
-                            if o.test([x0, y0, x1, y1], z, settings.hole_tolerance, bound(z)).1 =>
-                        {
-                            stats.occlusion_culled += part.count as usize
-                        }
-                        _ => push_merged(&mut list, 3 * part.first..3 * (part.first + part.count)),
-                    }
                     stats.nodes_tested += 1;
+                    let hidden = match see(&view.mvp, &part.bounds, w, h) {
+                        Seen::Outside => {
+                            stats.frustum_culled += part.count as usize;
+                            continue;
+                        }
+                        Seen::Straddles => false,
+                        Seen::Rect { x0, y0, x1, y1, z, .. } => {
+                            let rect = [x0, y0, x1, y1];
+                            let bound = || view.depth_bound(&part.bounds, z, w, h);
+                            let area = (x1 - x0 + 1) * (y1 - y0 + 1);
+                            let triangles = part.first..part.first + part.count;
+                            o.test(rect, z, holes, bound).1
+                                || (part.count as usize <= TRIANGLES_PER_PIXEL * area
+                                    && o.triangles_hidden(&organ.mesh, triangles, &view.mvp, holes))
+                        }
+                    };
+                    match hidden {
+                        true => stats.occlusion_culled += part.count as usize,
+                        false => push_merged(&mut list, 3 * part.first..3 * (part.first + part.count)),
+                    }
                 }
             }
             (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),

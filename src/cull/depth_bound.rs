@@ -1,17 +1,21 @@
-//! A lower bound of a box's depth at each culling pixel, for the depth test of a node whose nearest
-//! depth alone is in front of some occluder depth over its rectangle (a tilted box over a tilted
-//! occluder surface). Spaces: the box in organ space; pixels of the culling raster (x right, y
-//! down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
+//! A lower bound of a box's or a triangle's depth at each culling pixel, for the depth test of a
+//! node whose nearest depth alone is in front of some occluder depth over its rectangle (a tilted
+//! box over a tilted occluder surface). Spaces: boxes in organ space; pixels of the culling raster
+//! (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
 //!
-//! A ray from the eye enters a convex box where it crosses the last of the box's faces that face
+//! A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
+//! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's faces that face
 //! the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least each front
-//! face's plane depth on that ray. A plane's NDC depth is linear in screen position (projection
-//! maps planes to planes), so over a pixel's square its least value is at a corner; the bound at
+//! face's plane depth on that ray, also linear in screen position (projection maps planes to
+//! planes); the bound at
 //! a pixel is the largest of these over the (at most three) front faces, and never less than the
 //! box's nearest corner depth.
 
 use crate::mesh::Bounds;
 use glam::{DMat4, DVec4, Vec3};
+
+/// A projected triangle: x, y in culling pixels, z = NDC depth.
+pub type Triangle = [Vec3; 3];
 
 /// Planes steeper than this (NDC depth per culling pixel) are left out: nearly edge-on, they
 /// bound nothing and their coefficients lose precision.
@@ -20,22 +24,22 @@ const MAX_SLOPE: f64 = 1.0;
 /// Subtracted from every bound against rounding (NDC depth; depth maps hold f32 values near 1).
 const EPS: f32 = 1e-6;
 
-/// The depth bound of one box over the pixels of a `width` x `height` raster.
+/// The depth bound of one box or triangle over the pixels of a `width` x `height` raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BoxDepth {
-    /// Per front face, (c, a, b): the bound at pixel (x, y) is c + a x + b y.
+pub struct DepthBound {
+    /// Per plane (a box's front faces, or a triangle's own), (c, a, b): the bound at pixel (x, y) is c + a x + b y.
     planes: [[f32; 3]; 3],
     count: usize,
-    /// The box's nearest corner depth.
+    /// The nearest corner depth.
     nearest: f32,
 }
 
-impl BoxDepth {
+impl DepthBound {
     /// The bound for box `b` seen through `inverse` (the inverse of its model-view-projection
     /// matrix) from `eye` (in organ space), with nearest corner depth `nearest`.
-    pub fn new(inverse: &DMat4, eye: Vec3, b: &Bounds, nearest: f32, width: usize, height: usize) -> BoxDepth {
+    pub fn of_box(inverse: &DMat4, eye: Vec3, b: &Bounds, nearest: f32, width: usize, height: usize) -> DepthBound {
         let (w, h) = (width as f64, height as f64);
-        let mut bound = BoxDepth { planes: [[0.0; 3]; 3], count: 0, nearest };
+        let mut bound = DepthBound { planes: [[0.0; 3]; 3], count: 0, nearest };
         for k in 0..3 {
             // The face toward the eye on axis k, if the eye lies outside the box's slab there.
             let d = if eye[k] < b.min[k] {
@@ -54,25 +58,45 @@ impl BoxDepth {
             let a = -2.0 * q.x / (w * q.z);
             let b = 2.0 * q.y / (h * q.z);
             let c = (q.x - q.y - q.w) / q.z;
-            if !(a.is_finite() && b.is_finite() && c.is_finite()) || a.abs() + b.abs() > MAX_SLOPE {
-                continue;
-            }
-            // Least over the pixel's square: at its centre, less half the slope across it.
-            let c = c + 0.5 * (a + b) - 0.5 * (a.abs() + b.abs());
-            bound.planes[bound.count] = [c as f32, a as f32, b as f32];
-            bound.count += 1;
+            bound.add_plane(c, a, b);
         }
         bound
     }
 
-    /// The least depth of the box on any ray through pixel (x, y) that meets it.
+    /// The bound for a projected triangle.
+    pub fn of_triangle(t: &Triangle) -> DepthBound {
+        let nearest = t[0].z.min(t[1].z).min(t[2].z);
+        let mut bound = DepthBound { planes: [[0.0; 3]; 3], count: 0, nearest };
+        let (e1, e2) = ((t[1] - t[0]).as_dvec3(), (t[2] - t[0]).as_dvec3());
+        let area = e1.x * e2.y - e2.x * e1.y;
+        // z = z0 + a (x - x0) + b (y - y0).
+        let a = (e1.z * e2.y - e2.z * e1.y) / area;
+        let b = (e2.z * e1.x - e1.z * e2.x) / area;
+        let o = t[0].as_dvec3();
+        bound.add_plane(o.z - a * o.x - b * o.y, a, b);
+        bound
+    }
+
+    /// Adds the plane z = c + a x + b y (x, y at any point of the raster), as its least value over
+    /// each pixel, unless it is too steep to bound anything.
+    fn add_plane(&mut self, c: f64, a: f64, b: f64) {
+        if !(a.is_finite() && b.is_finite() && c.is_finite()) || a.abs() + b.abs() > MAX_SLOPE {
+            return;
+        }
+        // Least over the pixel's square: at its centre, less half the slope across it.
+        let c = c + 0.5 * (a + b) - 0.5 * (a.abs() + b.abs());
+        self.planes[self.count] = [c as f32, a as f32, b as f32];
+        self.count += 1;
+    }
+
+    /// The least depth of the box or triangle on any ray through pixel (x, y) that meets it.
     pub fn at(&self, x: usize, y: usize) -> f32 {
         let (x, y) = (x as f32, y as f32);
         let planes = self.planes[..self.count].iter().map(|&[c, a, b]| c + a * x + b * y);
         planes.fold(self.nearest, f32::max) - EPS
     }
 
-    /// Whether every pixel of the inclusive rectangle holds an occluder depth in front of the box.
+    /// Whether every pixel of the inclusive rectangle holds an occluder depth in front of this.
     pub fn behind(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
         (y0..=y1).all(|y| (x0..=x1).all(|x| depth[y * width + x] < self.at(x, y)))
     }
@@ -112,7 +136,7 @@ mod tests {
             let view = Mat4::look_at_rh(world_eye, model.transform_point3(centre), Vec3::Y);
             let mvp = Mat4::perspective_rh(0.8, w as f32 / h as f32, 5.0, 120.0) * view * model;
             let nearest = b.corners().iter().map(|&c| mvp.project_point3(c).z).fold(f32::INFINITY, f32::min);
-            let bound = BoxDepth::new(&mvp.as_dmat4().inverse(), eye, &b, nearest, w, h);
+            let bound = DepthBound::of_box(&mvp.as_dmat4().inverse(), eye, &b, nearest, w, h);
             // Rays through random points of the box, seen in whatever pixel they fall.
             for _ in 0..100 {
                 let inner = Vec3::from(b.min) + Vec3::new(rand(), rand(), rand()) * 2.0 * half;
