@@ -187,12 +187,13 @@ impl OccluderRaster {
         }
         let mut covered = vec![0u8; n];
         let mut depth = vec![f32::INFINITY; n];
-        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each(
-            |(y, (covered, depth))| {
+        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each_init(
+            Scratch::default,
+            |scratch, (y, (covered, depth))| {
                 for x in 0..w {
                     let p = y * w + x;
                     let here = &sorted[start[p] as usize..start[p + 1] as usize];
-                    if let Some(z) = pixel_depth(here, &self.neighbours) {
+                    if let Some(z) = pixel_depth(here, &self.neighbours, scratch) {
                         covered[x] = 1;
                         depth[x] = z;
                     }
@@ -205,25 +206,33 @@ impl OccluderRaster {
 
 const EMPTY: Fragment = Fragment { pixel: 0, triangle: 0, z: 0.0, centre: false, edges: 0 };
 
-/// The most fragments with an edge in a pixel that [`pixel_depth`] joins; further ones are left
-/// out, which only adds borders to the components of the others.
-const MAX_EDGED: usize = 64;
+/// Working space of [`pixel_depth`], kept from pixel to pixel.
+#[derive(Default)]
+struct Scratch {
+    /// The pixel's fragments that have an edge in it (by triangle, as the pixel's fragments are).
+    edged: Vec<Fragment>,
+    /// Union-find over `edged`.
+    parent: Vec<u32>,
+    /// Per fragment of `edged`: one of its edges leads out of the pixel's fragments.
+    border: Vec<bool>,
+    /// Per root: (has a border, holds the centre, farthest depth).
+    root: Vec<(bool, bool, f32)>,
+}
 
 /// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
-fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]]) -> Option<f32> {
+fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]], s: &mut Scratch) -> Option<f32> {
     // A fragment with no edge in the pixel that holds the centre covers it alone. (Were it joined
     // to others, they would only make its component's depth farther.)
     let mut best = f32::INFINITY;
-    let mut edged = [0u16; MAX_EDGED];
-    let (mut m, mut centre) = (0, false);
-    for (i, f) in here.iter().enumerate() {
+    let mut centre = false;
+    s.edged.clear();
+    for f in here {
         if f.edges == 0 {
             if f.centre {
                 best = best.min(f.z);
             }
-        } else if m < MAX_EDGED {
-            edged[m] = i as u16;
-            m += 1;
+        } else {
+            s.edged.push(*f);
             centre |= f.centre;
         }
     }
@@ -232,43 +241,42 @@ fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]]) -> Option<f32> {
         return found(best);
     }
     // The others form components across their touching edges; one whose edge leads to a fragment
-    // not among them (or to none) has a border. Union-find over `edged`.
-    let edged = &edged[..m];
-    let mut parent: [u8; MAX_EDGED] = std::array::from_fn(|i| i as u8);
-    let mut border = [false; MAX_EDGED];
-    fn find(parent: &mut [u8; MAX_EDGED], mut i: u8) -> u8 {
+    // not among them (or to none) has a border.
+    let m = s.edged.len();
+    s.parent.clear();
+    s.parent.extend(0..m as u32);
+    s.border.clear();
+    s.border.resize(m, false);
+    fn find(parent: &mut [u32], mut i: u32) -> u32 {
         while parent[i as usize] != i {
             parent[i as usize] = parent[parent[i as usize] as usize];
             i = parent[i as usize];
         }
         i
     }
-    for (i, &fi) in edged.iter().enumerate() {
-        let f = &here[fi as usize];
-        for k in 0..3 {
-            if f.edges & (1 << k) == 0 {
-                continue;
-            }
+    for i in 0..m {
+        let f = s.edged[i];
+        for k in (0..3).filter(|k| f.edges & (1 << k) != 0) {
             let across = neighbours[f.triangle as usize][k];
-            let j = edged.iter().position(|&g| here[g as usize].triangle == across && across != NONE);
+            let j = (across != NONE).then(|| s.edged.binary_search_by_key(&across, |g| g.triangle).ok()).flatten();
             match j {
                 Some(j) => {
-                    let (a, b) = (find(&mut parent, i as u8), find(&mut parent, j as u8));
-                    parent[a as usize] = b;
+                    let (a, b) = (find(&mut s.parent, i as u32), find(&mut s.parent, j as u32));
+                    s.parent[a as usize] = b;
                 }
-                None => border[i] = true,
+                None => s.border[i] = true,
             }
         }
     }
-    // Per root: (has a border, holds the centre, farthest depth).
-    let mut root = [(false, false, f32::NEG_INFINITY); MAX_EDGED];
-    for (i, &fi) in edged.iter().enumerate() {
-        let f = &here[fi as usize];
-        let c = &mut root[find(&mut parent, i as u8) as usize];
-        (c.0, c.1, c.2) = (c.0 || border[i], c.1 || f.centre, c.2.max(f.z));
+    s.root.clear();
+    s.root.resize(m, (false, false, f32::NEG_INFINITY));
+    for i in 0..m {
+        let f = &s.edged[i];
+        let c = &mut s.root[find(&mut s.parent, i as u32) as usize];
+        (c.0, c.1, c.2) = (c.0 || s.border[i], c.1 || f.centre, c.2.max(f.z));
     }
-    for (i, &(border, centre, z)) in root[..m].iter().enumerate() {
-        if parent[i] == i as u8 && !border && centre {
+    for (i, &(border, centre, z)) in s.root.iter().enumerate() {
+        if s.parent[i] == i as u32 && !border && centre {
             best = best.min(z);
         }
     }
