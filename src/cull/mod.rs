@@ -266,7 +266,13 @@ impl Occluders {
 
     /// Whether each of the triangles of `mesh` is hidden on its own (tested as above, with its
     /// own rectangle and depth plane); one reaching before the near plane is not.
-    fn triangles_hidden(&self, mesh: &crate::mesh::Mesh, triangles: Range<u32>, mvp: &Mat4, holes: Option<f32>) -> bool {
+    fn triangles_hidden(
+        &self,
+        mesh: &crate::mesh::Mesh,
+        triangles: Range<u32>,
+        mvp: &Mat4,
+        holes: Option<f32>,
+    ) -> bool {
         let (w, h) = (self.maps.width, self.maps.height);
         let (wf, hf) = (w as f32, h as f32);
         triangles.into_iter().all(|t| {
@@ -517,13 +523,17 @@ fn traverse_below(
         // of the occluders at its centre (the occluders' own surface, mostly).
         let mut parts = true;
         if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
-            parts = o.maps.depth[(y0 + y1) / 2 * w + (x0 + x1) / 2] < z;
             stats.nodes_tested += 1;
             let bound = || view.depth_bound(&node.bounds, z, w, h);
             let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
                 continue;
+            }
+            if node.is_leaf() {
+                let (x, y) = ((x0 + x1) / 2, (y0 + y1) / 2);
+                let area = (x1 - x0 + 1) * (y1 - y0 + 1);
+                parts = node.count as usize <= TRIANGLES_PER_PIXEL * area || o.maps.depth[y * w + x] < bound().at(x, y);
             }
             // Adaptive stop: too little of it is covered for a descendant to be hidden; only
             // the frustum is tested below.
