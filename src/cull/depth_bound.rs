@@ -159,4 +159,26 @@ mod tests {
         // Tilted boxes: the bound is often well behind the nearest corner.
         assert!(useful > hits / 4, "bound beyond the nearest corner on only {useful} of {hits} rays");
     }
+
+    #[test]
+    fn triangle_bound_never_exceeds_its_depth() {
+        let mut rng = XorShift(11);
+        let mut rand = || rng.unit();
+        let mut tight = 0;
+        for _ in 0..500 {
+            let corner = |r: &mut dyn FnMut() -> f32| Vec3::new(r() * 32.0, r() * 32.0, 0.9 + 0.1 * r());
+            let t = [corner(&mut rand), corner(&mut rand), corner(&mut rand)];
+            let bound = DepthBound::of_triangle(&t);
+            for _ in 0..20 {
+                // A point of the triangle, by barycentric coordinates.
+                let (u, v) = (rand(), rand());
+                let (u, v) = if u + v > 1.0 { (1.0 - u, 1.0 - v) } else { (u, v) };
+                let p = t[0] + (t[1] - t[0]) * u + (t[2] - t[0]) * v;
+                let b = bound.at(p.x as usize, p.y as usize);
+                assert!(b <= p.z + 1e-6, "bound {b} over depth {} at {p}", p.z);
+                tight += usize::from(b > bound.nearest + 1e-3);
+            }
+        }
+        assert!(tight > 1000, "the plane raised the bound above the nearest corner only {tight} times");
+    }
 }

@@ -12,11 +12,14 @@
 //! 4. [`opacity_map`] (summed-area table) for the overlap test in four look-ups, and
 //!    [`sparse_depth`] for the depth comparison over peaks only.
 //! 5. Hierarchical traversal: a node is culled when its outward-rounded rectangle is wholly covered
-//!    and its nearest depth is behind every occluder depth there; below a node whose coverage ratio
-//!    is under the adaptive threshold, descendants are tested against the frustum only. A leaf
-//!    that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own; a node
-//!    wholly inside the frustum with nothing more to test is drawn as one range. Organs, and the
-//!    halves of big subtrees, are traversed in parallel.
+//!    and its nearest depth is behind every occluder depth there, or failing that, pixel by pixel,
+//!    its box's depth bound there ([`depth_bound`]: a tilted box over a tilted occluder); below a
+//!    node whose coverage ratio is under the adaptive threshold, descendants are tested against the
+//!    frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
+//!    its own, and a part whose triangles are not much smaller than the pixels on its triangles,
+//!    each tested with its own rectangle and depth plane; a node wholly inside the frustum with
+//!    nothing more to test is drawn as one range. Organs, and the halves of big subtrees, are
+//!    traversed in parallel.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -489,8 +492,10 @@ fn traverse(
     (list, stats)
 }
 
-/// A leaf part that fails has its triangles tested one by one where it has at most this many per
-/// pixel of its rectangle (where they are much smaller than pixels, its box is about as tight).
+/// Triangles are "not much smaller than the pixels" of a rectangle when there are at most this
+/// many per pixel of it. A failing leaf's parts are then tested, and a failing part's triangles
+/// one by one; where they are much smaller (10M triangles), the boxes are about as tight and the
+/// extra tests cost more than they cull.
 const TRIANGLES_PER_PIXEL: usize = 4;
 
 /// Nodes with more triangles than this have their two children traversed in parallel.
@@ -519,8 +524,9 @@ fn traverse_below(
             continue;
         }
         let mut test_children = test;
-        // Whether a failing leaf's parts are worth testing: not where its box reaches in front
-        // of the occluders at its centre (the occluders' own surface, mostly).
+        // Whether a failing leaf's parts are worth testing: where its triangles are not much
+        // smaller than pixels, or its box lies behind the occluders at its centre (not where it
+        // reaches in front of them: the occluders' own surface, mostly).
         let mut parts = true;
         if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
             stats.nodes_tested += 1;
@@ -530,15 +536,14 @@ fn traverse_below(
                 stats.occlusion_culled += node.count as usize;
                 continue;
             }
+            let area = (x1 - x0 + 1) * (y1 - y0 + 1);
             if node.is_leaf() {
                 let (x, y) = ((x0 + x1) / 2, (y0 + y1) / 2);
-                let area = (x1 - x0 + 1) * (y1 - y0 + 1);
                 parts = node.count as usize <= TRIANGLES_PER_PIXEL * area || o.maps.depth[y * w + x] < bound().at(x, y);
             }
             // Adaptive stop: too little of it is covered for a descendant to be hidden; only
             // the frustum is tested below.
-            let area = ((x1 - x0 + 1) * (y1 - y0 + 1)) as f32;
-            test_children = covered as f32 >= settings.adaptive_ratio * area;
+            test_children = covered as f32 >= settings.adaptive_ratio * area as f32;
         }
         let testing = test_children && occ.is_some();
         if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {

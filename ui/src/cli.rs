@@ -506,7 +506,8 @@ fn render(args: &RenderArgs) -> Result<bool> {
     };
     let stats = if args.debug_culled {
         renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input);
-        vbrain::render::RenderStats { triangles_drawn: cull.drawn, ..Default::default() }
+        let organs_drawn = draw.ranges.iter().filter(|r| !r.is_empty()).count();
+        vbrain::render::RenderStats { triangles_drawn: cull.drawn, organs_drawn, ..Default::default() }
     } else {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
