@@ -16,10 +16,10 @@
 //!    its box's depth bound there ([`depth_bound`]: a tilted box over a tilted occluder); below a
 //!    node whose coverage ratio is under the adaptive threshold, descendants are tested against the
 //!    frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
-//!    its own, and a part whose triangles are not much smaller than the pixels on its triangles,
-//!    each tested with its own rectangle and depth plane; a node wholly inside the frustum with
-//!    nothing more to test is drawn as one range. Organs, and the halves of big subtrees, are
-//!    traversed in parallel.
+//!    its own, and a part that fails, where its triangles are not much smaller than the pixels, on
+//!    its triangles, each tested with its own rectangle and depth plane; a node wholly inside the
+//!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
+//!    subtrees, are traversed in parallel.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -208,8 +208,9 @@ pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
     let (wf, hf) = (w as f32, h as f32);
     let (px0, px1) = ((x_lo + 1.0) * 0.5 * wf, (x_hi + 1.0) * 0.5 * wf);
     let (py0, py1) = ((1.0 - y_hi) * 0.5 * hf, (1.0 - y_lo) * 0.5 * hf);
-    let (first, last) = (first_pixel, last_pixel);
-    Seen::Rect { x0: first(px0, wf), x1: last(px1, wf), y0: first(py0, hf), y1: last(py1, hf), z: z_lo, inside }
+    let (x0, x1) = (first_pixel(px0, wf), last_pixel(px1, wf));
+    let (y0, y1) = (first_pixel(py0, hf), last_pixel(py1, hf));
+    Seen::Rect { x0, y0, x1, y1, z: z_lo, inside }
 }
 
 /// The first of `n` pixels that a span starting at `v` (in pixels) reaches, clamped (without a
