@@ -4,18 +4,15 @@
 //! (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
 //!
 //! A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
-//! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's faces that face
-//! the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least each front
-//! face's plane depth on that ray, also linear in screen position (projection maps planes to
-//! planes); the bound at
-//! a pixel is the largest of these over the (at most three) front faces, and never less than the
-//! box's nearest corner depth.
+//! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's
+//! faces that face the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least
+//! each such face's plane depth on that ray, also linear in screen position (projection maps planes
+//! to planes). The bound at a pixel is the largest of these over the (at most three) front faces,
+//! and never less than the box's nearest corner depth.
 
+use super::raster::Triangle;
 use crate::mesh::Bounds;
 use glam::{DMat4, DVec4, Vec3};
-
-/// A projected triangle: x, y in culling pixels, z = NDC depth.
-pub type Triangle = [Vec3; 3];
 
 /// Planes steeper than this (NDC depth per culling pixel) are left out: nearly edge-on, they
 /// bound nothing and their coefficients lose precision.
@@ -27,7 +24,8 @@ const EPS: f32 = 1e-6;
 /// The depth bound of one box or triangle over the pixels of a `width` x `height` raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthBound {
-    /// Per plane (a box's front faces, or a triangle's own), (c, a, b): the bound at pixel (x, y) is c + a x + b y.
+    /// Per plane (a box's front faces, or a triangle's own), (c, a, b): its least value over pixel
+    /// (x, y) is c + a x + b y.
     planes: [[f32; 3]; 3],
     count: usize,
     /// The nearest corner depth.
