@@ -14,23 +14,15 @@ fn default_set() -> OrganSet {
     loaded.set
 }
 
-/// Does a ray from `origin` along `dir` hit the mesh? (Möller-Trumbore, both sides.)
+/// Does the ray from `origin` along `dir` cross triangle `t` (its three indices), on either side?
+fn crosses(mesh: &Mesh, t: &[u32], origin: Vec3, dir: Vec3) -> bool {
+    let corners = [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
+    vbrain::mesh::ray_triangle(origin, dir, corners).is_some_and(|d| d > 0.0)
+}
+
+/// Does a ray from `origin` along `dir` hit the mesh?
 fn hits(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
-    mesh.indices.chunks_exact(3).any(|t| {
-        let [a, b, c] = [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
-        let (e1, e2) = (b - a, c - a);
-        let p = dir.cross(e2);
-        let det = e1.dot(p);
-        if det.abs() < 1e-9 {
-            return false;
-        }
-        let s = origin - a;
-        let u = s.dot(p) / det;
-        let q = s.cross(e1);
-        let v = dir.dot(q) / det;
-        let t = e2.dot(q) / det;
-        u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t > 0.0
-    })
+    mesh.indices.chunks_exact(3).any(|t| crosses(mesh, t, origin, dir))
 }
 
 /// A point is enclosed by a surface (closed or a closed shell) if rays in all 6 axis directions and
@@ -121,13 +113,7 @@ fn one_space_cortex_in_skull_in_scalp() {
 
 /// Does a ray from `origin` along `dir` cross the mesh an odd number of times?
 fn inside(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
-    let triangle = |t: &[u32]| [t[0], t[1], t[2]].map(|i| Vec3::from(mesh.positions[i as usize]));
-    let crossings = mesh
-        .indices
-        .chunks_exact(3)
-        .filter(|t| vbrain::mesh::ray_triangle(origin, dir, triangle(t)).is_some_and(|d| d > 0.0))
-        .count();
-    crossings % 2 == 1
+    mesh.indices.chunks_exact(3).filter(|t| crosses(mesh, t, origin, dir)).count() % 2 == 1
 }
 
 #[test]
