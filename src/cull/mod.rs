@@ -531,7 +531,9 @@ fn traverse_below(
         let mut parts = true;
         if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
             stats.nodes_tested += 1;
-            let bound = || view.depth_bound(&node.bounds, z, w, h);
+            // Computed at most once: by the test, and again by a failing leaf's gate below.
+            let cell = std::cell::OnceCell::new();
+            let bound = || *cell.get_or_init(|| view.depth_bound(&node.bounds, z, w, h));
             let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
