@@ -2,7 +2,7 @@
 //! whose leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1), with the mesh's triangles
 //! reordered so each leaf is one contiguous range of the index buffer. Within a leaf the triangles
 //! are split further, the same way, into contiguous *parts* of at most [`PART_TRIANGLES`], whose
-//! tighter boxes the occlusion test falls back on when a leaf's box fails. And, per triangle, its
+//! tighter boxes and thin slabs the occlusion test falls back on when a leaf's box fails. And, per triangle, its
 //! neighbours across its three edges (by position, consistently wound), which the occluder
 //! rasteriser needs to find the outline of a set of triangles.
 
@@ -35,12 +35,42 @@ impl Node {
     }
 }
 
-/// Triangles `first..first + count` of a leaf, and their bounds.
+/// Triangles `first..first + count` of a leaf, their bounds, and a slab holding them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Part {
     pub bounds: Bounds,
     pub first: u32,
     pub count: u32,
+    pub slab: Slab,
+}
+
+/// The points p with `min <= normal . p <= max`: two parallel planes across the mean normal of a
+/// patch of surface that hold all its triangles. A small patch is nearly flat, so its slab is far
+/// thinner than its box; where the normals cancel (no mean direction), it holds everything.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Slab {
+    pub normal: Vec3,
+    pub min: f32,
+    pub max: f32,
+}
+
+impl Slab {
+    /// The slab of triangles (each given by its three corners).
+    pub fn of(triangles: impl Iterator<Item = [Vec3; 3]> + Clone) -> Slab {
+        let sum: Vec3 = triangles.clone().map(|[a, b, c]| (b - a).cross(c - a)).sum();
+        let normal = sum.normalize_or_zero();
+        if normal == Vec3::ZERO {
+            return Slab { normal, min: f32::NEG_INFINITY, max: f32::INFINITY };
+        }
+        let (mut min, mut max, mut reach) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
+        for p in triangles.flatten() {
+            let d = normal.dot(p);
+            (min, max, reach) = (min.min(d), max.max(d), reach.max(p.abs().element_sum()));
+        }
+        // Widened well beyond the rounding of the products (a few ulps of the largest term).
+        let margin = 1e-5 * reach;
+        Slab { normal, min: min - margin, max: max + margin }
+    }
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -152,7 +182,8 @@ impl Bvh {
             while let Some((first, count)) = runs.pop() {
                 let slice = &mut order[first..first + count];
                 if count <= PART_TRIANGLES {
-                    bvh.parts.push(Part { bounds: bound(slice), first: first as u32, count: count as u32 });
+                    let slab = Slab::of(slice.iter().map(|&t| tri(t)));
+                    bvh.parts.push(Part { bounds: bound(slice), first: first as u32, count: count as u32, slab });
                     continue;
                 }
                 let mid = split(slice);
@@ -272,6 +303,8 @@ mod tests {
                     for k in 0..3 {
                         let p = m.positions[m.indices[3 * t as usize + k] as usize];
                         assert!((0..3).all(|i| part.bounds.min[i] <= p[i] && p[i] <= part.bounds.max[i]));
+                        let d = part.slab.normal.dot(Vec3::from(p));
+                        assert!(part.slab.min <= d && d <= part.slab.max);
                     }
                 }
             }

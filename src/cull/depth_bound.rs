@@ -7,12 +7,15 @@
 //! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's
 //! faces that face the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least
 //! each such face's plane depth on that ray, also linear in screen position (projection maps planes
-//! to planes). The bound at a pixel is the largest of these over the (at most three) front faces,
-//! and never less than the box's nearest corner depth.
+//! to planes). The same holds for the intersection of the box with a slab holding the same
+//! triangles ([`Slab`], two parallel planes across a part's mean normal): the slab's face toward the
+//! eye is one more such plane. The bound at a pixel is the largest of these over the (at most four)
+//! front faces, and never less than the box's nearest corner depth.
 
 use super::raster::Triangle;
+use crate::bvh::Slab;
 use crate::mesh::Bounds;
-use glam::{DMat4, DVec4, Vec3};
+use glam::{DMat4, DVec3, DVec4, Vec3};
 
 /// Planes steeper than this (NDC depth per culling pixel) are left out: nearly edge-on, they
 /// bound nothing and their coefficients lose precision.
@@ -24,47 +27,68 @@ const EPS: f32 = 1e-6;
 /// The depth bound of one box or triangle over the pixels of a `width` x `height` raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthBound {
-    /// Per plane (a box's front faces, or a triangle's own), (c, a, b): its least value over pixel
-    /// (x, y) is c + a x + b y.
-    planes: [[f32; 3]; 3],
+    /// Per plane (a box's and its slab's front faces, or a triangle's own), (c, a, b): its least
+    /// value over pixel (x, y) is c + a x + b y.
+    planes: [[f32; 3]; 4],
     count: usize,
     /// The nearest corner depth.
     nearest: f32,
 }
 
 impl DepthBound {
-    /// The bound for box `b` seen through `inverse` (the inverse of its model-view-projection
-    /// matrix) from `eye` (in organ space), with nearest corner depth `nearest`.
-    pub fn of_box(inverse: &DMat4, eye: Vec3, b: &Bounds, nearest: f32, width: usize, height: usize) -> DepthBound {
-        let (w, h) = (width as f64, height as f64);
-        let mut bound = DepthBound { planes: [[0.0; 3]; 3], count: 0, nearest };
+    /// The bound for box `b` (and, where given, a slab holding the same triangles) seen through
+    /// `inverse` (the inverse of its model-view-projection matrix) from `eye` (in organ space),
+    /// with nearest corner depth `nearest`.
+    pub fn of_box(
+        inverse: &DMat4,
+        eye: Vec3,
+        b: &Bounds,
+        slab: Option<&Slab>,
+        nearest: f32,
+        width: usize,
+        height: usize,
+    ) -> DepthBound {
+        let mut bound = DepthBound { planes: [[0.0; 3]; 4], count: 0, nearest };
+        let mut face = |normal: DVec3, d: f32| bound.add_organ_plane(inverse, normal, d, width, height);
         for k in 0..3 {
             // The face toward the eye on axis k, if the eye lies outside the box's slab there.
-            let d = if eye[k] < b.min[k] {
-                b.min[k]
+            if eye[k] < b.min[k] {
+                face(DVec3::AXES[k], b.min[k]);
             } else if eye[k] > b.max[k] {
-                b.max[k]
-            } else {
-                continue;
-            };
-            // Points (X, Y, Z) in NDC on the plane p_k = d satisfy q . (X, Y, Z, 1) = 0.
-            let q: DVec4 = inverse.row(k) - d as f64 * inverse.row(3);
-            if q.z == 0.0 {
-                continue;
+                face(DVec3::AXES[k], b.max[k]);
             }
-            // Z = -(q.x X + q.y Y + q.w) / q.z with X = 2 x / w - 1 and Y = 1 - 2 y / h.
-            let a = -2.0 * q.x / (w * q.z);
-            let b = 2.0 * q.y / (h * q.z);
-            let c = (q.x - q.y - q.w) / q.z;
-            bound.add_plane(c, a, b);
+        }
+        if let Some(s) = slab {
+            let e = s.normal.dot(eye);
+            if e < s.min {
+                face(s.normal.as_dvec3(), s.min);
+            } else if e > s.max {
+                face(s.normal.as_dvec3(), s.max);
+            }
         }
         bound
+    }
+
+    /// Adds the plane `normal . p = d` of organ space, seen through `inverse`.
+    fn add_organ_plane(&mut self, inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: usize) {
+        let (w, h) = (width as f64, height as f64);
+        // Points (X, Y, Z) in NDC on the plane satisfy q . (X, Y, Z, 1) = 0.
+        let q: DVec4 = normal.x * inverse.row(0) + normal.y * inverse.row(1) + normal.z * inverse.row(2)
+            - d as f64 * inverse.row(3);
+        if q.z == 0.0 {
+            return;
+        }
+        // Z = -(q.x X + q.y Y + q.w) / q.z with X = 2 x / w - 1 and Y = 1 - 2 y / h.
+        let a = -2.0 * q.x / (w * q.z);
+        let b = 2.0 * q.y / (h * q.z);
+        let c = (q.x - q.y - q.w) / q.z;
+        self.add_plane(c, a, b);
     }
 
     /// The bound for a projected triangle.
     pub fn of_triangle(t: &Triangle) -> DepthBound {
         let nearest = t[0].z.min(t[1].z).min(t[2].z);
-        let mut bound = DepthBound { planes: [[0.0; 3]; 3], count: 0, nearest };
+        let mut bound = DepthBound { planes: [[0.0; 3]; 4], count: 0, nearest };
         let (e1, e2) = ((t[1] - t[0]).as_dvec3(), (t[2] - t[0]).as_dvec3());
         let area = e1.x * e2.y - e2.x * e1.y;
         // z = z0 + a (x - x0) + b (y - y0).
@@ -106,14 +130,19 @@ mod tests {
     use crate::rng::XorShift;
     use glam::Mat4;
 
-    /// Where the ray from `eye` along `dir` enters the box, if it meets it (slab test).
-    fn entry(eye: Vec3, dir: Vec3, b: &Bounds) -> Option<Vec3> {
+    /// Where the ray from `eye` along `dir` enters the box and the slab, if it meets both (slab
+    /// tests: the entry is the last of the entries into each pair of planes).
+    fn entry(eye: Vec3, dir: Vec3, b: &Bounds, slab: &Slab) -> Option<Vec3> {
         let (mut t0, mut t1) = (0.0f32, f32::INFINITY);
-        for k in 0..3 {
-            let (lo, hi) = ((b.min[k] - eye[k]) / dir[k], (b.max[k] - eye[k]) / dir[k]);
+        let mut clip = |lo: f32, hi: f32| {
             t0 = t0.max(lo.min(hi));
             t1 = t1.min(lo.max(hi));
+        };
+        for k in 0..3 {
+            clip((b.min[k] - eye[k]) / dir[k], (b.max[k] - eye[k]) / dir[k]);
         }
+        let (e, d) = (slab.normal.dot(eye), slab.normal.dot(dir));
+        clip((slab.min - e) / d, (slab.max - e) / d);
         (t0 <= t1).then(|| eye + dir * t0)
     }
 
@@ -122,8 +151,7 @@ mod tests {
         let mut rng = XorShift(5);
         let mut rand = || rng.unit();
         let (w, h) = (64, 48);
-        let mut hits = 0;
-        let mut useful = 0;
+        let (mut hits, mut useful, mut tighter) = (0, 0, 0);
         for _ in 0..200 {
             let eye = Vec3::new(rand() - 0.5, rand() - 0.5, 0.5 + rand()) * 40.0;
             let centre = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * 10.0;
@@ -134,10 +162,19 @@ mod tests {
             let view = Mat4::look_at_rh(world_eye, model.transform_point3(centre), Vec3::Y);
             let mvp = Mat4::perspective_rh(0.8, w as f32 / h as f32, 5.0, 120.0) * view * model;
             let nearest = b.corners().iter().map(|&c| mvp.project_point3(c).z).fold(f32::INFINITY, f32::min);
-            let bound = DepthBound::of_box(&mvp.as_dmat4().inverse(), eye, &b, nearest, w, h);
-            // Rays through random points of the box, seen in whatever pixel they fall.
-            for _ in 0..100 {
+            // A thin slab across the box, tilted at random, through a random point of it.
+            let normal = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5).normalize();
+            let through = normal.dot(centre + Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * half);
+            let slab = Slab { normal, min: through - 0.3 * rand(), max: through + 0.3 * rand() };
+            let inverse = mvp.as_dmat4().inverse();
+            let box_only = DepthBound::of_box(&inverse, eye, &b, None, nearest, w, h);
+            let bound = DepthBound::of_box(&inverse, eye, &b, Some(&slab), nearest, w, h);
+            // Rays through random points of the box and the slab, seen in whatever pixel they fall.
+            for _ in 0..400 {
                 let inner = Vec3::from(b.min) + Vec3::new(rand(), rand(), rand()) * 2.0 * half;
+                if !(slab.min..=slab.max).contains(&normal.dot(inner)) {
+                    continue;
+                }
                 let s = mvp.project_point3(inner);
                 let (sx, sy) = ((s.x + 1.0) * 0.5 * w as f32, (1.0 - s.y) * 0.5 * h as f32);
                 if !(0.0..w as f32).contains(&sx) || !(0.0..h as f32).contains(&sy) {
@@ -145,17 +182,20 @@ mod tests {
                 }
                 let (x, y) = (sx as usize, sy as usize);
                 let dir = (inner - eye).normalize();
-                if let Some(p) = entry(eye, dir, &b) {
+                if let Some(p) = entry(eye, dir, &b, &slab) {
                     hits += 1;
                     let z = mvp.project_point3(p).z;
                     assert!(bound.at(x, y) <= z + 1e-6, "pixel {x},{y}: bound {} over entry depth {z}", bound.at(x, y));
-                    useful += usize::from(bound.at(x, y) > nearest + 1e-4);
+                    useful += usize::from(box_only.at(x, y) > nearest + 1e-4);
+                    tighter += usize::from(bound.at(x, y) > box_only.at(x, y) + 1e-4);
                 }
             }
         }
-        assert!(hits > 10000, "only {hits} rays met their boxes");
-        // Tilted boxes: the bound is often well behind the nearest corner.
-        assert!(useful > hits / 4, "bound beyond the nearest corner on only {useful} of {hits} rays");
+        assert!(hits > 4000, "only {hits} rays met their boxes");
+        // Tilted boxes: the box's bound is often well behind the nearest corner, and the slab's
+        // often behind that.
+        assert!(useful > hits / 4, "box bound beyond the nearest corner on only {useful} of {hits} rays");
+        assert!(tighter > hits / 4, "slab bound beyond the box's on only {tighter} of {hits} rays");
     }
 
     #[test]

@@ -16,7 +16,7 @@
 //!    its box's depth bound there ([`depth_bound`]: a tilted box over a tilted occluder); below a
 //!    node whose coverage ratio is under the adaptive threshold, descendants are tested against the
 //!    frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
-//!    its own, and a part that fails, where its triangles are not much smaller than the pixels, on
+//!    its own (its depth bound also under its slab's near face), and a part that fails, where its triangles are not much smaller than the pixels, on
 //!    its triangles, each tested with its own rectangle and depth plane; a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
 //!    subtrees, are traversed in parallel.
@@ -31,7 +31,7 @@ pub mod sparse_depth;
 
 pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource, Selection};
 
-use crate::bvh::{Bvh, NONE};
+use crate::bvh::{Bvh, Slab, NONE};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
@@ -472,8 +472,8 @@ impl OrganView {
         OrganView { mvp, inverse: mvp.as_dmat4().inverse(), eye: model.inverse().transform_point3(eye) }
     }
 
-    fn depth_bound(&self, b: &Bounds, nearest: f32, w: usize, h: usize) -> DepthBound {
-        DepthBound::of_box(&self.inverse, self.eye, b, nearest, w, h)
+    fn depth_bound(&self, b: &Bounds, slab: Option<&Slab>, nearest: f32, w: usize, h: usize) -> DepthBound {
+        DepthBound::of_box(&self.inverse, self.eye, b, slab, nearest, w, h)
     }
 }
 
@@ -533,7 +533,7 @@ fn traverse_below(
             stats.nodes_tested += 1;
             // Computed at most once: by the test, and again by a failing leaf's gate below.
             let cell = std::cell::OnceCell::new();
-            let bound = || *cell.get_or_init(|| view.depth_bound(&node.bounds, z, w, h));
+            let bound = || *cell.get_or_init(|| view.depth_bound(&node.bounds, None, z, w, h));
             let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
@@ -567,7 +567,7 @@ fn traverse_below(
                         Seen::Straddles => false,
                         Seen::Rect { x0, y0, x1, y1, z, .. } => {
                             let rect = [x0, y0, x1, y1];
-                            let bound = || view.depth_bound(&part.bounds, z, w, h);
+                            let bound = || view.depth_bound(&part.bounds, Some(&part.slab), z, w, h);
                             let area = (x1 - x0 + 1) * (y1 - y0 + 1);
                             let triangles = part.first..part.first + part.count;
                             o.test(rect, z, holes, bound).1
