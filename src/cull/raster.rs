@@ -45,6 +45,37 @@ pub struct OccluderMaps {
 /// Margin (in pixel widths) by which triangles and edges are widened against rounding.
 const EPS: f32 = 1e-3;
 
+/// One edge of a triangle: its edge function a x + b y + c (positive inside), how far from its
+/// line a widened pixel square may reach, and its box widened by [`EPS`].
+#[derive(Clone, Copy, Debug)]
+struct Edge {
+    a: f32,
+    b: f32,
+    c: f32,
+    reach: f32,
+    x_lo: f32,
+    x_hi: f32,
+    y_lo: f32,
+    y_hi: f32,
+}
+
+impl Edge {
+    /// The edge from `p` to `q` of a triangle whose signed area has sign `s`.
+    fn new(p: Vec3, q: Vec3, s: f32) -> Edge {
+        let (a, b) = ((p.y - q.y) * s, (q.x - p.x) * s);
+        Edge {
+            a,
+            b,
+            c: -(a * p.x + b * p.y),
+            reach: (0.5 + EPS) * (a.abs() + b.abs()),
+            x_lo: p.x.min(q.x) - EPS,
+            x_hi: p.x.max(q.x) + EPS,
+            y_lo: p.y.min(q.y) - EPS,
+            y_hi: p.y.max(q.y) + EPS,
+        }
+    }
+}
+
 /// One triangle over one pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Fragment {
@@ -91,14 +122,11 @@ impl OccluderRaster {
         // Edge functions, positive inside whatever the winding; `reach` is how far from the line
         // (in edge-function units) a widened square centred at a point may still meet it.
         let s = area.signum();
-        let edge = |a: Vec3, b: Vec3| {
-            let (ea, eb) = ((a.y - b.y) * s, (b.x - a.x) * s);
-            (ea, eb, -(ea * a.x + eb * a.y), (0.5 + EPS) * (ea.abs() + eb.abs()))
-        };
-        let edges = [edge(t[0], t[1]), edge(t[1], t[2]), edge(t[2], t[0])];
+        let edges = [0, 1, 2].map(|k| Edge::new(t[k], t[(k + 1) % 3], s));
         // Depth plane z = z0 + dzdx (x - x0) + dzdy (y - y0).
         let dzdx = ((t[1].z - t[0].z) * (t[2].y - t[0].y) - (t[2].z - t[0].z) * (t[1].y - t[0].y)) / area;
         let dzdy = ((t[2].z - t[0].z) * (t[1].x - t[0].x) - (t[1].z - t[0].z) * (t[2].x - t[0].x)) / area;
+        let slope = 0.5 * (dzdx.abs() + dzdy.abs());
         let zmax = max.z;
         let span =
             |lo: f32, hi: f32, n: f32| ((lo - EPS).floor().max(0.0) as usize, (hi + EPS).floor().min(n - 1.0) as usize);
@@ -109,45 +137,43 @@ impl OccluderRaster {
             // The pixels whose widened square an edge's line leaves wholly outside lie beyond a
             // point on the row; the exact test below runs only between those points (less a pixel).
             let (mut lo, mut hi) = (x0 as f32, x1 as f32);
-            for &(a, b, c, reach) in &edges {
+            for e in &edges {
                 // a (x + 0.5) + b cy + c + reach >= 0.
-                let at = -(b * cy + c + reach) / a - 0.5;
-                if a > 0.0 {
+                let at = -(e.b * cy + e.c + e.reach) / e.a - 0.5;
+                if e.a > 0.0 {
                     lo = lo.max(at.floor() - 1.0);
-                } else if a < 0.0 {
+                } else if e.a < 0.0 {
                     hi = hi.min(at.ceil() + 1.0);
                 }
             }
             if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
                 continue;
             }
+            // Per edge: b cy, and whether its box reaches this row (bit k).
+            let by = edges.map(|e| e.b * cy);
+            let row_mask =
+                (0..3).fold(0u8, |m, k| m | (u8::from(edges[k].y_lo <= cy + 0.5 && edges[k].y_hi >= cy - 0.5) << k));
+            let dz_row = dzdy * (cy - t[0].y);
             for x in lo as usize..=hi as usize {
                 let cx = x as f32 + 0.5;
-                let f = edges.map(|(a, b, c, _)| a * cx + b * cy + c);
+                let f = [0, 1, 2].map(|k| edges[k].a * cx + by[k] + edges[k].c);
                 // Touches the (widened) square: no edge has the whole square outside.
-                if (0..3).any(|k| f[k] + edges[k].3 < 0.0) {
+                if (f[0] + edges[0].reach < 0.0) | (f[1] + edges[1].reach < 0.0) | (f[2] + edges[2].reach < 0.0) {
                     continue;
                 }
-                let mut touching = 0u8;
-                // Wholly inside every edge: no edge touches the square.
-                let interior = (0..3).all(|k| f[k] > edges[k].3);
-                for k in (0..3).filter(|_| !interior) {
-                    let (a, b) = (t[k], t[(k + 1) % 3]);
-                    let near_line = f[k].abs() <= edges[k].3;
-                    let in_box = a.x.min(b.x) - EPS <= cx + 0.5
-                        && a.x.max(b.x) + EPS >= cx - 0.5
-                        && a.y.min(b.y) - EPS <= cy + 0.5
-                        && a.y.max(b.y) + EPS >= cy - 0.5;
-                    if near_line && in_box {
-                        touching |= 1 << k;
-                    }
+                // An edge touches the square where its line passes within reach of the centre and
+                // its box meets the square (none does for a square wholly inside).
+                let mut touching = row_mask;
+                for (k, e) in edges.iter().enumerate() {
+                    let near = f[k] <= e.reach && e.x_lo <= cx + 0.5 && e.x_hi >= cx - 0.5;
+                    touching &= !(u8::from(!near) << k);
                 }
-                let z = t[0].z + dzdx * (cx - t[0].x) + dzdy * (cy - t[0].y) + 0.5 * (dzdx.abs() + dzdy.abs());
+                let z = t[0].z + dzdx * (cx - t[0].x) + dz_row + slope;
                 out.push(Fragment {
                     pixel: (y * self.width + x) as u32,
                     triangle: id,
                     z: if z.is_finite() { z.min(zmax) } else { zmax },
-                    centre: f.iter().all(|&v| v >= 0.0),
+                    centre: (f[0] >= 0.0) & (f[1] >= 0.0) & (f[2] >= 0.0),
                     edges: touching,
                 });
             }
@@ -211,13 +237,10 @@ const EMPTY: Fragment = Fragment { pixel: 0, triangle: 0, z: 0.0, centre: false,
 struct Scratch {
     /// The pixel's fragments that have an edge in it (by triangle, as the pixel's fragments are).
     edged: Vec<Fragment>,
-    /// Union-find over `edged`.
-    parent: Vec<u32>,
-    /// Per fragment of `edged`: one of its edges leads out of the pixel's fragments.
-    border: Vec<bool>,
-    /// Per root: (has a border, holds the centre, farthest depth).
-    root: Vec<(bool, bool, f32)>,
 }
+
+/// Most fragments with an edge in one pixel whose components are told apart (as bit sets).
+const MAX_EDGED: usize = 64;
 
 /// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
 fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]], s: &mut Scratch) -> Option<f32> {
@@ -241,46 +264,69 @@ fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]], s: &mut Scratch) -> O
         return found(best);
     }
     // The others form components across their touching edges; one whose edge leads to a fragment
-    // not among them (or to none) has a border.
-    let m = s.edged.len();
-    s.parent.clear();
-    s.parent.extend(0..m as u32);
-    s.border.clear();
-    s.border.resize(m, false);
-    fn find(parent: &mut [u32], mut i: u32) -> u32 {
-        while parent[i as usize] != i {
-            parent[i as usize] = parent[parent[i as usize] as usize];
-            i = parent[i as usize];
-        }
-        i
+    // not among them (or to none) has a border. Fragments i and j joined: bit j of `joined[i]`.
+    let edged = &s.edged[..];
+    let m = edged.len();
+    // The fragment of a triangle among them (they are few: a short scan beats a binary search);
+    // NONE matches none.
+    let position = |t: u32| match m {
+        0..=16 => edged.iter().position(|g| g.triangle == t),
+        _ => edged.binary_search_by_key(&t, |g| g.triangle).ok(),
+    };
+    if m > MAX_EDGED {
+        // Too many to tell apart (degenerate input): taken as one component, which can only
+        // make the pixel farther, or uncovered.
+        let border = edged
+            .iter()
+            .any(|f| (0..3).any(|k| f.edges & (1 << k) != 0 && position(neighbours[f.triangle as usize][k]).is_none()));
+        return found(if border { best } else { best.min(edged.iter().map(|f| f.z).fold(f32::MIN, f32::max)) });
     }
-    for i in 0..m {
-        let f = s.edged[i];
-        for k in (0..3).filter(|k| f.edges & (1 << k) != 0) {
-            let across = neighbours[f.triangle as usize][k];
-            let j = (across != NONE).then(|| s.edged.binary_search_by_key(&across, |g| g.triangle).ok()).flatten();
-            match j {
+    let mut joined = [0u64; MAX_EDGED];
+    let (mut border, mut centres) = (0u64, 0u64);
+    for (i, f) in edged.iter().enumerate() {
+        joined[i] |= 1 << i;
+        centres |= u64::from(f.centre) << i;
+        let mut edges = f.edges;
+        while edges != 0 {
+            let k = edges.trailing_zeros() as usize;
+            edges &= edges - 1;
+            match position(neighbours[f.triangle as usize][k]) {
                 Some(j) => {
-                    let (a, b) = (find(&mut s.parent, i as u32), find(&mut s.parent, j as u32));
-                    s.parent[a as usize] = b;
+                    joined[i] |= 1 << j;
+                    joined[j] |= 1 << i;
                 }
-                None => s.border[i] = true,
+                None => border |= 1 << i,
             }
         }
     }
-    s.root.clear();
-    s.root.resize(m, (false, false, f32::NEG_INFINITY));
-    for i in 0..m {
-        let f = &s.edged[i];
-        let c = &mut s.root[find(&mut s.parent, i as u32) as usize];
-        (c.0, c.1, c.2) = (c.0 || s.border[i], c.1 || f.centre, c.2.max(f.z));
-    }
-    for (i, &(border, centre, z)) in s.root.iter().enumerate() {
-        if s.parent[i] == i as u32 && !border && centre {
-            best = best.min(z);
+    // Components one by one: grown from their lowest fragment until closed.
+    let mut left = if m == 64 { u64::MAX } else { (1u64 << m) - 1 };
+    while left != 0 {
+        let mut component = left & left.wrapping_neg();
+        loop {
+            let grown = bits(component).fold(component, |c, j| c | joined[j]);
+            if grown == component {
+                break;
+            }
+            component = grown;
+        }
+        left &= !component;
+        if component & border == 0 && component & centres != 0 {
+            best = best.min(bits(component).map(|j| edged[j].z).fold(f32::MIN, f32::max));
         }
     }
     found(best)
+}
+
+/// The positions of the set bits of `b`, lowest first.
+fn bits(mut b: u64) -> impl Iterator<Item = usize> {
+    std::iter::from_fn(move || {
+        (b != 0).then(|| {
+            let j = b.trailing_zeros() as usize;
+            b &= b - 1;
+            j
+        })
+    })
 }
 
 #[cfg(test)]
@@ -346,6 +392,22 @@ mod tests {
             }
         }
         assert!(total > 1000, "only {total} pixels covered in 30 fans");
+    }
+
+    #[test]
+    fn a_pixel_where_many_edges_meet_is_covered() {
+        // Fans centred on pixel (8, 8): every spoke crosses it; above MAX_EDGED the pixel's
+        // fragments are taken as one component.
+        for k in [40, 100] {
+            let (tris, neighbours) = fan(8.5, 8.5, 6.0, k, 0.5);
+            let mut r = OccluderRaster::new(16, 16);
+            r.add(&tris, &neighbours);
+            let maps = r.finish();
+            assert_eq!(maps.covered[8 * 16 + 8], 1, "{k} spokes");
+            let z = maps.depth[8 * 16 + 8];
+            // The fan's farthest depth over the pixel, never nearer.
+            assert!((0.5..=0.5101).contains(&z), "{k} spokes: depth {z}");
+        }
     }
 
     #[test]
