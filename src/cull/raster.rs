@@ -196,7 +196,7 @@ impl OccluderRaster {
                 out
             })
             .collect();
-        let (w, n) = (self.width, self.width * self.height);
+        let n = self.width * self.height;
         // Fragments by pixel (a stable counting sort: by triangle within a pixel).
         let mut start = vec![0u32; n + 1];
         for f in chunks.iter().flatten() {
@@ -213,19 +213,22 @@ impl OccluderRaster {
         }
         let mut covered = vec![0u8; n];
         let mut depth = vec![f32::INFINITY; n];
-        covered.par_chunks_mut(w.max(1)).zip(depth.par_chunks_mut(w.max(1))).enumerate().for_each_init(
-            Scratch::default,
-            |scratch, (y, (covered, depth))| {
-                for x in 0..w {
-                    let p = y * w + x;
-                    let here = &sorted[start[p] as usize..start[p + 1] as usize];
-                    if let Some(z) = pixel_depth(here, &self.neighbours, scratch) {
-                        covered[x] = 1;
-                        depth[x] = z;
-                    }
+        // Bands of pixels in parallel; a pixel no fragment reaches stays uncovered.
+        const BAND: usize = 2048;
+        covered.par_chunks_mut(BAND).zip(depth.par_chunks_mut(BAND)).enumerate().for_each(|(b, (covered, depth))| {
+            let mut scratch = Scratch::default();
+            for i in 0..covered.len() {
+                let p = b * BAND + i;
+                let (first, end) = (start[p] as usize, start[p + 1] as usize);
+                if first == end {
+                    continue;
                 }
-            },
-        );
+                if let Some(z) = pixel_depth(&sorted[first..end], &self.neighbours, &mut scratch) {
+                    covered[i] = 1;
+                    depth[i] = z;
+                }
+            }
+        });
         OccluderMaps { width: self.width, height: self.height, covered, depth }
     }
 }
