@@ -1,10 +1,12 @@
 //! The culling hierarchy of one organ (organ space, millimetres): a binary bounding-volume tree
 //! whose leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1), with the mesh's triangles
-//! reordered so each leaf is one contiguous range of the index buffer. Within a leaf the triangles
-//! are split further, the same way, into contiguous *parts* of at most [`PART_TRIANGLES`], whose
-//! tighter boxes and thin slabs the occlusion test falls back on when a leaf's box fails. And, per triangle, its
-//! neighbours across its three edges (by position, consistently wound), which the occluder
-//! rasteriser needs to find the outline of a set of triangles.
+//! reordered so each leaf is one contiguous range of the index buffer (and the vertices renumbered
+//! in order of first use, so a leaf's vertices lie together in memory). Within a leaf the
+//! triangles are split further, the same way, into contiguous *parts* of at most
+//! [`PART_TRIANGLES`], whose tighter boxes and thin slabs the occlusion test falls back on when a
+//! leaf's box fails. And, per triangle, its neighbours across its three edges (by position,
+//! consistently wound), which the occluder rasteriser needs to find the outline of a set of
+//! triangles.
 
 use crate::mesh::{Bounds, Mesh};
 use glam::Vec3;
@@ -90,8 +92,9 @@ pub struct Bvh {
 }
 
 impl Bvh {
-    /// Builds the tree and reorders `mesh`'s triangles into leaf order. Splits at the median split
-    /// position along the longest axis of their bounds.
+    /// Builds the tree, reorders `mesh`'s triangles into leaf order and its vertices into order of
+    /// first use (dropping unused ones). Splits at the median split position along the longest
+    /// axis of their bounds.
     pub fn build(mesh: &mut Mesh) -> Bvh {
         let tri_count = mesh.triangle_count();
         let mut bvh = Bvh::default();
@@ -195,6 +198,7 @@ impl Bvh {
         bvh.leaves = leaves;
         mesh.indices =
             order.iter().flat_map(|&t| (0..3).map(move |k| 3 * t as usize + k)).map(|i| mesh.indices[i]).collect();
+        crate::surface::compact(mesh);
         bvh.neighbours = neighbours(mesh);
         bvh
     }
@@ -268,12 +272,26 @@ mod tests {
     #[test]
     fn leaves_are_small_contiguous_and_bounded() {
         let mut m = icosphere(12); // 8 * 144 = 1152 triangles
-        let before: std::collections::HashSet<[u32; 3]> =
-            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+                                   // Triangles by their corners' positions (vertices are renumbered).
+        let corners = |m: &Mesh| -> Vec<[[u32; 3]; 3]> {
+            let mut t: Vec<_> = m
+                .indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| m.positions[t[k] as usize].map(f32::to_bits)))
+                .collect();
+            t.sort();
+            t
+        };
+        let before = corners(&m);
         let bvh = Bvh::build(&mut m);
-        let after: std::collections::HashSet<[u32; 3]> =
-            m.indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
-        assert_eq!(before, after, "same triangles, reordered");
+        assert_eq!(before, corners(&m), "same triangles, reordered");
+        // Vertices in order of first use.
+        let mut next = 0;
+        for &v in &m.indices {
+            assert!(v <= next, "vertex {v} used before {next}");
+            next = next.max(v + 1);
+        }
+        assert_eq!(next as usize, m.positions.len());
         let mut covered = 0;
         for (l, &n) in bvh.leaves.iter().enumerate() {
             let node = &bvh.nodes[n as usize];
