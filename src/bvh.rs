@@ -22,6 +22,8 @@ pub const NONE: u32 = u32::MAX;
 #[derive(Clone, Debug, PartialEq)]
 pub struct Node {
     pub bounds: Bounds,
+    /// A slab holding its triangles.
+    pub slab: Slab,
     /// Children, or `[NONE, NONE]` for a leaf.
     pub children: [u32; 2],
     /// Triangles `first..first + count` (in triangle units) of everything below this node.
@@ -57,12 +59,15 @@ pub struct Slab {
 }
 
 impl Slab {
+    /// The slab of everything.
+    pub const ALL: Slab = Slab { normal: Vec3::ZERO, min: f32::NEG_INFINITY, max: f32::INFINITY };
+
     /// The slab of triangles (each given by its three corners).
     pub fn of(triangles: impl Iterator<Item = [Vec3; 3]> + Clone) -> Slab {
         let sum: Vec3 = triangles.clone().map(|[a, b, c]| (b - a).cross(c - a)).sum();
         let normal = sum.normalize_or_zero();
         if normal == Vec3::ZERO {
-            return Slab { normal, min: f32::NEG_INFINITY, max: f32::INFINITY };
+            return Slab::ALL;
         }
         let (mut min, mut max, mut reach) = (f32::INFINITY, f32::NEG_INFINITY, 0.0f32);
         for p in triangles.flatten() {
@@ -110,6 +115,7 @@ impl Bvh {
         // Explicit stack of (node, first, count).
         bvh.nodes.push(Node {
             bounds: Bounds::EMPTY,
+            slab: Slab::ALL,
             children: [NONE; 2],
             first: 0,
             count: tri_count as u32,
@@ -145,19 +151,26 @@ impl Bvh {
             });
             mid
         };
+        // A shell's root splits its outer surface from its inner one (see `shell_split`).
+        let shell = shell_split(mesh, &mut order);
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {
             let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
             let slice = &mut order[first..first + count];
             bvh.nodes[n as usize].bounds = bound(slice);
+            bvh.nodes[n as usize].slab = Slab::of(slice.iter().map(|&t| tri(t)));
             if count <= LEAF_TRIANGLES {
                 continue;
             }
-            let mid = split(slice);
+            let mid = match (n, shell) {
+                (0, Some(mid)) => mid,
+                _ => split(slice),
+            };
             let left = bvh.nodes.len() as u32;
             for (f, c) in [(first, mid), (first + mid, count - mid)] {
                 bvh.nodes.push(Node {
                     bounds: Bounds::EMPTY,
+                    slab: Slab::ALL,
                     children: [NONE; 2],
                     first: f as u32,
                     count: c as u32,
@@ -213,6 +226,67 @@ impl Bvh {
         let n = &self.nodes[self.leaves[leaf as usize] as usize];
         3 * n.first..3 * (n.first + n.count)
     }
+}
+
+/// A shell's inner surface, in most directions from its centre, lies wholly nearer it than its outer
+/// surface: in more than this share of the direction bins holding both (the skull of the default
+/// set: 77 %, its lobes of cortex: at most 35 %).
+const SHELL_NESTED: f32 = 0.6;
+/// Direction bins: per face of a cube around the centre, this many by this many.
+const SHELL_BINS: usize = 8;
+
+/// For a shell (a skull, a scalp: a closed wall around a hollow), reorders `order` so the
+/// triangles facing away from the centre of its bounds (its outer surface) come first and returns
+/// how many there are; `None` for other solids (nothing reordered). Split this way at the root,
+/// the hierarchy keeps the outer surface's near side, which is visible, apart from the inner
+/// surface just behind it, so whole subtrees of it lie in front of the occluders and need no
+/// further tests.
+///
+/// A shell, seen from the centre of its bounds, is two nested surfaces: in (almost) every
+/// direction the triangles facing the centre lie nearer it than those facing away. A folded sheet
+/// (a lobe of cortex) has both kinds at every distance.
+fn shell_split(mesh: &Mesh, order: &mut [u32]) -> Option<usize> {
+    let centre = mesh.bounds().center();
+    let outward = mesh.signed_volume().signum();
+    // Per triangle: whether it faces away from the centre, its direction bin and distance.
+    let classify = |t: u32| {
+        let i = 3 * t as usize;
+        let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(mesh.positions[mesh.indices[i + k] as usize]));
+        let d = (a + b + c) / 3.0 - centre;
+        let out = outward * (b - a).cross(c - a).dot(d) >= 0.0;
+        let m = d.abs();
+        let axis = if m.x >= m.y && m.x >= m.z {
+            0
+        } else if m.y >= m.z {
+            1
+        } else {
+            2
+        };
+        let major = m[axis].max(f32::MIN_POSITIVE);
+        let cell = |v: f32| (((v / major + 1.0) * 0.5 * SHELL_BINS as f32) as usize).min(SHELL_BINS - 1);
+        let (u, v) = (cell(d[(axis + 1) % 3]), cell(d[(axis + 2) % 3]));
+        let face = 2 * axis + usize::from(d[axis] < 0.0);
+        (out, (face * SHELL_BINS + u) * SHELL_BINS + v, d.length())
+    };
+    // Per bin: farthest inward-facing and nearest outward-facing triangle.
+    let mut bins = vec![(f32::NEG_INFINITY, f32::INFINITY); 6 * SHELL_BINS * SHELL_BINS];
+    for &t in order.iter() {
+        let (out, bin, r) = classify(t);
+        let (inner, outer) = &mut bins[bin];
+        if out {
+            *outer = outer.min(r);
+        } else {
+            *inner = inner.max(r);
+        }
+    }
+    let both = bins.iter().filter(|(i, o)| i.is_finite() && o.is_finite());
+    let (mixed, nested) = both.fold((0, 0), |(m, n), (i, o)| (m + 1, n + usize::from(i <= o)));
+    if mixed == 0 || (nested as f32) < SHELL_NESTED * mixed as f32 {
+        return None;
+    }
+    order.sort_by_key(|&t| !classify(t).0);
+    let outer = order.iter().take_while(|&&t| classify(t).0).count();
+    (outer > 0 && outer < order.len()).then_some(outer)
 }
 
 /// Neighbours across edges, matching vertices by position so split vertices (seams of normals)
@@ -305,6 +379,8 @@ mod tests {
                     let p = m.positions[m.indices[3 * t as usize + k] as usize];
                     let b = node.bounds;
                     assert!((0..3).all(|i| b.min[i] <= p[i] && p[i] <= b.max[i]));
+                    let d = node.slab.normal.dot(Vec3::from(p));
+                    assert!(node.slab.min <= d && d <= node.slab.max);
                 }
             }
         }
@@ -335,6 +411,35 @@ mod tests {
                 assert!((0..3).all(|i| n.bounds.min[i] <= cb.min[i] && cb.max[i] <= n.bounds.max[i]));
             }
         }
+    }
+
+    #[test]
+    fn a_shell_splits_its_outer_surface_from_its_inner_one_at_the_root() {
+        // A hollow octahedron (subdivided): one of radius 1 and, wound the other way, one of 0.8.
+        let outer = icosphere(8);
+        let mut inner = icosphere(8);
+        inner.positions.iter_mut().for_each(|p| *p = p.map(|c| 0.8 * c));
+        inner.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
+        let mut shell = outer.clone();
+        shell.append(&inner);
+        let bvh = Bvh::build(&mut shell);
+        let root = &bvh.nodes[0];
+        let [a, b] = root.children.map(|c| &bvh.nodes[c as usize]);
+        assert_eq!((a.count as usize, b.count as usize), (outer.triangle_count(), inner.triangle_count()));
+        // The outer child holds only the outer surface, the inner one only the inner (radius as
+        // |x| + |y| + |z|, constant over an octahedron).
+        let radius = |n: &Node| {
+            (3 * n.first..3 * (n.first + n.count))
+                .map(|i| Vec3::from(shell.positions[shell.indices[i as usize] as usize]).abs().element_sum())
+                .fold((f32::INFINITY, 0.0f32), |(lo, hi), r| (lo.min(r), hi.max(r)))
+        };
+        assert!(radius(a).0 > 0.999 && radius(b).1 < 0.801, "{:?} {:?}", radius(a), radius(b));
+        // A solid ball is not a shell: its root splits in space, into halves.
+        let mut ball = icosphere(8);
+        let bvh = Bvh::build(&mut ball);
+        let [a, b] = bvh.nodes[0].children.map(|c| bvh.nodes[c as usize].count);
+        assert_eq!(a + b, ball.triangle_count() as u32);
+        assert!(a.abs_diff(b) <= 1);
     }
 
     #[test]

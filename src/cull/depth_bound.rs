@@ -1,6 +1,7 @@
 //! A lower bound of a box's or a triangle's depth at each culling pixel, for the depth test of a
 //! node whose nearest depth alone is in front of some occluder depth over its rectangle (a tilted
-//! box over a tilted occluder surface). Spaces: boxes in organ space; pixels of the culling raster
+//! box over a tilted occluder surface); and an upper bound of a box's ([`FarBound`]), to find a
+//! node in front of the occluders, below which nothing can be hidden. Spaces: boxes in organ space; pixels of the culling raster
 //! (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
 //!
 //! A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
@@ -8,9 +9,10 @@
 //! faces that face the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least
 //! each such face's plane depth on that ray, also linear in screen position (projection maps planes
 //! to planes). The same holds for the intersection of the box with a slab holding the same
-//! triangles ([`Slab`], two parallel planes across a part's mean normal): the slab's face toward the
+//! triangles ([`Slab`], two parallel planes across their mean normal): the slab's face toward the
 //! eye is one more such plane. The bound at a pixel is the largest of these over the (at most four)
-//! front faces, and never less than the box's nearest corner depth.
+//! front faces, and never less than the box's nearest corner depth. The upper bound is the mirror
+//! image: the smallest over the far faces, where rays leave.
 
 use super::raster::Triangle;
 use crate::bvh::Slab;
@@ -71,18 +73,9 @@ impl DepthBound {
 
     /// Adds the plane `normal . p = d` of organ space, seen through `inverse`.
     fn add_organ_plane(&mut self, inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: usize) {
-        let (w, h) = (width as f64, height as f64);
-        // Points (X, Y, Z) in NDC on the plane satisfy q . (X, Y, Z, 1) = 0.
-        let q: DVec4 = normal.x * inverse.row(0) + normal.y * inverse.row(1) + normal.z * inverse.row(2)
-            - d as f64 * inverse.row(3);
-        if q.z == 0.0 {
-            return;
+        if let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) {
+            self.add_plane(c, a, b);
         }
-        // Z = -(q.x X + q.y Y + q.w) / q.z with X = 2 x / w - 1 and Y = 1 - 2 y / h.
-        let a = -2.0 * q.x / (w * q.z);
-        let b = 2.0 * q.y / (h * q.z);
-        let c = (q.x - q.y - q.w) / q.z;
-        self.add_plane(c, a, b);
     }
 
     /// The bound for a projected triangle.
@@ -124,6 +117,87 @@ impl DepthBound {
     }
 }
 
+/// The NDC depth of the plane `normal . p = d` of organ space (seen through `inverse`, the inverse
+/// of the model-view-projection matrix) as `[c, a, b]`: depth c + a x + b y at culling pixel
+/// position (x, y).
+fn screen_plane(inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: usize) -> Option<[f64; 3]> {
+    let (w, h) = (width as f64, height as f64);
+    // Points (X, Y, Z) in NDC on the plane satisfy q . (X, Y, Z, 1) = 0.
+    let q: DVec4 =
+        normal.x * inverse.row(0) + normal.y * inverse.row(1) + normal.z * inverse.row(2) - d as f64 * inverse.row(3);
+    if q.z == 0.0 {
+        return None;
+    }
+    // Z = -(q.x X + q.y Y + q.w) / q.z with X = 2 x / w - 1 and Y = 1 - 2 y / h.
+    Some([(q.x - q.y - q.w) / q.z, -2.0 * q.x / (w * q.z), 2.0 * q.y / (h * q.z)])
+}
+
+/// An upper bound of the depth of a box's triangles at each culling pixel: along a ray that meets
+/// the box and its slab, where it leaves them. On an axis where the eye lies outside the box's
+/// extent, the ray crosses the box's far face there after leaving, so each such far face's plane
+/// bounds it from above; so does the slab's far face where the eye lies outside the slab, and the
+/// farthest corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FarBound {
+    /// Per far face, (c, a, b): its greatest value over pixel (x, y) is c + a x + b y.
+    planes: [[f32; 3]; 4],
+    count: usize,
+    farthest: f32,
+}
+
+impl FarBound {
+    /// The bound for box `b` and `slab` seen through `inverse` from `eye` (in organ space), with
+    /// farthest corner depth `farthest`.
+    pub fn of_box(
+        inverse: &DMat4,
+        eye: Vec3,
+        b: &Bounds,
+        slab: &Slab,
+        farthest: f32,
+        width: usize,
+        height: usize,
+    ) -> FarBound {
+        let mut bound = FarBound { planes: [[0.0; 3]; 4], count: 0, farthest };
+        let mut face = |normal: DVec3, d: f32| {
+            let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) else { return };
+            if a.is_finite() && b.is_finite() && c.is_finite() && a.abs() + b.abs() <= MAX_SLOPE {
+                // Greatest over the pixel's square: at its centre, plus half the slope across it.
+                let c = c + 0.5 * (a + b) + 0.5 * (a.abs() + b.abs());
+                bound.planes[bound.count] = [c as f32, a as f32, b as f32];
+                bound.count += 1;
+            }
+        };
+        for k in 0..3 {
+            // The face away from the eye on axis k, if the eye lies outside the box's slab there.
+            if eye[k] < b.min[k] {
+                face(DVec3::AXES[k], b.max[k]);
+            } else if eye[k] > b.max[k] {
+                face(DVec3::AXES[k], b.min[k]);
+            }
+        }
+        let e = slab.normal.dot(eye);
+        if e < slab.min {
+            face(slab.normal.as_dvec3(), slab.max);
+        } else if e > slab.max {
+            face(slab.normal.as_dvec3(), slab.min);
+        }
+        bound
+    }
+
+    /// The greatest depth of the box on any ray through pixel (x, y) that meets it.
+    pub fn at(&self, x: usize, y: usize) -> f32 {
+        let (x, y) = (x as f32, y as f32);
+        let planes = self.planes[..self.count].iter().map(|&[c, a, b]| c + a * x + b * y);
+        planes.fold(self.farthest, f32::min) + EPS
+    }
+
+    /// Whether the box lies in front of the occluders wherever they cover the inclusive rectangle:
+    /// then nothing inside it can be hidden.
+    pub fn in_front(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+        (y0..=y1).all(|y| (x0..=x1).all(|x| self.at(x, y) < depth[y * width + x]))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -147,11 +221,11 @@ mod tests {
     }
 
     #[test]
-    fn bound_never_exceeds_the_depth_where_rays_enter() {
+    fn bounds_hold_the_depths_of_every_point_of_box_and_slab() {
         let mut rng = XorShift(5);
         let mut rand = || rng.unit();
         let (w, h) = (64, 48);
-        let (mut hits, mut useful, mut tighter) = (0, 0, 0);
+        let (mut hits, mut useful, mut tighter, mut below_far) = (0, 0, 0, 0);
         for _ in 0..200 {
             let eye = Vec3::new(rand() - 0.5, rand() - 0.5, 0.5 + rand()) * 40.0;
             let centre = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * 10.0;
@@ -169,6 +243,8 @@ mod tests {
             let inverse = mvp.as_dmat4().inverse();
             let box_only = DepthBound::of_box(&inverse, eye, &b, None, nearest, w, h);
             let bound = DepthBound::of_box(&inverse, eye, &b, Some(&slab), nearest, w, h);
+            let farthest = b.corners().iter().map(|&c| mvp.project_point3(c).z).fold(f32::NEG_INFINITY, f32::max);
+            let far = FarBound::of_box(&inverse, eye, &b, &slab, farthest, w, h);
             // Rays through random points of the box and the slab, seen in whatever pixel they fall.
             for _ in 0..400 {
                 let inner = Vec3::from(b.min) + Vec3::new(rand(), rand(), rand()) * 2.0 * half;
@@ -181,6 +257,9 @@ mod tests {
                     continue;
                 }
                 let (x, y) = (sx as usize, sy as usize);
+                // Every point of the box and slab lies no farther than the far bound.
+                assert!(far.at(x, y) >= s.z - 1e-6, "pixel {x},{y}: far bound {} before depth {}", far.at(x, y), s.z);
+                below_far += usize::from(far.at(x, y) < farthest - 1e-4);
                 let dir = (inner - eye).normalize();
                 if let Some(p) = entry(eye, dir, &b, &slab) {
                     hits += 1;
@@ -196,6 +275,7 @@ mod tests {
         // often behind that.
         assert!(useful > hits / 4, "box bound beyond the nearest corner on only {useful} of {hits} rays");
         assert!(tighter > hits / 4, "slab bound beyond the box's on only {tighter} of {hits} rays");
+        assert!(below_far > hits / 4, "far bound before the farthest corner on only {below_far} of {hits} rays");
     }
 
     #[test]

@@ -14,8 +14,9 @@
 //! 5. Hierarchical traversal: a node is culled when its outward-rounded rectangle is wholly covered
 //!    and its nearest depth is behind every occluder depth there, or failing that, pixel by pixel,
 //!    its box's depth bound there ([`depth_bound`]: a tilted box over a tilted occluder); below a
-//!    node whose coverage ratio is under the adaptive threshold, descendants are tested against the
-//!    frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
+//!    node whose coverage ratio is under the adaptive threshold, or which lies wholly in front of
+//!    the occluders wherever they cover it (its far bound: a visible wall), descendants are tested
+//!    against the frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
 //!    its own (its depth bound also under its slab's near face), and a part that fails, where its triangles are not much smaller than the pixels, on
 //!    its triangles, each tested with its own rectangle and depth plane; a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
@@ -36,7 +37,7 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
-use depth_bound::DepthBound;
+use depth_bound::{DepthBound, FarBound};
 use glam::{DMat4, Mat4, Vec3, Vec4};
 use opacity_map::OpacityMap;
 use raster::{OccluderMaps, OccluderRaster};
@@ -171,9 +172,9 @@ pub(crate) enum Seen {
     Outside,
     /// Reaches behind the eye: cannot be placed on screen.
     Straddles,
-    /// Inclusive pixel rectangle (rounded outward, clamped) and nearest NDC depth; `inside`: wholly
-    /// inside the frustum.
-    Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32, inside: bool },
+    /// Inclusive pixel rectangle (rounded outward, clamped), nearest and farthest NDC depth;
+    /// `inside`: wholly inside the frustum.
+    Rect { x0: usize, y0: usize, x1: usize, y1: usize, z: f32, far: f32, inside: bool },
 }
 
 pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
@@ -210,7 +211,7 @@ pub(crate) fn see(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> Seen {
     let (py0, py1) = ((1.0 - y_hi) * 0.5 * hf, (1.0 - y_lo) * 0.5 * hf);
     let (x0, x1) = (first_pixel(px0, wf), last_pixel(px1, wf));
     let (y0, y1) = (first_pixel(py0, hf), last_pixel(py1, hf));
-    Seen::Rect { x0, y0, x1, y1, z: z_lo, inside }
+    Seen::Rect { x0, y0, x1, y1, z: z_lo, far: z_hi, inside }
 }
 
 /// The first of `n` pixels that a span starting at `v` (in pixels) reaches, clamped (without a
@@ -475,6 +476,10 @@ impl OrganView {
     fn depth_bound(&self, b: &Bounds, slab: Option<&Slab>, nearest: f32, w: usize, h: usize) -> DepthBound {
         DepthBound::of_box(&self.inverse, self.eye, b, slab, nearest, w, h)
     }
+
+    fn far_bound(&self, b: &Bounds, slab: &Slab, farthest: f32, w: usize, h: usize) -> FarBound {
+        FarBound::of_box(&self.inverse, self.eye, b, slab, farthest, w, h)
+    }
 }
 
 /// The index ranges of one drawn organ that survive culling (contiguous ones merged), with its
@@ -529,11 +534,11 @@ fn traverse_below(
         // smaller than pixels, or its box lies behind the occluders at its centre (not where it
         // reaches in front of them: the occluders' own surface, mostly).
         let mut parts = true;
-        if let (Seen::Rect { x0, y0, x1, y1, z, .. }, Some(o), true) = (seen, occ, test) {
+        if let (Seen::Rect { x0, y0, x1, y1, z, far, .. }, Some(o), true) = (seen, occ, test) {
             stats.nodes_tested += 1;
             // Computed at most once: by the test, and again by a failing leaf's gate below.
             let cell = std::cell::OnceCell::new();
-            let bound = || *cell.get_or_init(|| view.depth_bound(&node.bounds, None, z, w, h));
+            let bound = || *cell.get_or_init(|| view.depth_bound(&node.bounds, Some(&node.slab), z, w, h));
             let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
@@ -545,8 +550,10 @@ fn traverse_below(
                 parts = node.count as usize <= TRIANGLES_PER_PIXEL * area || o.maps.depth[y * w + x] < bound().at(x, y);
             }
             // Adaptive stop: too little of it is covered for a descendant to be hidden; only
-            // the frustum is tested below.
-            test_children = covered as f32 >= settings.adaptive_ratio * area as f32;
+            // the frustum is tested below. Nor can one be where the whole box lies in front of the
+            // occluders (a visible wall).
+            test_children = covered as f32 >= settings.adaptive_ratio * area as f32
+                && !view.far_bound(&node.bounds, &node.slab, far, w, h).in_front(&o.maps.depth, w, [x0, y0, x1, y1]);
         }
         let testing = test_children && occ.is_some();
         if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {
