@@ -235,7 +235,7 @@ const SHELL_NESTED: f32 = 0.6;
 /// Direction bins: per face of a cube around the centre, this many by this many.
 const SHELL_BINS: usize = 8;
 
-/// For a shell (a skull, a scalp: a closed wall around a hollow), reorders `order` so the
+/// For a shell (a skull: a closed wall around a hollow), reorders `order` so the
 /// triangles facing away from the centre of its bounds (its outer surface) come first and returns
 /// how many there are; `None` for other solids (nothing reordered). Split this way at the root,
 /// the hierarchy keeps the outer surface's near side, which is visible, apart from the inner
@@ -345,8 +345,8 @@ mod tests {
 
     #[test]
     fn leaves_are_small_contiguous_and_bounded() {
-        let mut m = icosphere(12); // 8 * 144 = 1152 triangles
-                                   // Triangles by their corners' positions (vertices are renumbered).
+        // 8 * 144 = 1152 triangles, compared by their corners' positions (vertices are renumbered).
+        let mut m = icosphere(12);
         let corners = |m: &Mesh| -> Vec<[[u32; 3]; 3]> {
             let mut t: Vec<_> = m
                 .indices

@@ -1,8 +1,9 @@
 //! A lower bound of a box's or a triangle's depth at each culling pixel, for the depth test of a
 //! node whose nearest depth alone is in front of some occluder depth over its rectangle (a tilted
 //! box over a tilted occluder surface); and an upper bound of a box's ([`FarBound`]), to find a
-//! node in front of the occluders, below which nothing can be hidden. Spaces: boxes in organ space; pixels of the culling raster
-//! (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
+//! node in front of the occluders, below which nothing can be hidden. Spaces: boxes in organ
+//! space; pixels of the culling raster (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1));
+//! depth = NDC z (larger is farther).
 //!
 //! A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
 //! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's
@@ -95,13 +96,10 @@ impl DepthBound {
     /// Adds the plane z = c + a x + b y (x, y at any point of the raster), as its least value over
     /// each pixel, unless it is too steep to bound anything.
     fn add_plane(&mut self, c: f64, a: f64, b: f64) {
-        if !(a.is_finite() && b.is_finite() && c.is_finite()) || a.abs() + b.abs() > MAX_SLOPE {
-            return;
+        if let Some(plane) = over_pixel([c, a, b], -1.0) {
+            self.planes[self.count] = plane;
+            self.count += 1;
         }
-        // Least over the pixel's square: at its centre, less half the slope across it.
-        let c = c + 0.5 * (a + b) - 0.5 * (a.abs() + b.abs());
-        self.planes[self.count] = [c as f32, a as f32, b as f32];
-        self.count += 1;
     }
 
     /// The least depth of the box or triangle on any ray through pixel (x, y) that meets it.
@@ -132,6 +130,17 @@ fn screen_plane(inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: us
     Some([(q.x - q.y - q.w) / q.z, -2.0 * q.x / (w * q.z), 2.0 * q.y / (h * q.z)])
 }
 
+/// The plane z = c + a x + b y as its least (`side` -1) or greatest (`side` +1) value over each
+/// pixel's square: at its centre, less or plus half the slope across it; `None` where it is too
+/// steep to bound anything.
+fn over_pixel([c, a, b]: [f64; 3], side: f64) -> Option<[f32; 3]> {
+    if !(a.is_finite() && b.is_finite() && c.is_finite()) || a.abs() + b.abs() > MAX_SLOPE {
+        return None;
+    }
+    let c = c + 0.5 * (a + b) + side * 0.5 * (a.abs() + b.abs());
+    Some([c as f32, a as f32, b as f32])
+}
+
 /// An upper bound of the depth of a box's triangles at each culling pixel: along a ray that meets
 /// the box and its slab, where it leaves them. On an axis where the eye lies outside the box's
 /// extent, the ray crosses the box's far face there after leaving, so each such far face's plane
@@ -159,11 +168,8 @@ impl FarBound {
     ) -> FarBound {
         let mut bound = FarBound { planes: [[0.0; 3]; 4], count: 0, farthest };
         let mut face = |normal: DVec3, d: f32| {
-            let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) else { return };
-            if a.is_finite() && b.is_finite() && c.is_finite() && a.abs() + b.abs() <= MAX_SLOPE {
-                // Greatest over the pixel's square: at its centre, plus half the slope across it.
-                let c = c + 0.5 * (a + b) + 0.5 * (a.abs() + b.abs());
-                bound.planes[bound.count] = [c as f32, a as f32, b as f32];
+            if let Some(plane) = screen_plane(inverse, normal, d, width, height).and_then(|p| over_pixel(p, 1.0)) {
+                bound.planes[bound.count] = plane;
                 bound.count += 1;
             }
         };

@@ -16,9 +16,10 @@
 //!    its box's depth bound there ([`depth_bound`]: a tilted box over a tilted occluder); below a
 //!    node whose coverage ratio is under the adaptive threshold, or which lies wholly in front of
 //!    the occluders wherever they cover it (its far bound: a visible wall), descendants are tested
-//!    against the frustum only. A leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on
-//!    its own (its depth bound also under its slab's near face), and a part that fails, where its triangles are not much smaller than the pixels, on
-//!    its triangles, each tested with its own rectangle and depth plane; a node wholly inside the
+//!    against the frustum only. (Depth bounds also use each node's slab, [`crate::bvh::Slab`].) A
+//!    leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own, and a
+//!    part that fails, where its triangles are not much smaller than the pixels, on its triangles,
+//!    each tested with its own rectangle and depth plane; a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
 //!    subtrees, are traversed in parallel.
 //!

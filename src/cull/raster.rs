@@ -163,11 +163,11 @@ impl OccluderRaster {
                 }
                 // An edge touches the square where its line passes within reach of the centre and
                 // its box meets the square (none does for a square wholly inside).
-                let mut touching = row_mask;
-                for (k, e) in edges.iter().enumerate() {
-                    let near = f[k] <= e.reach && e.x_lo <= cx + 0.5 && e.x_hi >= cx - 0.5;
-                    touching &= !(u8::from(!near) << k);
-                }
+                let near = |k: usize| {
+                    let e = &edges[k];
+                    u8::from(f[k] <= e.reach && e.x_lo <= cx + 0.5 && e.x_hi >= cx - 0.5) << k
+                };
+                let touching = row_mask & (near(0) | near(1) | near(2));
                 let z = t[0].z + dzdx * (cx - t[0].x) + dz_row + slope;
                 out.push(Fragment {
                     pixel: (y * self.width + x) as u32,
