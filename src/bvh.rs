@@ -270,8 +270,10 @@ fn shell_split(mesh: &Mesh, order: &mut [u32]) -> Option<usize> {
     };
     // Per bin: farthest inward-facing and nearest outward-facing triangle.
     let mut bins = vec![(f32::NEG_INFINITY, f32::INFINITY); 6 * SHELL_BINS * SHELL_BINS];
+    let mut facing_out = vec![false; mesh.triangle_count()];
     for &t in order.iter() {
         let (out, bin, r) = classify(t);
+        facing_out[t as usize] = out;
         let (inner, outer) = &mut bins[bin];
         if out {
             *outer = outer.min(r);
@@ -284,8 +286,8 @@ fn shell_split(mesh: &Mesh, order: &mut [u32]) -> Option<usize> {
     if mixed == 0 || (nested as f32) < SHELL_NESTED * mixed as f32 {
         return None;
     }
-    order.sort_by_key(|&t| !classify(t).0);
-    let outer = order.iter().take_while(|&&t| classify(t).0).count();
+    order.sort_by_key(|&t| !facing_out[t as usize]);
+    let outer = facing_out.iter().filter(|&&out| out).count();
     (outer > 0 && outer < order.len()).then_some(outer)
 }
 

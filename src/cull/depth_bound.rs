@@ -52,31 +52,12 @@ impl DepthBound {
         height: usize,
     ) -> DepthBound {
         let mut bound = DepthBound { planes: [[0.0; 3]; 4], count: 0, nearest };
-        let mut face = |normal: DVec3, d: f32| bound.add_organ_plane(inverse, normal, d, width, height);
-        for k in 0..3 {
-            // The face toward the eye on axis k, if the eye lies outside the box's slab there.
-            if eye[k] < b.min[k] {
-                face(DVec3::AXES[k], b.min[k]);
-            } else if eye[k] > b.max[k] {
-                face(DVec3::AXES[k], b.max[k]);
-            }
-        }
-        if let Some(s) = slab {
-            let e = s.normal.dot(eye);
-            if e < s.min {
-                face(s.normal.as_dvec3(), s.min);
-            } else if e > s.max {
-                face(s.normal.as_dvec3(), s.max);
+        for (normal, d) in faces(eye, b, slab, Side::Near).into_iter().flatten() {
+            if let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) {
+                bound.add_plane(c, a, b);
             }
         }
         bound
-    }
-
-    /// Adds the plane `normal . p = d` of organ space, seen through `inverse`.
-    fn add_organ_plane(&mut self, inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: usize) {
-        if let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) {
-            self.add_plane(c, a, b);
-        }
     }
 
     /// The bound for a projected triangle.
@@ -113,6 +94,34 @@ impl DepthBound {
     pub fn behind(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
         (y0..=y1).all(|y| (x0..=x1).all(|x| depth[y * width + x] < self.at(x, y)))
     }
+}
+
+/// Which faces of a box (and slab) [`faces`] lists.
+#[derive(Clone, Copy, PartialEq)]
+enum Side {
+    /// Those facing the eye, where rays enter.
+    Near,
+    /// Those facing away, where rays leave.
+    Far,
+}
+
+/// The planes `normal . p = d` (organ space) of the faces of box `b` and `slab` on `side` as seen
+/// from `eye`: on each axis (and across the slab) where the eye lies outside their extent.
+fn faces(eye: Vec3, b: &Bounds, slab: Option<&Slab>, side: Side) -> [Option<(DVec3, f32)>; 4] {
+    // Of the extent lo..hi along `normal`, the face on `side`, if the eye at `e` lies outside it.
+    let face = |normal: DVec3, e: f32, lo: f32, hi: f32| {
+        let (toward, away) = if e < lo {
+            (lo, hi)
+        } else if e > hi {
+            (hi, lo)
+        } else {
+            return None;
+        };
+        Some((normal, if side == Side::Near { toward } else { away }))
+    };
+    let axis = |k: usize| face(DVec3::AXES[k], eye[k], b.min[k], b.max[k]);
+    let slab = slab.and_then(|s| face(s.normal.as_dvec3(), s.normal.dot(eye), s.min, s.max));
+    [axis(0), axis(1), axis(2), slab]
 }
 
 /// The NDC depth of the plane `normal . p = d` of organ space (seen through `inverse`, the inverse
@@ -167,25 +176,11 @@ impl FarBound {
         height: usize,
     ) -> FarBound {
         let mut bound = FarBound { planes: [[0.0; 3]; 4], count: 0, farthest };
-        let mut face = |normal: DVec3, d: f32| {
+        for (normal, d) in faces(eye, b, Some(slab), Side::Far).into_iter().flatten() {
             if let Some(plane) = screen_plane(inverse, normal, d, width, height).and_then(|p| over_pixel(p, 1.0)) {
                 bound.planes[bound.count] = plane;
                 bound.count += 1;
             }
-        };
-        for k in 0..3 {
-            // The face away from the eye on axis k, if the eye lies outside the box's slab there.
-            if eye[k] < b.min[k] {
-                face(DVec3::AXES[k], b.max[k]);
-            } else if eye[k] > b.max[k] {
-                face(DVec3::AXES[k], b.min[k]);
-            }
-        }
-        let e = slab.normal.dot(eye);
-        if e < slab.min {
-            face(slab.normal.as_dvec3(), slab.max);
-        } else if e > slab.max {
-            face(slab.normal.as_dvec3(), slab.min);
         }
         bound
     }
