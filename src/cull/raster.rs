@@ -2,22 +2,31 @@
 //! [i, i+1) x [j, j+1); depth = NDC z, larger is farther). It is conservative by construction.
 //!
 //! Occluders come as triangles that all project with the same winding (the camera-facing side of
-//! organ surfaces), each with its neighbours across its three edges that are occluders too. Each
-//! triangle leaves a *fragment* in every pixel it touches: its farthest depth over the pixel (its
-//! depth plane at the pixel's corners, capped by its vertices), whether it holds the pixel's centre,
-//! and which of its edges touch the pixel.
+//! organ surfaces), each with its neighbours across its three edges that are occluders too. Joined
+//! across those edges, they form connected **patches**, each rasterised on its own and then merged
+//! (a pixel covered by several patches takes the nearest's depth).
 //!
-//! Per pixel, fragments joined across edges that touch the pixel form local components. A
-//! component none of whose touching edges leads to a triangle outside it (an outline edge, or a
-//! neighbour that does not reach the pixel) has no border inside the pixel; if it also holds the
-//! centre, the square holds a point of its image and meets none of its outline, so it lies wholly
-//! inside that image. The pixel is then **covered**, and its **depth** is the farthest depth of the
-//! component; of several such components the nearest counts. Components are local, so a surface
-//! that overlaps itself on screen (the near wall of a shell joined round its rim to the far wall)
-//! bounds a pixel by its near layer alone.
+//! Within a patch, an edge with no neighbour is an *outline* edge, and the union of the patch's
+//! triangles on screen has its boundary on outline edges only (across any other edge the two
+//! triangles lie side by side, so the points of the edge are inside). So a pixel that no outline
+//! edge touches and whose centre a triangle holds lies wholly inside the union: it is **covered**.
+//! Its **depth** is the farthest over the pixel of the triangles that reach it (each triangle's
+//! depth plane at the pixel's farthest corner, capped by its vertices); a triangle reaching the
+//! pixel without holding its centre would have an edge in it, one leading to an outline edge
+//! there, so where only one triangle holds the centre they all form one surface in the pixel.
+//!
+//! Where the patch overlaps itself on screen (two triangles hold the pixel's centre: the near wall
+//! of a shell joined round its rim to the far wall) the farthest would bound the pixel by the far
+//! layer, and an outline edge of the far layer would cut the near layer's coverage. Those pixels
+//! (overlapping, or touched by an outline edge next to an overlap) go to the exact test: the
+//! triangles' *fragments* there, joined across edges that touch the pixel, form local components;
+//! one none of whose touching edges leads to a triangle outside it has no border inside the pixel,
+//! and if it also holds the centre the pixel lies wholly inside its image. The pixel is then
+//! covered as deep as that component's farthest fragment (the nearest such component counts).
+//! Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
 
 use crate::bvh::NONE;
-use glam::Vec3;
+use glam::{BVec4A, Vec3, Vec4};
 
 /// A projected occluder triangle: x, y in culling pixels, z = NDC depth.
 pub type Triangle = [Vec3; 3];
@@ -76,10 +85,82 @@ impl Edge {
     }
 }
 
-/// One triangle over one pixel.
+/// Per pixel of a patch: a triangle holds its centre; two or more do (the patch overlaps itself
+/// there); an outline edge touches it; it is left to the exact test.
+const CENTRE: u8 = 1;
+const SECOND: u8 = 2;
+const BORDER: u8 = 4;
+const EXACT: u8 = 8;
+
+/// The pixels of one patch's bounding rectangle, filled triangle by triangle.
+#[derive(Default)]
+struct Patch {
+    /// The rectangle: where it starts, its width and height (rows lie `stride` apart, three
+    /// more than the width, so four pixels from any column fit).
+    at: Window,
+    w: usize,
+    h: usize,
+    /// Per pixel: the farthest depth of any triangle over it (-inf where none reaches it).
+    far: Vec<f32>,
+    /// Per pixel: [`CENTRE`], [`SECOND`], [`BORDER`].
+    flags: Vec<u8>,
+    /// Per pixel left to the exact test: its place among them (else NONE).
+    slot: Vec<u32>,
+}
+
+/// Where a patch's rectangle starts in the image, and how far apart its rows lie.
+#[derive(Clone, Copy, Debug, Default)]
+struct Window {
+    x0: usize,
+    y0: usize,
+    stride: usize,
+}
+
+impl Patch {
+    /// Does the patch overlap itself at a pixel next to (x, y) (patch coordinates)?
+    fn overlaps_near(&self, x: usize, y: usize) -> bool {
+        let (xs, ys) = (x.saturating_sub(1)..=(x + 1).min(self.w - 1), y.saturating_sub(1)..=(y + 1).min(self.h - 1));
+        ys.into_iter().any(|y| self.flags[y * self.at.stride..][xs.clone()].iter().any(|&f| f & SECOND != 0))
+    }
+
+    fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
+        (self.at, self.w, self.h) = (Window { x0, y0, stride: w + 3 }, w, h);
+        let n = self.at.stride * h;
+        self.far.clear();
+        self.far.resize(n, f32::NEG_INFINITY);
+        self.flags.clear();
+        self.flags.resize(n, 0);
+        self.slot.clear();
+        self.slot.resize(n, NONE);
+    }
+}
+
+/// Four pixels of a row that a triangle may reach: the first one's index in its patch; those
+/// whose centre it holds, and per edge those the edge touches (the triangle reaches a pixel where
+/// either holds); its farthest depth over each.
+struct Lanes {
+    i: usize,
+    centre: BVec4A,
+    edges: [BVec4A; 3],
+    z: Vec4,
+}
+
+impl Lanes {
+    fn reached(&self) -> BVec4A {
+        self.centre | self.edges[0] | self.edges[1] | self.edges[2]
+    }
+}
+
+/// Bits 0..4 of `m` moved to bits 0, 8, 16 and 24: a 0 or 1 in each of four bytes.
+fn bytes(m: u32) -> u32 {
+    (m & 1) | (m & 2) << 7 | (m & 4) << 14 | (m & 8) << 21
+}
+
+/// One triangle over one pixel left to the exact test.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Fragment {
-    pixel: u32,
+    /// The pixel's place among those left to the exact test.
+    slot: u32,
     triangle: u32,
     /// Farthest depth of the triangle over the pixel.
     z: f32,
@@ -104,8 +185,9 @@ impl OccluderRaster {
         self.neighbours.extend(neighbours.iter().map(|n| n.map(|j| if j == NONE { NONE } else { base + j })));
     }
 
-    /// Appends the fragments of triangle `id` to `out`, in row order.
-    fn fragments_of(&self, out: &mut Vec<Fragment>, id: u32, t: &Triangle) {
+    /// The pixel rectangle (first and last column, first and last row) that triangle `t` may
+    /// touch, if it has area and reaches the image.
+    fn reach(&self, t: &Triangle) -> Option<[usize; 4]> {
         let min = t[0].min(t[1]).min(t[2]);
         let max = t[0].max(t[1]).max(t[2]);
         let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
@@ -117,123 +199,206 @@ impl OccluderRaster {
             || min.x - EPS >= w
             || min.y - EPS >= h
         {
-            return;
+            return None;
         }
+        // Both ends reach the image: clamped to it, truncation is floor.
+        let span = |lo: f32, hi: f32, n: f32| ((lo - EPS).max(0.0) as usize, (hi + EPS).clamp(0.0, n - 1.0) as usize);
+        let (x0, x1) = span(min.x, max.x, w);
+        let (y0, y1) = span(min.y, max.y, h);
+        Some([x0, x1, y0, y1])
+    }
+
+    /// Visits the pixels of a patch (at `at`) in `t`'s reach (from [`OccluderRaster::reach`]),
+    /// four of a row at a time, with the triangle's centre and edge masks and depth there.
+    fn lanes(&self, at: Window, t: &Triangle, [x0, x1, y0, y1]: [usize; 4], mut visit: impl FnMut(Lanes)) {
+        let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
         // Edge functions, positive inside whatever the winding; `reach` is how far from the line
         // (in edge-function units) a widened square centred at a point may still meet it.
         let s = area.signum();
         let edges = [0, 1, 2].map(|k| Edge::new(t[k], t[(k + 1) % 3], s));
-        // Depth plane z = z0 + dzdx (x - x0) + dzdy (y - y0).
+        // Depth plane z = z0 + dzdx (x - x0) + dzdy (y - y0); its farthest over a pixel is at the
+        // centre plus `slope`, and never beyond the farthest corner.
         let dzdx = ((t[1].z - t[0].z) * (t[2].y - t[0].y) - (t[2].z - t[0].z) * (t[1].y - t[0].y)) / area;
         let dzdy = ((t[2].z - t[0].z) * (t[1].x - t[0].x) - (t[1].z - t[0].z) * (t[2].x - t[0].x)) / area;
         let slope = 0.5 * (dzdx.abs() + dzdy.abs());
-        let zmax = max.z;
-        let span =
-            |lo: f32, hi: f32, n: f32| ((lo - EPS).floor().max(0.0) as usize, (hi + EPS).floor().min(n - 1.0) as usize);
-        let (x0, x1) = span(min.x, max.x, w);
-        let (y0, y1) = span(min.y, max.y, h);
+        let zmax = Vec4::splat(t[0].z.max(t[1].z).max(t[2].z));
+        let centres = Vec4::new(0.5, 1.5, 2.5, 3.5);
+        let a = edges.each_ref().map(|e| Vec4::splat(e.a));
+        let reach = edges.each_ref().map(|e| Vec4::splat(-e.reach));
         for y in y0..=y1 {
             let cy = y as f32 + 0.5;
-            // The pixels whose widened square an edge's line leaves wholly outside lie beyond a
-            // point on the row; the exact test below runs only between those points (less a pixel).
-            let (mut lo, mut hi) = (x0 as f32, x1 as f32);
-            for e in &edges {
-                // a (x + 0.5) + b cy + c + reach >= 0.
-                let at = -(e.b * cy + e.c + e.reach) / e.a - 0.5;
-                if e.a > 0.0 {
-                    lo = lo.max(at.floor() - 1.0);
-                } else if e.a < 0.0 {
-                    hi = hi.min(at.ceil() + 1.0);
-                }
-            }
-            if lo.partial_cmp(&hi).is_none_or(|o| o.is_gt()) {
-                continue;
-            }
-            // Per edge: b cy, and whether its box reaches this row (bit k).
-            let by = edges.map(|e| e.b * cy);
+            let by = edges.map(|e| Vec4::splat(e.b * cy + e.c));
+            let z_row = Vec4::splat(t[0].z + dzdy * (cy - t[0].y) + slope);
+            // The edges whose box reaches this row (bit k).
             let row_mask =
                 (0..3).fold(0u8, |m, k| m | (u8::from(edges[k].y_lo <= cy + 0.5 && edges[k].y_hi >= cy - 0.5) << k));
-            let dz_row = dzdy * (cy - t[0].y);
-            for x in lo as usize..=hi as usize {
-                let cx = x as f32 + 0.5;
-                let f = [0, 1, 2].map(|k| edges[k].a * cx + by[k] + edges[k].c);
+            let row = (y - at.y0) * at.stride;
+            let mut x = x0;
+            while x <= x1 {
+                let cx = Vec4::splat(x as f32) + centres;
+                x += 4;
+                let f = [0, 1, 2].map(|k| a[k] * cx + by[k]);
                 // Touches the (widened) square: no edge has the whole square outside.
-                if (f[0] + edges[0].reach < 0.0) | (f[1] + edges[1].reach < 0.0) | (f[2] + edges[2].reach < 0.0) {
+                let touch = f[0].cmpge(reach[0]) & f[1].cmpge(reach[1]) & f[2].cmpge(reach[2]);
+                if !touch.any() {
                     continue;
                 }
+                let centre = f[0].cmpge(Vec4::ZERO) & f[1].cmpge(Vec4::ZERO) & f[2].cmpge(Vec4::ZERO);
                 // An edge touches the square where its line passes within reach of the centre and
-                // its box meets the square (none does for a square wholly inside).
-                let near = |k: usize| {
+                // its box meets the square.
+                let mut edges_there = [BVec4A::FALSE; 3];
+                for k in (0..3).filter(|k| row_mask & (1 << k) != 0) {
                     let e = &edges[k];
-                    u8::from(f[k] <= e.reach && e.x_lo <= cx + 0.5 && e.x_hi >= cx - 0.5) << k
-                };
-                let touching = row_mask & (near(0) | near(1) | near(2));
-                let z = t[0].z + dzdx * (cx - t[0].x) + dz_row + slope;
-                out.push(Fragment {
-                    pixel: (y * self.width + x) as u32,
-                    triangle: id,
-                    z: if z.is_finite() { z.min(zmax) } else { zmax },
-                    centre: (f[0] >= 0.0) & (f[1] >= 0.0) & (f[2] >= 0.0),
-                    edges: touching,
-                });
+                    edges_there[k] = touch
+                        & f[k].cmple(-reach[k])
+                        & cx.cmpge(Vec4::splat(e.x_lo - 0.5))
+                        & cx.cmple(Vec4::splat(e.x_hi + 0.5));
+                }
+                let z = z_row + Vec4::splat(dzdx) * (cx - Vec4::splat(t[0].x));
+                let z = Vec4::select(z.is_finite_mask(), z.min(zmax), zmax);
+                visit(Lanes { i: row + x - 4 - at.x0, centre, edges: edges_there, z });
             }
         }
     }
 
-    /// Coverage and depth of every pixel (triangles and pixel rows shared among threads).
-    pub fn finish(self) -> OccluderMaps {
-        use rayon::prelude::*;
-        const CHUNK: usize = 128;
-        let chunks: Vec<Vec<Fragment>> = self
-            .triangles
-            .par_chunks(CHUNK)
-            .enumerate()
-            .map(|(c, tris)| {
-                let mut out = Vec::with_capacity(4 * tris.len());
-                for (k, t) in tris.iter().enumerate() {
-                    self.fragments_of(&mut out, (c * CHUNK + k) as u32, t);
-                }
-                out
-            })
-            .collect();
-        let n = self.width * self.height;
-        // Fragments by pixel (a stable counting sort: by triangle within a pixel).
-        let mut start = vec![0u32; n + 1];
-        for f in chunks.iter().flatten() {
-            start[f.pixel as usize + 1] += 1;
+    /// The connected patches of the triangles added: per patch, its triangles.
+    fn patches(&self) -> Vec<Vec<u32>> {
+        let n = self.triangles.len();
+        let mut parent: Vec<u32> = (0..n as u32).collect();
+        fn root(parent: &mut [u32], mut i: u32) -> u32 {
+            while parent[i as usize] != i {
+                let up = parent[parent[i as usize] as usize];
+                parent[i as usize] = up;
+                i = up;
+            }
+            i
         }
-        for p in 0..n {
-            start[p + 1] += start[p];
-        }
-        let mut next = start.clone();
-        let mut sorted = vec![EMPTY; start[n] as usize];
-        for f in chunks.iter().flatten() {
-            sorted[next[f.pixel as usize] as usize] = *f;
-            next[f.pixel as usize] += 1;
-        }
-        let mut covered = vec![0u8; n];
-        let mut depth = vec![f32::INFINITY; n];
-        // Bands of pixels in parallel; a pixel no fragment reaches stays uncovered.
-        const BAND: usize = 2048;
-        covered.par_chunks_mut(BAND).zip(depth.par_chunks_mut(BAND)).enumerate().for_each(|(b, (covered, depth))| {
-            let mut scratch = Scratch::default();
-            for i in 0..covered.len() {
-                let p = b * BAND + i;
-                let (first, end) = (start[p] as usize, start[p + 1] as usize);
-                if first == end {
-                    continue;
-                }
-                if let Some(z) = pixel_depth(&sorted[first..end], &self.neighbours, &mut scratch) {
-                    covered[i] = 1;
-                    depth[i] = z;
+        for (i, ns) in self.neighbours.iter().enumerate() {
+            for &j in ns {
+                if j != NONE {
+                    let (a, b) = (root(&mut parent, i as u32), root(&mut parent, j));
+                    parent[a.max(b) as usize] = a.min(b);
                 }
             }
-        });
-        OccluderMaps { width: self.width, height: self.height, covered, depth }
+        }
+        let mut index = vec![NONE; n];
+        let mut patches: Vec<Vec<u32>> = Vec::new();
+        for i in 0..n as u32 {
+            let r = root(&mut parent, i) as usize;
+            if index[r] == NONE {
+                index[r] = patches.len() as u32;
+                patches.push(Vec::new());
+            }
+            patches[index[r] as usize].push(i);
+        }
+        patches
+    }
+
+    /// Coverage and depth of every pixel, patch by patch.
+    pub fn finish(self) -> OccluderMaps {
+        let (w, h) = (self.width, self.height);
+        let mut maps =
+            OccluderMaps { width: w, height: h, covered: vec![0u8; w * h], depth: vec![f32::INFINITY; w * h] };
+        let mut patch = Patch::default();
+        let (mut exact, mut fragments, mut scratch) = (Vec::new(), Vec::new(), Scratch::default());
+        let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
+        for tris in self.patches() {
+            let Some([x0, x1, y0, y1]) = tris
+                .iter()
+                .filter_map(|&t| reach[t as usize])
+                .reduce(|a, b| [a[0].min(b[0]), a[1].max(b[1]), a[2].min(b[2]), a[3].max(b[3])])
+            else {
+                continue;
+            };
+            patch.reset(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+            self.fill(&mut patch, &tris, &reach);
+            exact.clear();
+            for y in 0..patch.h {
+                let (at, out) = (y * patch.at.stride, (y0 + y) * w + x0);
+                for x in 0..patch.w {
+                    let flags = patch.flags[at + x];
+                    if flags == CENTRE {
+                        maps.cover(out + x, patch.far[at + x]);
+                    } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
+                        patch.slot[at + x] = exact.len() as u32;
+                        patch.flags[at + x] |= EXACT;
+                        exact.push(out + x);
+                    }
+                }
+            }
+            if exact.is_empty() {
+                continue;
+            }
+            self.exact_fragments(&patch, &tris, &reach, &mut fragments);
+            for here in fragments.chunk_by(|f, g| f.slot == g.slot) {
+                if let Some(z) = pixel_depth(here, &self.neighbours, &mut scratch) {
+                    maps.cover(exact[here[0].slot as usize], z);
+                }
+            }
+        }
+        maps
+    }
+
+    /// The first pass over a patch: per pixel, the farthest depth of the triangles that touch it,
+    /// and its flags. Where one triangle holds the centre and no outline edge touches the pixel,
+    /// the patch's triangles there form a single component with no border in the pixel (one not
+    /// holding the centre would have a border): the pixel is covered, as deep as the farthest.
+    fn fill(&self, patch: &mut Patch, tris: &[u32], reach: &[Option<[usize; 4]>]) {
+        for &t in tris {
+            let Some(rect) = reach[t as usize] else { continue };
+            let outline = self.neighbours[t as usize].map(|n| n == NONE);
+            self.lanes(patch.at, &self.triangles[t as usize], rect, |l| {
+                let border = (0..3).filter(|&k| outline[k]).fold(BVec4A::FALSE, |m, k| m | l.edges[k]);
+                let far = &mut patch.far[l.i..l.i + 4];
+                Vec4::select(l.reached(), Vec4::from_slice(far).max(l.z), Vec4::from_slice(far)).write_to_slice(far);
+                let flags = &mut patch.flags[l.i..l.i + 4];
+                let old = u32::from_le_bytes([flags[0], flags[1], flags[2], flags[3]]);
+                let centre = bytes(l.centre.bitmask());
+                let new = old
+                    | centre * u32::from(CENTRE)
+                    | (centre & old) * u32::from(SECOND)
+                    | bytes(border.bitmask()) * u32::from(BORDER);
+                flags.copy_from_slice(&new.to_le_bytes());
+            });
+        }
+    }
+
+    /// The second pass, over the triangles that reach pixels left to the exact test (where the
+    /// patch overlaps itself, or an outline edge passes): their fragments there, by pixel and
+    /// triangle.
+    fn exact_fragments(&self, patch: &Patch, tris: &[u32], reach: &[Option<[usize; 4]>], out: &mut Vec<Fragment>) {
+        out.clear();
+        for &t in tris {
+            let tri = &self.triangles[t as usize];
+            let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
+            let at = patch.at;
+            let rows = (y0 - at.y0..=y1 - at.y0).map(|y| y * at.stride - at.x0);
+            if !rows.into_iter().any(|r| patch.flags[r + x0..=r + x1].iter().any(|&f| f & EXACT != 0)) {
+                continue;
+            }
+            self.lanes(at, tri, rect, |l| {
+                let reached = l.reached().bitmask();
+                for j in (0..4).filter(|j| reached & (1 << j) != 0) {
+                    let slot = patch.slot[l.i + j];
+                    if slot != NONE {
+                        let edges = (0..3).fold(0u8, |m, k| m | (((l.edges[k].bitmask() >> j) & 1) as u8) << k);
+                        let centre = (l.centre.bitmask() >> j) & 1 != 0;
+                        out.push(Fragment { slot, triangle: t, z: l.z[j], centre, edges });
+                    }
+                }
+            });
+        }
+        out.sort_unstable_by_key(|f| (u64::from(f.slot) << 32) | u64::from(f.triangle));
     }
 }
 
-const EMPTY: Fragment = Fragment { pixel: 0, triangle: 0, z: 0.0, centre: false, edges: 0 };
+impl OccluderMaps {
+    /// Marks pixel `i` covered, as deep as `z` (or nearer where it already was).
+    fn cover(&mut self, i: usize, z: f32) {
+        self.covered[i] = 1;
+        self.depth[i] = self.depth[i].min(z);
+    }
+}
 
 /// Working space of [`pixel_depth`], kept from pixel to pixel.
 #[derive(Default)]
@@ -464,8 +629,9 @@ mod tests {
         let mut r = OccluderRaster::new(32, 32);
         r.add(&tris, &neighbours);
         let maps = r.finish();
-        // Over the overlap (angles 90..180 degrees, away from the ramp's ends and rims) every covered
-        // pixel takes the near layer's depth.
+        // Over the overlap (angles 100..180 degrees, away from the rims), and across the far layer's
+        // end at 180 degrees (an outline edge under the near layer, which goes on to 210 and
+        // beyond), every pixel is covered, at the near layer's depth.
         let mut overlap = 0;
         for y in 0..32 {
             for x in 0..32 {
@@ -474,7 +640,7 @@ mod tests {
                 if maps.covered[y * 32 + x] == 1 {
                     assert_eq!(coverage(&tris, x, y, 16), 1.0);
                 }
-                if (8.0..12.0).contains(&r) && (100.0..170.0).contains(&a) {
+                if (8.0..12.0).contains(&r) && ((100.0..=180.0).contains(&a) || (-180.0..-150.0).contains(&a)) {
                     assert_eq!(maps.covered[y * 32 + x], 1, "pixel {x},{y}");
                     assert!(maps.depth[y * 32 + x] < 0.5, "pixel {x},{y}: depth {}", maps.depth[y * 32 + x]);
                     overlap += 1;
