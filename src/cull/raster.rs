@@ -153,7 +153,7 @@ impl Lanes {
 
 /// Bits 0..4 of `m` moved to bits 0, 8, 16 and 24: a 0 or 1 in each of four bytes.
 fn bytes(m: u32) -> u32 {
-    (m & 1) | (m & 2) << 7 | (m & 4) << 14 | (m & 8) << 21
+    (m & 1) | ((m & 2) << 7) | ((m & 4) << 14) | ((m & 8) << 21)
 }
 
 /// One triangle over one pixel left to the exact test.
@@ -355,9 +355,9 @@ impl OccluderRaster {
                 let old = u32::from_le_bytes([flags[0], flags[1], flags[2], flags[3]]);
                 let centre = bytes(l.centre.bitmask());
                 let new = old
-                    | centre * u32::from(CENTRE)
-                    | (centre & old) * u32::from(SECOND)
-                    | bytes(border.bitmask()) * u32::from(BORDER);
+                    | (centre * u32::from(CENTRE))
+                    | ((centre & old) * u32::from(SECOND))
+                    | (bytes(border.bitmask()) * u32::from(BORDER));
                 flags.copy_from_slice(&new.to_le_bytes());
             });
         }
