@@ -372,8 +372,9 @@ impl OccluderRaster {
             let tri = &self.triangles[t as usize];
             let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
             let at = patch.at;
-            let rows = (y0 - at.y0..=y1 - at.y0).map(|y| y * at.stride - at.x0);
-            if !rows.into_iter().any(|r| patch.flags[r + x0..=r + x1].iter().any(|&f| f & EXACT != 0)) {
+            let rows = (y0 - at.y0..=y1 - at.y0).map(|y| y * at.stride);
+            let xs = x0 - at.x0..=x1 - at.x0;
+            if !rows.into_iter().any(|r| patch.flags[r..][xs.clone()].iter().any(|&f| f & EXACT != 0)) {
                 continue;
             }
             self.lanes(at, tri, rect, |l| {
