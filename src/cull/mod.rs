@@ -98,7 +98,7 @@ impl Default for CullSettings {
             mode: CullMode::Occlusion,
             width: 128,
             height: 128,
-            occluder_triangles: 1024,
+            occluder_triangles: 1280,
             adaptive_ratio: 0.2,
             hole_tolerance: None,
             occluder_leaves: None,
