@@ -39,13 +39,21 @@ impl Node {
     }
 }
 
-/// Triangles `first..first + count` of a leaf, their bounds, and a slab holding them.
+/// Triangles `first..first + count` of a leaf, their bounds, and a slab holding them; and their
+/// vertices, each once: `Bvh::part_vertices[vertices.0..vertices.1]`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Part {
     pub bounds: Bounds,
     pub first: u32,
     pub count: u32,
     pub slab: Slab,
+    pub vertices: (u32, u32),
+}
+
+impl Part {
+    pub fn triangles(&self) -> std::ops::Range<u32> {
+        self.first..self.first + self.count
+    }
 }
 
 /// The points p with `min <= normal . p <= max`: two parallel planes across the mean normal of a
@@ -91,6 +99,11 @@ pub struct Bvh {
     /// The parts of all leaves, in triangle order; leaf l's are `leaf_parts[l]..leaf_parts[l + 1]`.
     pub parts: Vec<Part>,
     pub leaf_parts: Vec<u32>,
+    /// The parts' vertices (indices into the mesh's positions), each part's in order of first use.
+    pub part_vertices: Vec<u32>,
+    /// Per triangle, its corners as places in its part's vertices: the occlusion test projects a
+    /// part's vertices once, then its triangles from them.
+    pub corners: Vec<[u8; 3]>,
     /// Per triangle and edge (a->b, b->c, c->a): the triangle across it, or `NONE` at a border, a
     /// non-manifold edge, or a neighbour wound the other way.
     pub neighbours: Vec<[u32; 3]>,
@@ -199,7 +212,8 @@ impl Bvh {
                 let slice = &mut order[first..first + count];
                 if count <= PART_TRIANGLES {
                     let slab = Slab::of(slice.iter().map(|&t| tri(t)));
-                    bvh.parts.push(Part { bounds: bound(slice), first: first as u32, count: count as u32, slab });
+                    let (first, count) = (first as u32, count as u32);
+                    bvh.parts.push(Part { bounds: bound(slice), first, count, slab, vertices: (0, 0) });
                     continue;
                 }
                 let mid = split(slice);
@@ -213,7 +227,36 @@ impl Bvh {
             order.iter().flat_map(|&t| (0..3).map(move |k| 3 * t as usize + k)).map(|i| mesh.indices[i]).collect();
         crate::surface::compact(mesh);
         bvh.neighbours = neighbours(mesh);
+        bvh.index_part_vertices(mesh);
         bvh
+    }
+
+    /// Fills in each part's vertices and each triangle's corners among them.
+    fn index_part_vertices(&mut self, mesh: &Mesh) {
+        // Per vertex: its place in the current part's list, valid while `owner` is that part.
+        let mut owner = vec![u32::MAX; mesh.positions.len()];
+        let mut place = vec![0u8; mesh.positions.len()];
+        self.corners = vec![[0; 3]; mesh.triangle_count()];
+        for (p, part) in self.parts.iter_mut().enumerate() {
+            let start = self.part_vertices.len();
+            for t in part.triangles() {
+                for k in 0..3 {
+                    let v = mesh.indices[3 * t as usize + k] as usize;
+                    if owner[v] != p as u32 {
+                        // At most 3 * PART_TRIANGLES = 96 vertices per part: fits a byte.
+                        (owner[v], place[v]) = (p as u32, (self.part_vertices.len() - start) as u8);
+                        self.part_vertices.push(v as u32);
+                    }
+                    self.corners[t as usize][k] = place[v];
+                }
+            }
+            part.vertices = (start as u32, self.part_vertices.len() as u32);
+        }
+    }
+
+    /// The vertices of a part (indices into the mesh's positions).
+    pub fn vertices_of(&self, part: &Part) -> &[u32] {
+        &self.part_vertices[part.vertices.0 as usize..part.vertices.1 as usize]
     }
 
     /// The parts of a leaf.
@@ -393,6 +436,11 @@ mod tests {
             let mut at = node.first;
             for part in bvh.parts_of(l as u32) {
                 assert!(part.count as usize <= PART_TRIANGLES && part.count > 0);
+                let vertices = bvh.vertices_of(part);
+                for t in part.triangles() {
+                    let corners = bvh.corners[t as usize].map(|c| vertices[c as usize]);
+                    assert_eq!(corners, std::array::from_fn(|k| m.indices[3 * t as usize + k]));
+                }
                 assert_eq!(part.first, at);
                 at += part.count;
                 for t in part.first..part.first + part.count {

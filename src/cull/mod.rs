@@ -18,8 +18,9 @@
 //!    the occluders wherever they cover it (its far bound: a visible wall), descendants are tested
 //!    against the frustum only. (Depth bounds also use each node's slab, [`crate::bvh::Slab`].) A
 //!    leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own, and a
-//!    part that fails, where its triangles are not much smaller than the pixels, on its triangles,
-//!    each tested with its own rectangle and depth plane; a node wholly inside the
+//!    part that fails, where its triangles are not much smaller than the pixels, on its footprint
+//!    (the rectangle of its projected vertices) and then on its triangles, each tested with its own
+//!    rectangle and depth plane; a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
 //!    subtrees, are traversed in parallel.
 //!
@@ -33,7 +34,7 @@ pub mod sparse_depth;
 
 pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource, Selection};
 
-use crate::bvh::{Bvh, Slab, NONE};
+use crate::bvh::{Bvh, Part, Slab, NONE, PART_TRIANGLES};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
@@ -270,26 +271,40 @@ impl Occluders {
         (covered, hidden)
     }
 
-    /// Whether each of the triangles of `mesh` is hidden on its own (tested as above, with its
-    /// own rectangle and depth plane); one reaching before the near plane is not.
-    fn triangles_hidden(
+    /// Whether a part of `organ` whose box failed is hidden all the same (tested as above): by its
+    /// footprint, the rectangle of its projected vertices with their nearest depth and the box's
+    /// depth bound `bound`; or else by each of its triangles on its own, with its own rectangle and
+    /// depth plane. A part reaching before the near plane is not. Its vertices are projected once.
+    fn part_hidden(
         &self,
-        mesh: &crate::mesh::Mesh,
-        triangles: Range<u32>,
+        organ: &crate::organ_set::Organ,
+        part: &Part,
         mvp: &Mat4,
         holes: Option<f32>,
+        bound: impl FnOnce() -> DepthBound,
     ) -> bool {
         let (w, h) = (self.maps.width, self.maps.height);
-        let (wf, hf) = (w as f32, h as f32);
-        triangles.into_iter().all(|t| {
-            let Some(tri) = project_triangle(mesh, t, mvp, w, h) else { return false };
-            let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
-            if hi.x <= 0.0 || hi.y <= 0.0 || lo.x >= wf || lo.y >= hf {
-                return true; // off the screen: it draws nothing
-            }
-            let rect = [first_pixel(lo.x, wf), first_pixel(lo.y, hf), last_pixel(hi.x, wf), last_pixel(hi.y, hf)];
-            self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1
-        })
+        let mut projected = [Vec3::ZERO; 3 * PART_TRIANGLES];
+        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        for (at, &v) in projected.iter_mut().zip(organ.bvh.vertices_of(part)) {
+            let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return false };
+            (*at, lo, hi) = (p, lo.min(p), hi.max(p));
+        }
+        // Off the screen, it draws nothing.
+        self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, bound).1)
+            || part.triangles().all(|t| {
+                let tri = organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
+                let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
+                self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
+            })
+    }
+
+    /// The pixel rectangle (rounded outward, clamped) of the screen box `lo..hi` in pixels, or
+    /// `None` where it lies off the screen.
+    fn rect(&self, lo: Vec3, hi: Vec3) -> Option<[usize; 4]> {
+        let (wf, hf) = (self.maps.width as f32, self.maps.height as f32);
+        (hi.x > 0.0 && hi.y > 0.0 && lo.x < wf && lo.y < hf)
+            .then(|| [first_pixel(lo.x, wf), first_pixel(lo.y, hf), last_pixel(hi.x, wf), last_pixel(hi.y, hf)])
     }
 }
 
@@ -331,13 +346,15 @@ pub fn rasterise_occluders(
 /// it lies wholly beyond the near plane: the part of a triangle nearer than that is clipped when
 /// drawn and hides nothing.
 pub(crate) fn project_triangle(mesh: &crate::mesh::Mesh, t: u32, mvp: &Mat4, w: usize, h: usize) -> Option<[Vec3; 3]> {
-    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
-    let corner = |k: usize| {
-        let p = Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
-        let c = *mvp * p.extend(1.0);
-        (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
-    };
+    let corner = |k: usize| project_point(mesh.positions[mesh.indices[3 * t as usize + k] as usize], mvp, w, h);
     Some([corner(0)?, corner(1)?, corner(2)?])
+}
+
+/// A point in the pixels of a `w` x `h` image, as [`project_triangle`]: `None` before the near plane.
+fn project_point(p: [f32; 3], mvp: &Mat4, w: usize, h: usize) -> Option<Vec3> {
+    let (sx, sy) = (0.5 * w as f32, 0.5 * h as f32);
+    let c = *mvp * Vec3::from(p).extend(1.0);
+    (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
@@ -575,12 +592,14 @@ fn traverse_below(
                         Seen::Straddles => false,
                         Seen::Rect { x0, y0, x1, y1, z, .. } => {
                             let rect = [x0, y0, x1, y1];
-                            let bound = || view.depth_bound(&part.bounds, Some(&part.slab), z, w, h);
+                            // Computed at most once: by the box's test, and again by its footprint's.
+                            let cell = std::cell::OnceCell::new();
+                            let bound =
+                                || *cell.get_or_init(|| view.depth_bound(&part.bounds, Some(&part.slab), z, w, h));
                             let area = (x1 - x0 + 1) * (y1 - y0 + 1);
-                            let triangles = part.first..part.first + part.count;
                             o.test(rect, z, holes, bound).1
                                 || (part.count as usize <= TRIANGLES_PER_PIXEL * area
-                                    && o.triangles_hidden(&organ.mesh, triangles, &view.mvp, holes))
+                                    && o.part_hidden(organ, part, &view.mvp, holes, bound))
                         }
                     };
                     match hidden {
