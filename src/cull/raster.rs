@@ -90,7 +90,6 @@ impl Edge {
 const CENTRE: u8 = 1;
 const SECOND: u8 = 2;
 const BORDER: u8 = 4;
-const EXACT: u8 = 8;
 
 /// The pixels of one patch's bounding rectangle, filled triangle by triangle.
 #[derive(Default)]
@@ -106,6 +105,9 @@ struct Patch {
     flags: Vec<u8>,
     /// Per pixel left to the exact test: its place among them (else NONE).
     slot: Vec<u32>,
+    /// Per row: the first and last column of its pixels left to the exact test (first > last
+    /// where none).
+    exact_rows: Vec<[usize; 2]>,
 }
 
 /// Where a patch's rectangle starts in the image, and how far apart its rows lie.
@@ -132,6 +134,8 @@ impl Patch {
         self.flags.resize(n, 0);
         self.slot.clear();
         self.slot.resize(n, NONE);
+        self.exact_rows.clear();
+        self.exact_rows.resize(h, [usize::MAX, 0]);
     }
 }
 
@@ -321,7 +325,8 @@ impl OccluderRaster {
                         maps.cover(out + x, patch.far[at + x]);
                     } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
                         patch.slot[at + x] = exact.len() as u32;
-                        patch.flags[at + x] |= EXACT;
+                        let row = &mut patch.exact_rows[y];
+                        *row = [row[0].min(x), x];
                         exact.push(out + x);
                     }
                 }
@@ -372,9 +377,8 @@ impl OccluderRaster {
             let tri = &self.triangles[t as usize];
             let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
             let at = patch.at;
-            let rows = (y0 - at.y0..=y1 - at.y0).map(|y| y * at.stride);
-            let xs = x0 - at.x0..=x1 - at.x0;
-            if !rows.into_iter().any(|r| patch.flags[r..][xs.clone()].iter().any(|&f| f & EXACT != 0)) {
+            let (xs, ys) = (x0 - at.x0..=x1 - at.x0, y0 - at.y0..=y1 - at.y0);
+            if !patch.exact_rows[ys].iter().any(|&[first, last]| first <= *xs.end() && last >= *xs.start()) {
                 continue;
             }
             self.lanes(at, tri, rect, |l| {
