@@ -443,7 +443,7 @@ mod tests {
                 }
                 assert_eq!(part.first, at);
                 at += part.count;
-                for t in part.first..part.first + part.count {
+                for t in part.triangles() {
                     for k in 0..3 {
                         let p = m.positions[m.indices[3 * t as usize + k] as usize];
                         assert!((0..3).all(|i| part.bounds.min[i] <= p[i] && p[i] <= part.bounds.max[i]));

@@ -86,7 +86,7 @@ impl Edge {
 }
 
 /// Per pixel of a patch: a triangle holds its centre; two or more do (the patch overlaps itself
-/// there); an outline edge touches it; it is left to the exact test.
+/// there); an outline edge touches it.
 const CENTRE: u8 = 1;
 const SECOND: u8 = 2;
 const BORDER: u8 = 4;
