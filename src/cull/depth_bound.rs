@@ -18,7 +18,7 @@
 use super::raster::Triangle;
 use crate::bvh::Slab;
 use crate::mesh::Bounds;
-use glam::{DMat4, DVec3, DVec4, Vec3};
+use glam::{DMat4, DVec3, DVec4, Vec3, Vec4};
 
 /// Planes steeper than this (NDC depth per culling pixel) are left out: nearly edge-on, they
 /// bound nothing and their coefficients lose precision.
@@ -30,20 +30,46 @@ const EPS: f32 = 1e-6;
 /// The depth bound of one box or triangle over the pixels of a `width` x `height` raster.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DepthBound {
-    /// Per plane (a box's and its slab's front faces, or a triangle's own), (c, a, b): its least
-    /// value over pixel (x, y) is c + a x + b y.
-    planes: [[f32; 3]; 4],
-    count: usize,
+    /// Per plane (a box's and its slab's front faces, or a triangle's own), lane by lane: its
+    /// least value over pixel (x, y) is c + a x + b y. Lanes without a plane hold the nearest
+    /// corner depth (a = b = 0).
+    planes: Planes,
     /// The nearest corner depth.
     nearest: f32,
 }
 
+/// Up to four planes z = c + a x + b y over the culling pixels, one per lane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Planes {
+    c: Vec4,
+    a: Vec4,
+    b: Vec4,
+    count: usize,
+}
+
+impl Planes {
+    /// No plane: every lane the constant `z`.
+    fn constant(z: f32) -> Planes {
+        Planes { c: Vec4::splat(z), a: Vec4::ZERO, b: Vec4::ZERO, count: 0 }
+    }
+
+    fn push(&mut self, [c, a, b]: [f32; 3]) {
+        (self.c[self.count], self.a[self.count], self.b[self.count]) = (c, a, b);
+        self.count += 1;
+    }
+
+    /// Each plane's value at pixel (x, y).
+    fn at(&self, x: usize, y: usize) -> Vec4 {
+        self.c + self.a * x as f32 + self.b * y as f32
+    }
+}
+
 impl DepthBound {
     /// The bound for box `b` (and, where given, a slab holding the same triangles) seen through
-    /// `inverse` (the inverse of its model-view-projection matrix) from `eye` (in organ space),
-    /// with nearest corner depth `nearest`.
+    /// `inverse` (of its model-view-projection matrix) from `eye` (in organ space), with nearest
+    /// corner depth `nearest`.
     pub fn of_box(
-        inverse: &DMat4,
+        inverse: &Unprojection,
         eye: Vec3,
         b: &Bounds,
         slab: Option<&Slab>,
@@ -51,7 +77,7 @@ impl DepthBound {
         width: usize,
         height: usize,
     ) -> DepthBound {
-        let mut bound = DepthBound { planes: [[0.0; 3]; 4], count: 0, nearest };
+        let mut bound = DepthBound { planes: Planes::constant(nearest), nearest };
         for (normal, d) in faces(eye, b, slab, Side::Near).into_iter().flatten() {
             if let Some([c, a, b]) = screen_plane(inverse, normal, d, width, height) {
                 bound.add_plane(c, a, b);
@@ -63,7 +89,7 @@ impl DepthBound {
     /// The bound for a projected triangle.
     pub fn of_triangle(t: &Triangle) -> DepthBound {
         let nearest = t[0].z.min(t[1].z).min(t[2].z);
-        let mut bound = DepthBound { planes: [[0.0; 3]; 4], count: 0, nearest };
+        let mut bound = DepthBound { planes: Planes::constant(nearest), nearest };
         let (e1, e2) = ((t[1] - t[0]).as_dvec3(), (t[2] - t[0]).as_dvec3());
         let area = e1.x * e2.y - e2.x * e1.y;
         // z = z0 + a (x - x0) + b (y - y0).
@@ -78,16 +104,13 @@ impl DepthBound {
     /// each pixel, unless it is too steep to bound anything.
     fn add_plane(&mut self, c: f64, a: f64, b: f64) {
         if let Some(plane) = over_pixel([c, a, b], -1.0) {
-            self.planes[self.count] = plane;
-            self.count += 1;
+            self.planes.push(plane);
         }
     }
 
     /// The least depth of the box or triangle on any ray through pixel (x, y) that meets it.
     pub fn at(&self, x: usize, y: usize) -> f32 {
-        let (x, y) = (x as f32, y as f32);
-        let planes = self.planes[..self.count].iter().map(|&[c, a, b]| c + a * x + b * y);
-        planes.fold(self.nearest, f32::max) - EPS
+        self.planes.at(x, y).max_element().max(self.nearest) - EPS
     }
 
     /// Whether every pixel of the inclusive rectangle holds an occluder depth in front of this.
@@ -124,14 +147,27 @@ fn faces(eye: Vec3, b: &Bounds, slab: Option<&Slab>, side: Side) -> [Option<(DVe
     [axis(0), axis(1), axis(2), slab]
 }
 
-/// The NDC depth of the plane `normal . p = d` of organ space (seen through `inverse`, the inverse
-/// of the model-view-projection matrix) as `[c, a, b]`: depth c + a x + b y at culling pixel
-/// position (x, y).
-fn screen_plane(inverse: &DMat4, normal: DVec3, d: f32, width: usize, height: usize) -> Option<[f64; 3]> {
+/// The inverse of a model-view-projection matrix, kept by rows (in double precision): it takes a
+/// plane of organ space to NDC.
+#[derive(Clone, Copy, Debug)]
+pub struct Unprojection {
+    /// The inverse's rows, as columns.
+    rows: DMat4,
+}
+
+impl Unprojection {
+    pub fn of(mvp: &glam::Mat4) -> Unprojection {
+        Unprojection { rows: mvp.as_dmat4().inverse().transpose() }
+    }
+}
+
+/// The NDC depth of the plane `normal . p = d` of organ space (seen through `inverse`) as
+/// `[c, a, b]`: depth c + a x + b y at culling pixel position (x, y).
+fn screen_plane(inverse: &Unprojection, normal: DVec3, d: f32, width: usize, height: usize) -> Option<[f64; 3]> {
     let (w, h) = (width as f64, height as f64);
     // Points (X, Y, Z) in NDC on the plane satisfy q . (X, Y, Z, 1) = 0.
-    let q: DVec4 =
-        normal.x * inverse.row(0) + normal.y * inverse.row(1) + normal.z * inverse.row(2) - d as f64 * inverse.row(3);
+    let r = &inverse.rows;
+    let q: DVec4 = normal.x * r.x_axis + normal.y * r.y_axis + normal.z * r.z_axis - d as f64 * r.w_axis;
     if q.z == 0.0 {
         return None;
     }
@@ -157,9 +193,9 @@ fn over_pixel([c, a, b]: [f64; 3], side: f64) -> Option<[f32; 3]> {
 /// farthest corner.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct FarBound {
-    /// Per far face, (c, a, b): its greatest value over pixel (x, y) is c + a x + b y.
-    planes: [[f32; 3]; 4],
-    count: usize,
+    /// Per far face, lane by lane: its greatest value over pixel (x, y) is c + a x + b y. Lanes
+    /// without a face hold the farthest corner depth.
+    planes: Planes,
     farthest: f32,
 }
 
@@ -167,7 +203,7 @@ impl FarBound {
     /// The bound for box `b` and `slab` seen through `inverse` from `eye` (in organ space), with
     /// farthest corner depth `farthest`.
     pub fn of_box(
-        inverse: &DMat4,
+        inverse: &Unprojection,
         eye: Vec3,
         b: &Bounds,
         slab: &Slab,
@@ -175,11 +211,10 @@ impl FarBound {
         width: usize,
         height: usize,
     ) -> FarBound {
-        let mut bound = FarBound { planes: [[0.0; 3]; 4], count: 0, farthest };
+        let mut bound = FarBound { planes: Planes::constant(farthest), farthest };
         for (normal, d) in faces(eye, b, Some(slab), Side::Far).into_iter().flatten() {
             if let Some(plane) = screen_plane(inverse, normal, d, width, height).and_then(|p| over_pixel(p, 1.0)) {
-                bound.planes[bound.count] = plane;
-                bound.count += 1;
+                bound.planes.push(plane);
             }
         }
         bound
@@ -187,9 +222,7 @@ impl FarBound {
 
     /// The greatest depth of the box on any ray through pixel (x, y) that meets it.
     pub fn at(&self, x: usize, y: usize) -> f32 {
-        let (x, y) = (x as f32, y as f32);
-        let planes = self.planes[..self.count].iter().map(|&[c, a, b]| c + a * x + b * y);
-        planes.fold(self.farthest, f32::min) + EPS
+        self.planes.at(x, y).min_element().min(self.farthest) + EPS
     }
 
     /// Whether the box lies in front of the occluders wherever they cover the inclusive rectangle:
@@ -241,7 +274,7 @@ mod tests {
             let normal = Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5).normalize();
             let through = normal.dot(centre + Vec3::new(rand() - 0.5, rand() - 0.5, rand() - 0.5) * half);
             let slab = Slab { normal, min: through - 0.3 * rand(), max: through + 0.3 * rand() };
-            let inverse = mvp.as_dmat4().inverse();
+            let inverse = Unprojection::of(&mvp);
             let box_only = DepthBound::of_box(&inverse, eye, &b, None, nearest, w, h);
             let bound = DepthBound::of_box(&inverse, eye, &b, Some(&slab), nearest, w, h);
             let farthest = b.corners().iter().map(|&c| mvp.project_point3(c).z).fold(f32::NEG_INFINITY, f32::max);

@@ -21,8 +21,9 @@
 //!    part that fails, where its triangles are not much smaller than the pixels, on its footprint
 //!    (the rectangle of its projected vertices) and then on its triangles, each tested with its own
 //!    rectangle and depth plane; a node wholly inside the
-//!    frustum with nothing more to test is drawn as one range. Organs, and the halves of big
-//!    subtrees, are traversed in parallel.
+//!    frustum with nothing more to test is drawn as one range. Below the top levels, subtrees are
+//!    traversed as tasks [`share`]d between the calling thread and the pool, as are the occluder
+//!    patches in step 3.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -30,6 +31,7 @@ pub mod depth_bound;
 pub mod opacity_map;
 pub mod raster;
 pub mod selection;
+mod share;
 pub mod sparse_depth;
 
 pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource, Selection};
@@ -39,8 +41,8 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
-use depth_bound::{DepthBound, FarBound};
-use glam::{DMat4, Mat4, Vec3, Vec4};
+use depth_bound::{DepthBound, FarBound, Unprojection};
+use glam::{Mat4, Vec3, Vec3A, Vec4};
 use opacity_map::OpacityMap;
 use raster::{OccluderMaps, OccluderRaster};
 use sparse_depth::SparseDepth;
@@ -284,17 +286,21 @@ impl Occluders {
         bound: impl FnOnce() -> DepthBound,
     ) -> bool {
         let (w, h) = (self.maps.width, self.maps.height);
-        let mut projected = [Vec3::ZERO; 3 * PART_TRIANGLES];
-        let (mut lo, mut hi) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
+        // 16-byte vectors: each is stored and loaded whole.
+        let mut projected = [Vec3A::ZERO; 3 * PART_TRIANGLES];
+        let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
         for (at, &v) in projected.iter_mut().zip(organ.bvh.vertices_of(part)) {
             let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return false };
+            let p = Vec3A::from(p);
             (*at, lo, hi) = (p, lo.min(p), hi.max(p));
         }
+        let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
         // Off the screen, it draws nothing.
         self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, bound).1)
             || part.triangles().all(|t| {
                 let tri = organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
-                let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
+                let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]).into(), tri[0].max(tri[1]).max(tri[2]).into());
+                let tri = tri.map(Vec3::from);
                 self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
             })
     }
@@ -450,27 +456,57 @@ pub fn cull_with(
         }
         o
     });
-    let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
-    // Each organ into its own list and counts; in parallel where occlusion is tested (without it,
-    // the work is too small to pay for waking the threads).
-    let one = |(organ, state): (&crate::organ_set::Organ, &crate::layout::OrganState)| {
-        if !state.is_drawn() || organ.bvh.nodes.is_empty() {
-            return Default::default();
+    let views: Vec<Option<OrganView>> = set
+        .organs
+        .iter()
+        .zip(&layout.organs)
+        .map(|(organ, state)| {
+            let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
+            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye))
+        })
+        .collect();
+    // Per organ, its ranges, and the subtrees left to traverse: [`share`]d between the threads
+    // where occlusion is tested (without it, the work is too small to pay for waking them).
+    let mut ranges: Vec<Vec<Range<u32>>> = vec![Vec::new(); set.organs.len()];
+    let mut subtrees: Vec<(usize, &OrganView, u32, bool)> = Vec::new();
+    for (o, (organ, view)) in set.organs.iter().zip(&views).enumerate() {
+        let Some(view) = view else { continue };
+        stats.triangles += organ.mesh.triangle_count();
+        if settings.mode == CullMode::None {
+            ranges[o].push(0..organ.mesh.indices.len() as u32);
+            continue;
         }
-        let view = OrganView::new(&view_proj, &state.transform.matrix(), camera.eye);
-        traverse(organ, &view, occ.as_ref(), &settings)
-    };
-    use rayon::prelude::*;
-    let organs: Vec<(Vec<Range<u32>>, CullStats)> = match occ {
-        Some(_) => set.organs.par_iter().zip(&layout.organs).map(one).collect(),
-        None => set.organs.iter().zip(&layout.organs).map(one).collect(),
-    };
-    for (i, (ranges, s)) in organs.into_iter().enumerate() {
-        ranges.into_iter().for_each(|r| list.push(i, r));
+        let mut split = Vec::new();
+        let (top, s) = traverse_below(organ, view, occ.as_ref(), &settings, 0, occ.is_some(), Some(&mut split));
+        ranges[o] = top;
         stats.add_traversal(&s);
+        subtrees.extend(split.into_iter().map(|(node, test)| (o, view, node, test)));
+    }
+    subtrees.sort_by_key(|&(o, _, node, _)| std::cmp::Reverse(set.organs[o].bvh.nodes[node as usize].count));
+    let below = |done: &mut Vec<(usize, Vec<Range<u32>>, CullStats)>, i: usize| {
+        let (o, view, node, test) = subtrees[i];
+        let (r, s) = traverse_below(&set.organs[o], view, occ.as_ref(), &settings, node, test, None);
+        done.push((o, r, s));
+    };
+    let done = match occ {
+        Some(_) => share::share(subtrees.len(), Vec::new, below),
+        None => vec![(0..subtrees.len()).fold(Vec::new(), |mut done, i| {
+            below(&mut done, i);
+            done
+        })],
+    };
+    for (o, r, s) in done.into_iter().flatten() {
+        ranges[o].extend(r);
+        stats.add_traversal(&s);
+    }
+    // In triangle order, as one traversal depth first would give them.
+    let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
+    for (o, mut r) in ranges.into_iter().enumerate() {
+        r.sort_unstable_by_key(|r| r.start);
+        r.into_iter().for_each(|r| list.push(o, r));
     }
     stats.drawn = list.triangles();
     stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
@@ -481,14 +517,14 @@ pub fn cull_with(
 /// organ space (for the boxes' depth bounds).
 struct OrganView {
     mvp: Mat4,
-    inverse: DMat4,
+    inverse: Unprojection,
     eye: Vec3,
 }
 
 impl OrganView {
     fn new(view_proj: &Mat4, model: &Mat4, eye: Vec3) -> OrganView {
         let mvp = *view_proj * *model;
-        OrganView { mvp, inverse: mvp.as_dmat4().inverse(), eye: model.inverse().transform_point3(eye) }
+        OrganView { mvp, inverse: Unprojection::of(&mvp), eye: model.inverse().transform_point3(eye) }
     }
 
     fn depth_bound(&self, b: &Bounds, slab: Option<&Slab>, nearest: f32, w: usize, h: usize) -> DepthBound {
@@ -500,32 +536,19 @@ impl OrganView {
     }
 }
 
-/// The index ranges of one drawn organ that survive culling (contiguous ones merged), with its
-/// triangle, culled and tested counts.
-fn traverse(
-    organ: &crate::organ_set::Organ,
-    view: &OrganView,
-    occ: Option<&Occluders>,
-    settings: &CullSettings,
-) -> (Vec<Range<u32>>, CullStats) {
-    let (list, mut stats) = match settings.mode {
-        CullMode::None => (std::iter::once(0..organ.mesh.indices.len() as u32).collect(), CullStats::default()),
-        _ => traverse_below(organ, view, occ, settings, 0, occ.is_some()),
-    };
-    stats.triangles = organ.mesh.triangle_count();
-    (list, stats)
-}
-
 /// Triangles are "not much smaller than the pixels" of a rectangle when there are at most this
 /// many per pixel of it. A failing leaf's parts are then tested, and a failing part's triangles
 /// one by one; where they are much smaller (10M triangles), the boxes are about as tight and the
 /// extra tests cost more than they cull.
 const TRIANGLES_PER_PIXEL: usize = 4;
 
-/// Nodes with more triangles than this have their two children traversed in parallel.
-const PARALLEL_TRIANGLES: u32 = 1 << 16;
+/// Subtrees of at most this many triangles are the tasks shared between the threads.
+const SUBTREE_TRIANGLES: u32 = 1 << 13;
 
-/// [`traverse`] from node `root` (`test`: whether occlusion is still tested there).
+/// The index ranges below node `root` of a drawn organ that survive culling (contiguous ones
+/// merged), with the culled and tested counts (`test`: whether occlusion is still tested there).
+/// With `split`, subtrees of at most [`SUBTREE_TRIANGLES`] are left out, listed there as (node,
+/// `test` there).
 fn traverse_below(
     organ: &crate::organ_set::Organ,
     view: &OrganView,
@@ -533,6 +556,7 @@ fn traverse_below(
     settings: &CullSettings,
     root: u32,
     test: bool,
+    mut split: Option<&mut Vec<(u32, bool)>>,
 ) -> (Vec<Range<u32>>, CullStats) {
     let (w, h) = (settings.width, settings.height);
     let holes = settings.hole_tolerance;
@@ -609,18 +633,15 @@ fn traverse_below(
                 }
             }
             (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),
-            (false, _) if node.count > PARALLEL_TRIANGLES => {
-                // Depth first: the subtrees' ranges come before those of the nodes still stacked.
-                let below = |c: u32| traverse_below(organ, view, occ, settings, c, test_children);
-                let (left, right) = rayon::join(|| below(node.children[0]), || below(node.children[1]));
-                for (ranges, s) in [left, right] {
-                    ranges.into_iter().for_each(|r| push_merged(&mut list, r));
-                    stats.add_traversal(&s);
-                }
-            }
             (false, _) => {
-                stack.push((node.children[1], test_children));
-                stack.push((node.children[0], test_children));
+                for child in [node.children[1], node.children[0]] {
+                    match split.as_deref_mut() {
+                        Some(split) if organ.bvh.nodes[child as usize].count <= SUBTREE_TRIANGLES => {
+                            split.push((child, test_children))
+                        }
+                        _ => stack.push((child, test_children)),
+                    }
+                }
             }
         }
     }

@@ -139,6 +139,28 @@ impl Patch {
     }
 }
 
+/// One thread's share of the rasterisation: its maps, and working space kept from patch to patch.
+struct Rasterising {
+    maps: OccluderMaps,
+    patch: Patch,
+    /// Per pixel of the patch left to the exact test, its index in the image.
+    exact: Vec<usize>,
+    fragments: Vec<Fragment>,
+    scratch: Scratch,
+}
+
+impl Rasterising {
+    fn new(width: usize, height: usize) -> Rasterising {
+        Rasterising {
+            maps: OccluderMaps::empty(width, height),
+            patch: Patch::default(),
+            exact: Vec::new(),
+            fragments: Vec::new(),
+            scratch: Scratch::default(),
+        }
+    }
+}
+
 /// Four pixels of a row that a triangle may reach: the first one's index in its patch; those
 /// whose centre it holds, and per edge those the edge touches (the triangle reaches a pixel where
 /// either holds); its farthest depth over each.
@@ -298,50 +320,56 @@ impl OccluderRaster {
         patches
     }
 
-    /// Coverage and depth of every pixel, patch by patch.
+    /// Coverage and depth of every pixel, patch by patch; the patches shared among the threads
+    /// (each patch is rasterised on its own, so the result does not depend on how).
     pub fn finish(self) -> OccluderMaps {
         let (w, h) = (self.width, self.height);
-        let mut maps =
-            OccluderMaps { width: w, height: h, covered: vec![0u8; w * h], depth: vec![f32::INFINITY; w * h] };
-        let mut patch = Patch::default();
-        let (mut exact, mut fragments, mut scratch) = (Vec::new(), Vec::new(), Scratch::default());
         let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
-        for tris in self.patches() {
-            let Some([x0, x1, y0, y1]) = tris
-                .iter()
-                .filter_map(|&t| reach[t as usize])
-                .reduce(|a, b| [a[0].min(b[0]), a[1].max(b[1]), a[2].min(b[2]), a[3].max(b[3])])
-            else {
-                continue;
-            };
-            patch.reset(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
-            self.fill(&mut patch, &tris, &reach);
-            exact.clear();
-            for y in 0..patch.h {
-                let (at, out) = (y * patch.at.stride, (y0 + y) * w + x0);
-                for x in 0..patch.w {
-                    let flags = patch.flags[at + x];
-                    if flags == CENTRE {
-                        maps.cover(out + x, patch.far[at + x]);
-                    } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
-                        patch.slot[at + x] = exact.len() as u32;
-                        let row = &mut patch.exact_rows[y];
-                        *row = [row[0].min(x), x];
-                        exact.push(out + x);
-                    }
-                }
-            }
-            if exact.is_empty() {
-                continue;
-            }
-            self.exact_fragments(&patch, &tris, &reach, &mut fragments);
-            for here in fragments.chunk_by(|f, g| f.slot == g.slot) {
-                if let Some(z) = pixel_depth(here, &self.neighbours, &mut scratch) {
-                    maps.cover(exact[here[0].slot as usize], z);
+        let mut patches = self.patches();
+        patches.sort_unstable_by_key(|p| std::cmp::Reverse(p.len()));
+        let work = |r: &mut Rasterising, i: usize| self.rasterise(r, &patches[i], &reach);
+        let done = super::share::share(patches.len(), || Rasterising::new(w, h), work);
+        done.into_iter().map(|r| r.maps).reduce(OccluderMaps::merge).unwrap_or_else(|| OccluderMaps::empty(w, h))
+    }
+
+    /// Adds the coverage and depth of one patch's pixels to `r`'s maps (`reach`: per triangle, from
+    /// [`OccluderRaster::reach`]).
+    fn rasterise(&self, r: &mut Rasterising, tris: &[u32], reach: &[Option<[usize; 4]>]) {
+        let w = self.width;
+        let Rasterising { maps, patch, exact, fragments, scratch } = r;
+        let Some([x0, x1, y0, y1]) = tris
+            .iter()
+            .filter_map(|&t| reach[t as usize])
+            .reduce(|a, b| [a[0].min(b[0]), a[1].max(b[1]), a[2].min(b[2]), a[3].max(b[3])])
+        else {
+            return;
+        };
+        patch.reset(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
+        self.fill(patch, tris, reach);
+        exact.clear();
+        for y in 0..patch.h {
+            let (at, out) = (y * patch.at.stride, (y0 + y) * w + x0);
+            for x in 0..patch.w {
+                let flags = patch.flags[at + x];
+                if flags == CENTRE {
+                    maps.cover(out + x, patch.far[at + x]);
+                } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
+                    patch.slot[at + x] = exact.len() as u32;
+                    let row = &mut patch.exact_rows[y];
+                    *row = [row[0].min(x), x];
+                    exact.push(out + x);
                 }
             }
         }
-        maps
+        if exact.is_empty() {
+            return;
+        }
+        self.exact_fragments(patch, tris, reach, fragments);
+        for here in fragments.chunk_by(|f, g| f.slot == g.slot) {
+            if let Some(z) = pixel_depth(here, &self.neighbours, scratch) {
+                maps.cover(exact[here[0].slot as usize], z);
+            }
+        }
     }
 
     /// The first pass over a patch: per pixel, the farthest depth of the triangles that touch it,
@@ -398,6 +426,23 @@ impl OccluderRaster {
 }
 
 impl OccluderMaps {
+    /// No pixel covered.
+    fn empty(width: usize, height: usize) -> OccluderMaps {
+        OccluderMaps { width, height, covered: vec![0; width * height], depth: vec![f32::INFINITY; width * height] }
+    }
+
+    /// The maps of two sets of patches together: covered where either covers, as deep as the
+    /// nearer.
+    fn merge(mut self, other: OccluderMaps) -> OccluderMaps {
+        for (c, o) in self.covered.iter_mut().zip(&other.covered) {
+            *c |= o;
+        }
+        for (d, o) in self.depth.iter_mut().zip(&other.depth) {
+            *d = d.min(*o);
+        }
+        self
+    }
+
     /// Marks pixel `i` covered, as deep as `z` (or nearer where it already was).
     fn cover(&mut self, i: usize, z: f32) {
         self.covered[i] = 1;
