@@ -1,5 +1,5 @@
 //! Work shared between the calling thread and rayon's pool, for the culler's short parallel
-//! phases (a fraction of a millisecond each). No space: tasks are numbered.
+//! phases (a fraction of a millisecond each). No coordinate space: tasks are only numbered.
 //!
 //! Handing a phase to the pool (a parallel iterator called from outside it) leaves the caller
 //! waiting for a pool thread to wake, and one that has slept while the GPU drew the last frame
