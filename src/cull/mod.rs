@@ -45,6 +45,7 @@ use depth_bound::{DepthBound, FarBound, Unprojection};
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 use opacity_map::OpacityMap;
 use raster::{OccluderMaps, OccluderRaster};
+use share::{Phase, Tasks};
 use sparse_depth::SparseDepth;
 use std::ops::Range;
 
@@ -316,13 +317,14 @@ impl Occluders {
 
 /// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
 /// patches) and builds the look-up structures.
-pub fn rasterise_occluders(
+pub(crate) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
     list: &[LeafRef],
     w: usize,
     h: usize,
+    phase: &Phase<raster::Patches>,
 ) -> Occluders {
     // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
     let mut chosen: Vec<[Vec<u32>; 2]> = vec![Default::default(); set.organs.len()];
@@ -342,7 +344,7 @@ pub fn rasterise_occluders(
             triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
         }
     }
-    let maps = raster.finish();
+    let maps = raster.finish_on(phase);
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
     Occluders { maps, opacity, sparse, approximate: None, leaves: list.len(), triangles }
@@ -434,20 +436,55 @@ pub fn cull_with(
     given: Option<&[LeafRef]>,
 ) -> (DrawList, CullStats) {
     let started = std::time::Instant::now();
+    let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
+    let phases = Phases::default();
+    // The pool's threads help where occlusion is tested (without it, the work is too small to
+    // pay for waking them).
+    let (list, mut stats) = match settings.mode {
+        CullMode::Occlusion => share::with_crew(
+            |quit| {
+                phases.raster.help(quit);
+                phases.traversal.help(quit);
+            },
+            || cull_in_phases(set, layout, camera, aspect, &settings, given, &phases),
+        ),
+        _ => cull_in_phases(set, layout, camera, aspect, &settings, given, &phases),
+    };
+    stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
+    (list, stats)
+}
+
+/// The culler's two parallel phases: the occluder raster's patches, and the subtrees below the
+/// top levels of the hierarchies.
+#[derive(Default)]
+struct Phases<'a> {
+    raster: Phase<raster::Patches>,
+    traversal: Phase<Subtrees<'a>>,
+}
+
+/// [`cull_with`], its parallel work done in `phases` (`settings`' size at least 1 x 1).
+fn cull_in_phases<'a>(
+    set: &'a OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    aspect: f32,
+    settings: &CullSettings,
+    given: Option<&[LeafRef]>,
+    phases: &Phases<'a>,
+) -> (DrawList, CullStats) {
     let view_proj = camera.view_projection(aspect);
-    let (w, h) = (settings.width.max(1), settings.height.max(1));
-    let settings = CullSettings { width: w, height: h, ..*settings };
+    let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
     let occ = (settings.mode == CullMode::Occlusion).then(|| {
         let list = match given {
             Some(list) => list.to_vec(),
             None => {
-                let (list, source) = choose_occluders(set, layout, camera, &view_proj, &settings);
+                let (list, source) = choose_occluders(set, layout, camera, &view_proj, settings);
                 stats.source = Some(source);
                 list
             }
         };
-        let mut o = rasterise_occluders(set, layout, &view_proj, &list, w, h);
+        let mut o = rasterise_occluders(set, layout, &view_proj, &list, w, h, &phases.raster);
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =
                 o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
@@ -468,10 +505,9 @@ pub fn cull_with(
             drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye))
         })
         .collect();
-    // Per organ, its ranges, and the subtrees left to traverse: [`share`]d between the threads
-    // where occlusion is tested (without it, the work is too small to pay for waking them).
+    // Per organ, its ranges; the top levels traversed here, and the subtrees below shared.
     let mut ranges: Vec<Vec<Range<u32>>> = vec![Vec::new(); set.organs.len()];
-    let mut subtrees: Vec<(usize, &OrganView, u32, bool)> = Vec::new();
+    let mut subtrees: Vec<(usize, u32, bool)> = Vec::new();
     for (o, (organ, view)) in set.organs.iter().zip(&views).enumerate() {
         let Some(view) = view else { continue };
         stats.triangles += organ.mesh.triangle_count();
@@ -480,25 +516,14 @@ pub fn cull_with(
             continue;
         }
         let mut split = Vec::new();
-        let (top, s) = traverse_below(organ, view, occ.as_ref(), &settings, 0, occ.is_some(), Some(&mut split));
+        let (top, s) = traverse_below(organ, view, occ.as_ref(), settings, 0, occ.is_some(), Some(&mut split));
         ranges[o] = top;
         stats.add_traversal(&s);
-        subtrees.extend(split.into_iter().map(|(node, test)| (o, view, node, test)));
+        subtrees.extend(split.into_iter().map(|(node, test)| (o, node, test)));
     }
-    subtrees.sort_by_key(|&(o, _, node, _)| std::cmp::Reverse(set.organs[o].bvh.nodes[node as usize].count));
-    let below = |done: &mut Vec<(usize, Vec<Range<u32>>, CullStats)>, i: usize| {
-        let (o, view, node, test) = subtrees[i];
-        let (r, s) = traverse_below(&set.organs[o], view, occ.as_ref(), &settings, node, test, None);
-        done.push((o, r, s));
-    };
-    let done = match occ {
-        Some(_) => share::share(subtrees.len(), Vec::new, below),
-        None => vec![(0..subtrees.len()).fold(Vec::new(), |mut done, i| {
-            below(&mut done, i);
-            done
-        })],
-    };
-    for (o, r, s) in done.into_iter().flatten() {
+    subtrees.sort_by_key(|&(o, node, _)| std::cmp::Reverse(set.organs[o].bvh.nodes[node as usize].count));
+    let job = Subtrees { set, views, occ, settings: *settings, subtrees };
+    for (o, r, s) in phases.traversal.run(job).1.into_iter().flatten() {
         ranges[o].extend(r);
         stats.add_traversal(&s);
     }
@@ -509,8 +534,35 @@ pub fn cull_with(
         r.into_iter().for_each(|r| list.push(o, r));
     }
     stats.drawn = list.triangles();
-    stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
     (list, stats)
+}
+
+/// Subtrees (organ, node, whether occlusion is tested there) left to traverse, biggest first, as
+/// tasks to share; each gives its organ's ranges below it, with its counts.
+struct Subtrees<'a> {
+    set: &'a OrganSet,
+    views: Vec<Option<OrganView>>,
+    occ: Option<Occluders>,
+    settings: CullSettings,
+    subtrees: Vec<(usize, u32, bool)>,
+}
+
+impl Tasks for Subtrees<'_> {
+    type State = Vec<(usize, Vec<Range<u32>>, CullStats)>;
+    fn count(&self) -> usize {
+        self.subtrees.len()
+    }
+    fn state(&self) -> Self::State {
+        Vec::new()
+    }
+    fn run(&self, done: &mut Self::State, i: usize) {
+        let (o, node, test) = self.subtrees[i];
+        if let Some(view) = &self.views[o] {
+            let (r, s) = traverse_below(&self.set.organs[o], view, self.occ.as_ref(), &self.settings, node, test, None);
+
+            done.push((o, r, s));
+        }
+    }
 }
 
 /// How one organ is seen: its model-view-projection matrix, that matrix's inverse and the eye in

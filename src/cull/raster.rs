@@ -25,6 +25,7 @@
 //! covered as deep as that component's farthest fragment (the nearest such component counts).
 //! Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
 
+use super::share::{Phase, Tasks};
 use crate::bvh::NONE;
 use glam::{BVec4A, Vec3, Vec4};
 
@@ -105,9 +106,6 @@ struct Patch {
     flags: Vec<u8>,
     /// Per pixel left to the exact test: its place among them (else NONE).
     slot: Vec<u32>,
-    /// Per row: the first and last column of its pixels left to the exact test (first > last
-    /// where none).
-    exact_rows: Vec<[usize; 2]>,
 }
 
 /// Where a patch's rectangle starts in the image, and how far apart its rows lie.
@@ -134,13 +132,31 @@ impl Patch {
         self.flags.resize(n, 0);
         self.slot.clear();
         self.slot.resize(n, NONE);
-        self.exact_rows.clear();
-        self.exact_rows.resize(h, [usize::MAX, 0]);
+    }
+}
+
+/// The raster's patches (largest first) as tasks to share, with each triangle's reach.
+pub(crate) struct Patches {
+    raster: OccluderRaster,
+    reach: Vec<Option<[usize; 4]>>,
+    patches: Vec<Vec<u32>>,
+}
+
+impl Tasks for Patches {
+    type State = Rasterising;
+    fn count(&self) -> usize {
+        self.patches.len()
+    }
+    fn state(&self) -> Rasterising {
+        Rasterising::new(self.raster.width, self.raster.height)
+    }
+    fn run(&self, r: &mut Rasterising, i: usize) {
+        self.raster.rasterise(r, &self.patches[i], &self.reach);
     }
 }
 
 /// One thread's share of the rasterisation: its maps, and working space kept from patch to patch.
-struct Rasterising {
+pub(crate) struct Rasterising {
     maps: OccluderMaps,
     patch: Patch,
     /// Per pixel of the patch left to the exact test, its index in the image.
@@ -320,15 +336,19 @@ impl OccluderRaster {
         patches
     }
 
-    /// Coverage and depth of every pixel, patch by patch; the patches shared among the threads
-    /// (each patch is rasterised on its own, so the result does not depend on how).
+    /// Coverage and depth of every pixel, patch by patch, on the calling thread alone.
     pub fn finish(self) -> OccluderMaps {
+        self.finish_on(&Phase::default())
+    }
+
+    /// [`OccluderRaster::finish`] with the patches shared among the threads helping `phase` (each
+    /// patch is rasterised on its own, so the result does not depend on how).
+    pub(crate) fn finish_on(self, phase: &Phase<Patches>) -> OccluderMaps {
         let (w, h) = (self.width, self.height);
         let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
         let mut patches = self.patches();
         patches.sort_unstable_by_key(|p| std::cmp::Reverse(p.len()));
-        let work = |r: &mut Rasterising, i: usize| self.rasterise(r, &patches[i], &reach);
-        let done = super::share::share(patches.len(), || Rasterising::new(w, h), work);
+        let (_, done) = phase.run(Patches { raster: self, reach, patches });
         done.into_iter().map(|r| r.maps).reduce(OccluderMaps::merge).unwrap_or_else(|| OccluderMaps::empty(w, h))
     }
 
@@ -355,8 +375,6 @@ impl OccluderRaster {
                     maps.cover(out + x, patch.far[at + x]);
                 } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
                     patch.slot[at + x] = exact.len() as u32;
-                    let row = &mut patch.exact_rows[y];
-                    *row = [row[0].min(x), x];
                     exact.push(out + x);
                 }
             }
@@ -406,7 +424,7 @@ impl OccluderRaster {
             let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
             let at = patch.at;
             let (xs, ys) = (x0 - at.x0..=x1 - at.x0, y0 - at.y0..=y1 - at.y0);
-            if !patch.exact_rows[ys].iter().any(|&[first, last]| first <= *xs.end() && last >= *xs.start()) {
+            if !ys.into_iter().any(|y| patch.slot[y * at.stride..][xs.clone()].iter().any(|&s| s != NONE)) {
                 continue;
             }
             self.lanes(at, tri, rect, |l| {
