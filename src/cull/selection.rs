@@ -97,7 +97,9 @@ impl From<LeafRef> for [u32; 2] {
 /// Occluders by projected size. Opaque, visible organs are taken in order of the projected area
 /// of their bounds (largest first; an organ around the eye counts as the whole screen); of each,
 /// its leaves in the frustum, nearest first, until the triangle budget (or the leaf limit) is
-/// spent. The budget counts the triangles that face the eye, the only ones rasterised; a leaf
+/// spent: the first leaf that would overspend it ends the selection (the smaller organs after it
+/// could only fill the rest with a leaf or two, and finding those costs a look at every organ's
+/// leaves). The budget counts the triangles that face the eye, the only ones rasterised; a leaf
 /// with none is skipped. An organ with an occluder stand-in offers the stand-in's leaves instead
 /// while the organ lies wholly beyond the near plane (then the eye is outside it, and every ray
 /// meets its drawn surface before a point inside). Taking an organ's near side whole keeps the
@@ -144,10 +146,13 @@ pub fn by_projected_size(
         near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
         let mesh = stand_in.map_or(&organ.mesh, |s| &s.mesh);
         let eye = model.inverse().transform_point3(camera.eye);
+        // Whether a leaf did not fit.
+        let mut full = false;
         for (_, l) in near {
             // Only the triangles facing the eye are rasterised, so only they count.
             let count = facing(mesh, bvh.leaf_range(l), eye);
             if triangles + count > settings.occluder_triangles || chosen.len() >= max_leaves {
+                full = true;
                 break;
             }
             if count > 0 {
@@ -155,7 +160,7 @@ pub fn by_projected_size(
                 triangles += count;
             }
         }
-        if triangles >= settings.occluder_triangles || chosen.len() >= max_leaves {
+        if full || triangles >= settings.occluder_triangles || chosen.len() >= max_leaves {
             break;
         }
     }
