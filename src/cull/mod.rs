@@ -523,7 +523,7 @@ fn cull_in_phases<'a>(
     }
     subtrees.sort_by_key(|&(o, node, _)| std::cmp::Reverse(set.organs[o].bvh.nodes[node as usize].count));
     let job = Subtrees { set, views, occ, settings: *settings, subtrees };
-    for (o, r, s) in phases.traversal.run(job).1.into_iter().flatten() {
+    for (o, r, s) in phases.traversal.run(job).into_iter().flatten() {
         ranges[o].extend(r);
         stats.add_traversal(&s);
     }
@@ -559,7 +559,6 @@ impl Tasks for Subtrees<'_> {
         let (o, node, test) = self.subtrees[i];
         if let Some(view) = &self.views[o] {
             let (r, s) = traverse_below(&self.set.organs[o], view, self.occ.as_ref(), &self.settings, node, test, None);
-
             done.push((o, r, s));
         }
     }

@@ -348,7 +348,7 @@ impl OccluderRaster {
         let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
         let mut patches = self.patches();
         patches.sort_unstable_by_key(|p| std::cmp::Reverse(p.len()));
-        let (_, done) = phase.run(Patches { raster: self, reach, patches });
+        let done = phase.run(Patches { raster: self, reach, patches });
         done.into_iter().map(|r| r.maps).reduce(OccluderMaps::merge).unwrap_or_else(|| OccluderMaps::empty(w, h))
     }
 

@@ -38,17 +38,17 @@ impl<J: Tasks> Default for Phase<J> {
 
 impl<J: Tasks> Phase<J> {
     /// Runs every task of `job` once, on the calling thread and on the helpers that join before
-    /// the tasks run out; returns the job and the states of those that ran a task (the caller's
-    /// first) once every helper has handed its state in. A phase runs one job: a second is ignored.
-    pub fn run(&self, job: J) -> (&J, Vec<J::State>) {
+    /// the tasks run out; returns the states of those that ran a task (the caller's first) once
+    /// every helper has handed its state in. A phase runs one job: a second is ignored.
+    pub fn run(&self, job: J) -> Vec<J::State> {
         let job = self.job.get_or_init(move || job);
         let mut states: Vec<J::State> = self.claim(job).into_iter().collect();
         // Every task is claimed: a helper still busy is finishing its last one.
         while self.busy.load(SeqCst) != 0 {
-            std::hint::spin_loop();
+            std::thread::yield_now();
         }
         states.extend(std::mem::take(&mut *self.states.lock().unwrap_or_else(|e| e.into_inner())));
-        (job, states)
+        states
     }
 
     /// A helper's part: waits until the phase's job is given to [`Phase::run`] (or `quit` is set:
@@ -146,7 +146,7 @@ mod tests {
             let phases: [Phase<Numbers>; 2] = Default::default();
             let states = with_crew(
                 |quit| phases.iter().for_each(|p| p.help(quit)),
-                || phases.iter().map(|p| p.run(Numbers(n)).1).collect::<Vec<_>>(),
+                || phases.iter().map(|p| p.run(Numbers(n))).collect::<Vec<_>>(),
             );
             for s in states {
                 let mut all: Vec<usize> = s.into_iter().flatten().collect();
@@ -159,14 +159,13 @@ mod tests {
     #[test]
     fn helpers_waiting_for_a_phase_never_run_give_up() {
         let phases: [Phase<Numbers>; 2] = Default::default();
-        let first = with_crew(|quit| phases.iter().for_each(|p| p.help(quit)), || phases[0].run(Numbers(5)).1);
+        let first = with_crew(|quit| phases.iter().for_each(|p| p.help(quit)), || phases[0].run(Numbers(5)));
         assert_eq!(first.into_iter().flatten().count(), 5);
     }
 
     #[test]
     fn a_phase_runs_alone_without_a_crew() {
         let phase = Phase::default();
-        let (_, states) = phase.run(Numbers(3));
-        assert_eq!(states, vec![vec![0, 1, 2]]);
+        assert_eq!(phase.run(Numbers(3)), vec![vec![0, 1, 2]]);
     }
 }
