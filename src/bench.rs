@@ -5,7 +5,7 @@
 //! leaves exact visibility could cull, and how many of those the culler culled.
 
 use crate::camera::Camera;
-use crate::cull::{cull, CullMode, CullSettings, DrawList};
+use crate::cull::{CullMode, CullSettings, Culler, DrawList};
 use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -145,10 +145,12 @@ pub fn run(
     let total = frames * modes.len();
     for (m, &mode) in modes.iter().enumerate() {
         let settings = CullSettings { mode, ..*settings };
+        // Each mode culls its frames in turn, as a viewer would.
+        let mut culler = Culler::default();
         // One frame: cull, draw, wait for the GPU.
-        let frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
+        let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = route.camera(&home, i, frames);
-            let (draw, stats) = cull(set, layout, &camera, target.aspect(), &settings);
+            let (draw, stats) = culler.cull(set, layout, &camera, target.aspect(), &settings);
             let input = FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) };
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
             wait()?;

@@ -4,6 +4,8 @@
 //! cull: the test also requires a real share of triangles culled. Occluders come by projected size
 //! and from pre-computed minimum occluder sets (forced even after organs moved, and automatic while
 //! the layout is the pre-processed one), in turn; and from occluder stand-ins on a subdivided scene.
+//! One culler culls all the poses in turn, so each pose's traversal starts where an unrelated
+//! pose's stopped (its kept cut): what it culls must not depend on that.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
 
@@ -12,7 +14,7 @@ mod common;
 use common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
-use vbrain::cull::{cull, CullMode, CullSettings, Selection};
+use vbrain::cull::{cull, CullMode, CullSettings, Culler, Selection};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
@@ -97,6 +99,7 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
     let target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(seed);
     let (mut culled, mut total) = (0usize, 0usize);
+    let mut culler = Culler::default();
     for pose in 0..poses {
         // Every fifth pose keeps the set's own layout, for which its occluder database was made.
         let layout = if pose % 5 == 4 { Layout::new(set) } else { random_layout(set, &mut rng, skull_opaque) };
@@ -109,7 +112,11 @@ fn identical_images(set: &OrganSet, poses: usize, seed: u64, skull_opaque: bool)
         };
         let mut images = Vec::new();
         for mode in [CullMode::None, CullMode::Occlusion] {
-            let (draw, stats) = cull(set, &layout, &camera, target.aspect(), &CullSettings { mode, ..settings });
+            let settings = CullSettings { mode, ..settings };
+            let (draw, stats) = match mode {
+                CullMode::Occlusion => culler.cull(set, &layout, &camera, target.aspect(), &settings),
+                _ => cull(set, &layout, &camera, target.aspect(), &settings),
+            };
             if mode == CullMode::Occlusion {
                 culled += stats.occlusion_culled;
                 total += stats.triangles;
@@ -164,4 +171,34 @@ fn occluder_stand_ins_change_no_pixel() {
     assert!(set.organs.iter().all(|o| o.stand_in.is_some()));
     let share = identical_images(&set, 40, 0x57a1d, false);
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
+}
+
+/// Kept from frame to frame along an orbit (the bench's), the culler starts where the last frame's
+/// traversal stopped: it tests fewer nodes, and culls what a fresh traversal culls.
+#[test]
+fn a_culler_kept_along_an_orbit_tests_less_and_culls_the_same() {
+    let set = organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set;
+    let mut layout = Layout::new(&set);
+    layout.organs[set.find("skull").unwrap()].visible = true;
+    let home = layout.bounds(&set);
+    let settings = CullSettings::default();
+    let mut culler = Culler::default();
+    let frames = 40;
+    let (mut same, mut fresh_tests, mut kept_tests) = (0, 0, 0);
+    for i in 0..frames {
+        let camera = vbrain::bench::orbit_camera(&home, i, 475);
+        let (fresh, a) = cull(&set, &layout, &camera, 1.0, &settings);
+        let (kept, b) = culler.cull(&set, &layout, &camera, 1.0, &settings);
+        same += usize::from(fresh == kept);
+        (fresh_tests, kept_tests) = (fresh_tests + a.nodes_tested, kept_tests + b.nodes_tested);
+    }
+    assert!(
+        same * 10 >= frames * 9,
+        "the kept culler's draw lists differ from fresh ones in {} of {frames} frames",
+        frames - same
+    );
+    assert!(
+        kept_tests * 20 < fresh_tests * 19,
+        "kept from frame to frame, the culler tested {kept_tests} nodes and parts; fresh, {fresh_tests}"
+    );
 }

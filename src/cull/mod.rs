@@ -27,6 +27,7 @@
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
+mod cut;
 pub mod depth_bound;
 pub mod opacity_map;
 pub mod raster;
@@ -41,6 +42,7 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
+use cut::{Cut, Reached};
 use depth_bound::{DepthBound, FarBound, Unprojection};
 use glam::{Mat4, Vec3, Vec3A, Vec4};
 use opacity_map::OpacityMap;
@@ -415,6 +417,7 @@ fn rasterise_organ(
 }
 
 /// Culls the drawn organs of `layout` for `camera` at `aspect`; returns the draw list and counts.
+/// A frame on its own: a viewer culling frame after frame keeps a [`Culler`] instead.
 pub fn cull(
     set: &OrganSet,
     layout: &Layout,
@@ -422,7 +425,7 @@ pub fn cull(
     aspect: f32,
     settings: &CullSettings,
 ) -> (DrawList, CullStats) {
-    cull_with(set, layout, camera, aspect, settings, None)
+    Culler::default().cull(set, layout, camera, aspect, settings)
 }
 
 /// [`cull`] with the occluders given (`Some`, in place of the settings' selection): for the
@@ -435,23 +438,61 @@ pub fn cull_with(
     settings: &CullSettings,
     given: Option<&[LeafRef]>,
 ) -> (DrawList, CullStats) {
-    let started = std::time::Instant::now();
-    let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
-    let phases = Phases::default();
-    // The pool's threads help where occlusion is tested (without it, the work is too small to
-    // pay for waking them).
-    let (list, mut stats) = match settings.mode {
-        CullMode::Occlusion => share::with_crew(
-            |quit| {
-                phases.raster.help(quit);
-                phases.traversal.help(quit);
-            },
-            || cull_in_phases(set, layout, camera, aspect, &settings, given, &phases),
-        ),
-        _ => cull_in_phases(set, layout, camera, aspect, &settings, given, &phases),
-    };
-    stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
-    (list, stats)
+    Culler::default().cull_with(set, layout, camera, aspect, settings, given)
+}
+
+/// The culler of a sequence of frames: it keeps, per organ, where the last frame's traversal
+/// stopped and starts the next one there ([`cut`]). What it culls does not depend on what it
+/// kept; only how many tests that takes. It may be used with any set: a kept cut that does not
+/// fit an organ's hierarchy is dropped.
+#[derive(Clone, Debug, Default)]
+pub struct Culler {
+    cuts: Vec<Cut>,
+}
+
+impl Culler {
+    /// Culls one frame, as [`cull`].
+    pub fn cull(
+        &mut self,
+        set: &OrganSet,
+        layout: &Layout,
+        camera: &Camera,
+        aspect: f32,
+        settings: &CullSettings,
+    ) -> (DrawList, CullStats) {
+        self.cull_with(set, layout, camera, aspect, settings, None)
+    }
+
+    /// Culls one frame, as [`cull_with`].
+    pub fn cull_with(
+        &mut self,
+        set: &OrganSet,
+        layout: &Layout,
+        camera: &Camera,
+        aspect: f32,
+        settings: &CullSettings,
+        given: Option<&[LeafRef]>,
+    ) -> (DrawList, CullStats) {
+        let started = std::time::Instant::now();
+        let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
+        self.cuts.resize_with(set.organs.len(), Cut::default);
+        let cuts = &mut self.cuts;
+        let phases = Phases::default();
+        // The pool's threads help where occlusion is tested (without it, the work is too small to
+        // pay for waking them).
+        let (list, mut stats) = match settings.mode {
+            CullMode::Occlusion => share::with_crew(
+                |quit| {
+                    phases.raster.help(quit);
+                    phases.traversal.help(quit);
+                },
+                || cull_in_phases(set, layout, camera, aspect, &settings, given, cuts, &phases),
+            ),
+            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, cuts, &phases),
+        };
+        stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
+        (list, stats)
+    }
 }
 
 /// The culler's two parallel phases: the occluder raster's patches, and the subtrees below the
@@ -462,7 +503,9 @@ struct Phases<'a> {
     traversal: Phase<Subtrees<'a>>,
 }
 
-/// [`cull_with`], its parallel work done in `phases` (`settings`' size at least 1 x 1).
+/// [`Culler::cull_with`], its parallel work done in `phases` (`settings`' size at least 1 x 1),
+/// starting each organ's traversal at its cut where occlusion is tested.
+#[allow(clippy::too_many_arguments)]
 fn cull_in_phases<'a>(
     set: &'a OrganSet,
     layout: &Layout,
@@ -470,6 +513,7 @@ fn cull_in_phases<'a>(
     aspect: f32,
     settings: &CullSettings,
     given: Option<&[LeafRef]>,
+    cuts: &mut [Cut],
     phases: &Phases<'a>,
 ) -> (DrawList, CullStats) {
     let view_proj = camera.view_projection(aspect);
@@ -496,6 +540,7 @@ fn cull_in_phases<'a>(
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
+    let testing = occ.is_some();
     let views: Vec<Option<OrganView>> = set
         .organs
         .iter()
@@ -505,31 +550,50 @@ fn cull_in_phases<'a>(
             drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye))
         })
         .collect();
-    // Per organ, its ranges; the top levels traversed here, and the subtrees below shared.
-    let mut ranges: Vec<Vec<Range<u32>>> = vec![Vec::new(); set.organs.len()];
-    let mut subtrees: Vec<(usize, u32, bool)> = Vec::new();
+    // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their
+    // subtrees below shared; smaller starts are shared in groups.
+    let mut walks: Vec<Walk> = set.organs.iter().map(|_| Walk::default()).collect();
+    let mut job =
+        Subtrees { set, views: Vec::new(), occ: None, settings: *settings, starts: Vec::new(), tasks: Vec::new() };
     for (o, (organ, view)) in set.organs.iter().zip(&views).enumerate() {
         let Some(view) = view else { continue };
         stats.triangles += organ.mesh.triangle_count();
         if settings.mode == CullMode::None {
-            ranges[o].push(0..organ.mesh.indices.len() as u32);
+            walks[o].list.push(0..organ.mesh.indices.len() as u32);
             continue;
         }
-        let mut split = Vec::new();
-        let (top, s) = traverse_below(organ, view, occ.as_ref(), settings, 0, occ.is_some(), Some(&mut split));
-        ranges[o] = top;
-        stats.add_traversal(&s);
-        subtrees.extend(split.into_iter().map(|(node, test)| (o, node, test)));
+        let starts = if testing { cuts[o].starts(&organ.bvh) } else { &[0][..] };
+        for &node in starts {
+            let count = organ.bvh.nodes[node as usize].count;
+            if count <= SUBTREE_TRIANGLES {
+                job.add(Start { organ: o, node, test: testing, started: true }, count, true);
+                continue;
+            }
+            let mut split = Vec::new();
+            let start = (node, testing, true);
+            traverse_below(organ, view, occ.as_ref(), settings, start, &mut walks[o], Some(&mut split));
+            for (node, test) in split {
+                let count = organ.bvh.nodes[node as usize].count;
+                job.add(Start { organ: o, node, test, started: false }, count, false);
+            }
+        }
     }
-    subtrees.sort_by_key(|&(o, node, _)| std::cmp::Reverse(set.organs[o].bvh.nodes[node as usize].count));
-    let job = Subtrees { set, views, occ, settings: *settings, subtrees };
-    for (o, r, s) in phases.traversal.run(job).into_iter().flatten() {
-        ranges[o].extend(r);
-        stats.add_traversal(&s);
+    job.tasks.sort_by_key(|t| std::cmp::Reverse(t.0));
+    (job.views, job.occ) = (views, occ);
+    for (o, walk) in phases.traversal.run(job).into_iter().flatten() {
+        let to = &mut walks[o];
+        to.list.extend(walk.list);
+        to.stats.add_traversal(&walk.stats);
+        to.reached.extend(walk.reached);
     }
     // In triangle order, as one traversal depth first would give them.
     let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
-    for (o, mut r) in ranges.into_iter().enumerate() {
+    for (o, (walk, organ)) in walks.into_iter().zip(&set.organs).enumerate() {
+        stats.add_traversal(&walk.stats);
+        if testing && !walk.reached.is_empty() {
+            cuts[o].keep(&organ.bvh, walk.reached);
+        }
+        let mut r = walk.list;
         r.sort_unstable_by_key(|r| r.start);
         r.into_iter().for_each(|r| list.push(o, r));
     }
@@ -537,29 +601,68 @@ fn cull_in_phases<'a>(
     (list, stats)
 }
 
-/// Subtrees (organ, node, whether occlusion is tested there) left to traverse, biggest first, as
-/// tasks to share; each gives its organ's ranges below it, with its counts.
+/// Where a shared traversal starts: a node of an organ, whether occlusion is tested there, and
+/// whether it is a start of the frame (of the organ's cut) or a subtree below one.
+#[derive(Clone, Copy, Debug)]
+struct Start {
+    organ: usize,
+    node: u32,
+    test: bool,
+    started: bool,
+}
+
+/// The traversals left to share, as tasks: single subtrees, or groups of small starts of one organ
+/// up to [`SUBTREE_TRIANGLES`] in all; biggest first. Each gives its organs' ranges, counts and
+/// reached nodes.
 struct Subtrees<'a> {
     set: &'a OrganSet,
     views: Vec<Option<OrganView>>,
     occ: Option<Occluders>,
     settings: CullSettings,
-    subtrees: Vec<(usize, u32, bool)>,
+    starts: Vec<Start>,
+    /// (triangles, starts) per task.
+    tasks: Vec<(u32, Range<usize>)>,
+}
+
+impl Subtrees<'_> {
+    /// Adds a start of `count` triangles: to the last task where `group` and that task is a
+    /// group of the same organ with room left, else as a task of its own.
+    fn add(&mut self, start: Start, count: u32, group: bool) {
+        let i = self.starts.len();
+        let same_group = |(t, r): &&mut (u32, Range<usize>)| {
+            group
+                && r.end == i
+                && self.starts[r.start].started
+                && self.starts[r.start].organ == start.organ
+                && t + count <= SUBTREE_TRIANGLES
+        };
+        match self.tasks.last_mut().filter(same_group) {
+            Some((t, r)) => (*t, r.end) = (*t + count, i + 1),
+            None => self.tasks.push((count, i..i + 1)),
+        }
+        self.starts.push(start);
+    }
 }
 
 impl Tasks for Subtrees<'_> {
-    type State = Vec<(usize, Vec<Range<u32>>, CullStats)>;
+    /// Per organ of the tasks run, what they gave.
+    type State = Vec<(usize, Walk)>;
     fn count(&self) -> usize {
-        self.subtrees.len()
+        self.tasks.len()
     }
     fn state(&self) -> Self::State {
         Vec::new()
     }
     fn run(&self, done: &mut Self::State, i: usize) {
-        let (o, node, test) = self.subtrees[i];
-        if let Some(view) = &self.views[o] {
-            let (r, s) = traverse_below(&self.set.organs[o], view, self.occ.as_ref(), &self.settings, node, test, None);
-            done.push((o, r, s));
+        for &Start { organ: o, node, test, started } in &self.starts[self.tasks[i].1.clone()] {
+            let Some(view) = &self.views[o] else { continue };
+            if done.last().is_none_or(|(last, _)| *last != o) {
+                done.push((o, Walk::default()));
+            }
+            if let Some((_, walk)) = done.last_mut() {
+                let organ = &self.set.organs[o];
+                traverse_below(organ, view, self.occ.as_ref(), &self.settings, (node, test, started), walk, None);
+            }
         }
     }
 }
@@ -596,8 +699,20 @@ const TRIANGLES_PER_PIXEL: usize = 4;
 /// Subtrees of at most this many triangles are the tasks shared between the threads.
 const SUBTREE_TRIANGLES: u32 = 1 << 13;
 
-/// The index ranges below node `root` of a drawn organ that survive culling (contiguous ones
-/// merged), with the culled and tested counts (`test`: whether occlusion is still tested there).
+/// What traversals of one organ gave: the index ranges that survive culling (contiguous ones
+/// merged), the culled and tested counts, and where occlusion is tested, the nodes where they
+/// stopped ([`cut`]).
+#[derive(Default)]
+struct Walk {
+    list: Vec<Range<u32>>,
+    stats: CullStats,
+    reached: Vec<Reached>,
+    /// (node, whether occlusion is still tested below it) left to visit.
+    stack: Vec<(u32, bool)>,
+}
+
+/// Traverses a drawn organ below a node, into `walk`. `(root, test, started)`: the node, whether
+/// occlusion is still tested there, and whether it is a start of the frame (of the organ's cut).
 /// With `split`, subtrees of at most [`SUBTREE_TRIANGLES`] are left out, listed there as (node,
 /// `test` there).
 fn traverse_below(
@@ -605,21 +720,27 @@ fn traverse_below(
     view: &OrganView,
     occ: Option<&Occluders>,
     settings: &CullSettings,
-    root: u32,
-    test: bool,
+    (root, test, started): (u32, bool, bool),
+    walk: &mut Walk,
     mut split: Option<&mut Vec<(u32, bool)>>,
-) -> (Vec<Range<u32>>, CullStats) {
+) {
     let (w, h) = (settings.width, settings.height);
     let holes = settings.hole_tolerance;
-    let mut stats = CullStats::default();
-    let mut list: Vec<Range<u32>> = Vec::new();
-    // (node, whether occlusion is still tested below it).
-    let mut stack = vec![(root, test)];
+    let Walk { list, stats, reached, stack } = walk;
+    stack.push((root, test));
     while let Some((n, test)) = stack.pop() {
         let node = &organ.bvh.nodes[n as usize];
+        // Where occlusion is tested, a node the traversal stops at is one of the cut: `closed`
+        // where nothing below it is tested.
+        let mut stop = |closed: bool| {
+            if test && occ.is_some() {
+                reached.push(Reached { node: n, closed, started: started && n == root });
+            }
+        };
         let seen = see(&view.mvp, &node.bounds, w, h);
         if seen == Seen::Outside {
             stats.frustum_culled += node.count as usize;
+            stop(true);
             continue;
         }
         let mut test_children = test;
@@ -635,6 +756,7 @@ fn traverse_below(
             let (covered, hidden) = o.test([x0, y0, x1, y1], z, holes, bound);
             if hidden {
                 stats.occlusion_culled += node.count as usize;
+                stop(true);
                 continue;
             }
             let area = (x1 - x0 + 1) * (y1 - y0 + 1);
@@ -651,12 +773,14 @@ fn traverse_below(
         let testing = test_children && occ.is_some();
         if !testing && matches!(seen, Seen::Rect { inside: true, .. }) {
             // Wholly inside the frustum with nothing more to test: all of it, in one range.
-            push_merged(&mut list, 3 * node.first..3 * (node.first + node.count));
+            push_merged(list, 3 * node.first..3 * (node.first + node.count));
+            stop(true);
             continue;
         }
         match (node.is_leaf(), occ) {
             // A leaf that failed: its parts' tighter boxes may still be hidden.
             (true, Some(o)) if test_children && parts => {
+                let mut all_culled = true;
                 for part in organ.bvh.parts_of(node.leaf) {
                     stats.nodes_tested += 1;
                     let hidden = match see(&view.mvp, &part.bounds, w, h) {
@@ -679,12 +803,22 @@ fn traverse_below(
                     };
                     match hidden {
                         true => stats.occlusion_culled += part.count as usize,
-                        false => push_merged(&mut list, 3 * part.first..3 * (part.first + part.count)),
+                        false => {
+                            all_culled = false;
+                            push_merged(list, 3 * part.first..3 * (part.first + part.count))
+                        }
                     }
                 }
+                stop(all_culled);
             }
-            (true, _) => push_merged(&mut list, 3 * node.first..3 * (node.first + node.count)),
+            (true, _) => {
+                push_merged(list, 3 * node.first..3 * (node.first + node.count));
+                stop(true);
+            }
             (false, _) => {
+                if !testing {
+                    stop(true);
+                }
                 for child in [node.children[1], node.children[0]] {
                     match split.as_deref_mut() {
                         Some(split) if organ.bvh.nodes[child as usize].count <= SUBTREE_TRIANGLES => {
@@ -696,5 +830,4 @@ fn traverse_below(
             }
         }
     }
-    (list, stats)
 }

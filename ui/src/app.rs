@@ -55,6 +55,8 @@ pub struct Scene {
     pub home: Bounds,
     /// Per organ, the opacity the transparency toggle returns to.
     pub last_translucent: Vec<f32>,
+    /// Culls frame after frame, keeping where each organ's last traversal stopped.
+    pub culler: vbrain::cull::Culler,
 }
 
 impl Scene {
@@ -247,7 +249,15 @@ impl App {
                 }
                 self.viewport.reset_camera(&home);
                 self.selected = None;
-                self.scene = Some(Scene { set, source: paths, layout, renderer, home, last_translucent });
+                self.scene = Some(Scene {
+                    set,
+                    source: paths,
+                    layout,
+                    renderer,
+                    home,
+                    last_translucent,
+                    culler: Default::default(),
+                });
             }
             Err(e) => self.notify(e.to_string(), true),
         }

@@ -239,10 +239,10 @@ fn draw(app: &mut App, ui: &egui::Ui, rect: Rect) {
             }
         }
     }
-    let Some(scene) = &app.scene else { return };
-    let Some((target, id)) = &app.viewport.target else { return };
     let background = app.settings.background_linear(false);
-    let (draw, cull) = vbrain::cull::cull(&scene.set, &scene.layout, &camera, target.aspect(), &app.settings.cull);
+    let Some(scene) = &mut app.scene else { return };
+    let Some((target, id)) = &app.viewport.target else { return };
+    let (draw, cull) = scene.culler.cull(&scene.set, &scene.layout, &camera, target.aspect(), &app.settings.cull);
     let input = FrameInput {
         draw: Some(&draw),
         background,
