@@ -20,10 +20,11 @@
 //!    leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own, and a
 //!    part that fails, where its triangles are not much smaller than the pixels, on its footprint
 //!    (the rectangle of its projected vertices) and then on its triangles, each tested with its own
-//!    rectangle and depth plane; a node wholly inside the
-//!    frustum with nothing more to test is drawn as one range. Below the top levels, subtrees are
-//!    traversed as tasks [`share`]d between the calling thread and the pool, as are the occluder
-//!    patches in step 3.
+//!    rectangle and depth plane; a node wholly inside the frustum with nothing more to test is
+//!    drawn as one range. A [`Culler`] kept from frame to frame starts each organ's traversal
+//!    where the last frame's stopped ([`cut`]), not at its root. Below the top levels, subtrees
+//!    (and groups of small starts) are traversed as tasks [`share`]d between the calling thread
+//!    and the pool, as are the occluder patches in step 3.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
