@@ -429,19 +429,6 @@ pub fn cull(
     Culler::default().cull(set, layout, camera, aspect, settings)
 }
 
-/// [`cull`] with the occluders given (`Some`, in place of the settings' selection): for the
-/// occluder-selection experiments.
-pub fn cull_with(
-    set: &OrganSet,
-    layout: &Layout,
-    camera: &Camera,
-    aspect: f32,
-    settings: &CullSettings,
-    given: Option<&[LeafRef]>,
-) -> (DrawList, CullStats) {
-    Culler::default().cull_with(set, layout, camera, aspect, settings, given)
-}
-
 /// The culler of a sequence of frames: it keeps, per organ, where the last frame's traversal
 /// stopped and starts the next one there ([`cut`]). What it culls does not depend on what it
 /// kept; only how many tests that takes. It may be used with any set: a kept cut that does not
@@ -464,7 +451,8 @@ impl Culler {
         self.cull_with(set, layout, camera, aspect, settings, None)
     }
 
-    /// Culls one frame, as [`cull_with`].
+    /// Culls one frame with the occluders given (`Some`, in place of the settings' selection):
+    /// for the occluder-selection experiments.
     pub fn cull_with(
         &mut self,
         set: &OrganSet,

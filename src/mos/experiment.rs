@@ -6,12 +6,13 @@
 //! * **FH**, first hit: pixels each candidate holds in an exact ID render (the visible ones);
 //! * **MOS**: the minimum occluder set selection of that viewpoint ([`super::select_for_view`]).
 //!
-//! Each prefix of each ranking is handed to the run-time culler ([`crate::cull::cull_with`]), so the
-//! figures are what the conservative culler really removes.
+//! Each prefix of each ranking is handed to the run-time culler
+//! ([`crate::cull::Culler::cull_with`]), so the figures are what the conservative culler really
+//! removes.
 
 use super::{candidates, coverage, select_for_view, Params};
 use crate::camera::Camera;
-use crate::cull::{cull_with, CullMode, CullSettings, LeafRef};
+use crate::cull::{CullMode, CullSettings, Culler, LeafRef};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 
@@ -82,7 +83,7 @@ pub fn run(
             lengths[m] += list.len();
             for (c, &n) in counts.iter().enumerate() {
                 let given = &list[..n.min(list.len())];
-                let (_, stats) = cull_with(set, layout, camera, 1.0, &settings, Some(given));
+                let (_, stats) = Culler::default().cull_with(set, layout, camera, 1.0, &settings, Some(given));
                 sums[m][c] += stats.culled_percent();
             }
         }
