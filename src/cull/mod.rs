@@ -368,6 +368,45 @@ fn project_point(p: [f32; 3], mvp: &Mat4, w: usize, h: usize) -> Option<Vec3> {
     (c.w > 1e-5 && c.z >= 0.0).then(|| Vec3::new((c.x / c.w + 1.0) * sx, (1.0 - c.y / c.w) * sy, c.z / c.w))
 }
 
+/// The vertices of some leaves of a mesh in pixels, as [`project_point`], each projected once:
+/// those in the range of vertex numbers the leaves use (compact where the leaves lie together in
+/// the hierarchy, vertices being numbered in leaf order). Where the range is wider than the
+/// leaves have corners, none are kept, and each triangle's corners are projected as asked for.
+struct ProjectedVertices {
+    first: u32,
+    points: Vec<Option<Vec3>>,
+    mvp: Mat4,
+    size: (usize, usize),
+}
+
+impl ProjectedVertices {
+    fn of_leaves(mesh: &crate::mesh::Mesh, bvh: &Bvh, leaves: &[u32], mvp: &Mat4, w: usize, h: usize) -> Self {
+        let (mut lo, mut hi, mut corners) = (u32::MAX, 0, 0);
+        for &l in leaves {
+            let range = bvh.leaf_range(l);
+            corners += range.len();
+            for &v in &mesh.indices[range.start as usize..range.end as usize] {
+                (lo, hi) = (lo.min(v), hi.max(v));
+            }
+        }
+        let points = if lo <= hi && ((hi - lo) as usize) < corners {
+            (lo..=hi).map(|v| project_point(mesh.positions[v as usize], mvp, w, h)).collect()
+        } else {
+            Vec::new()
+        };
+        ProjectedVertices { first: lo, points, mvp: *mvp, size: (w, h) }
+    }
+
+    /// Triangle `t` of the leaves, as [`project_triangle`].
+    fn triangle(&self, mesh: &crate::mesh::Mesh, t: u32) -> Option<[Vec3; 3]> {
+        if self.points.is_empty() {
+            return project_triangle(mesh, t, &self.mvp, self.size.0, self.size.1);
+        }
+        let corner = |k: usize| self.points[(mesh.indices[3 * t as usize + k] - self.first) as usize];
+        Some([corner(0)?, corner(1)?, corner(2)?])
+    }
+}
+
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
 const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
 
@@ -390,11 +429,12 @@ fn rasterise_organ(
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
     let mut slot: Vec<u32> = Vec::new();
     let (mut triangles, mut ids) = (Vec::new(), Vec::new());
+    let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
-            let tri = project_triangle(mesh, t, mvp, w, h).filter(|[a, b, c]| {
+            let tri = projected.triangle(mesh, t).filter(|[a, b, c]| {
                 // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
                 (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0.0
             });
@@ -815,6 +855,46 @@ fn traverse_below(
                         }
                         _ => stack.push((child, test_children)),
                     }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+
+    #[test]
+    fn vertices_projected_once_give_the_triangles_projected_corner_by_corner() {
+        // An octahedron subdivided (12,800 triangles, over 50 leaves), seen from outside.
+        let mut mesh = Mesh {
+            positions: vec![[1., 0., 0.], [-1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.], [0., 0., -1.]],
+            normals: vec![],
+            indices: vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5],
+        };
+        mesh.compute_normals();
+        let mut mesh = crate::organ_set::scale::subdivide(&mesh, 40);
+        let bvh = Bvh::build(&mut mesh);
+        assert!(bvh.leaves.len() >= 50);
+        let camera = Camera {
+            eye: Vec3::new(0.3, -3.0, 0.5),
+            target: Vec3::ZERO,
+            up: Vec3::Z,
+            fov_y: 45.0,
+            near: 0.1,
+            far: 10.0,
+        };
+        let mvp = camera.view_projection(1.0);
+        let last = bvh.leaves.len() as u32 - 1;
+        // Neighbouring leaves (their vertices kept) and the first with the last (each corner projected).
+        for (leaves, kept) in [(vec![0, 1], true), (vec![0, last], false), ((0..=last).collect(), true)] {
+            let projected = ProjectedVertices::of_leaves(&mesh, &bvh, &leaves, &mvp, 128, 96);
+            assert_eq!(projected.points.is_empty(), !kept, "leaves {leaves:?}");
+            for &l in &leaves {
+                for t in bvh.leaf_range(l).step_by(3).map(|i| i / 3) {
+                    assert_eq!(projected.triangle(&mesh, t), project_triangle(&mesh, t, &mvp, 128, 96));
                 }
             }
         }
