@@ -279,34 +279,73 @@ impl Occluders {
 
     /// Whether a part of `organ` whose box failed is hidden all the same (tested as above): by its
     /// footprint, the rectangle of its projected vertices with their nearest depth and the box's
-    /// depth bound `bound`; or else by each of its triangles on its own, with its own rectangle and
-    /// depth plane. A part reaching before the near plane is not. Its vertices are projected once.
+    /// depth bound `bound`; or else group by group of [`GROUP_TRIANGLES`] consecutive triangles
+    /// (lying together: a part is split like the hierarchy) by the group's footprint, and where
+    /// that fails by each of its triangles on its own, with its own rectangle and depth plane. A
+    /// part reaching before the near plane is not, nor one of whose first [`SEEN_VERTICES`]
+    /// vertices is seen ([`Occluders::sees`]: none of these tests could then pass). Its vertices
+    /// are projected once.
     fn part_hidden(
         &self,
         organ: &crate::organ_set::Organ,
         part: &Part,
         mvp: &Mat4,
         holes: Option<f32>,
-        bound: impl FnOnce() -> DepthBound,
+        bound: impl Fn() -> DepthBound,
     ) -> bool {
         let (w, h) = (self.maps.width, self.maps.height);
         // 16-byte vectors: each is stored and loaded whole.
         let mut projected = [Vec3A::ZERO; 3 * PART_TRIANGLES];
         let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
-        for (at, &v) in projected.iter_mut().zip(organ.bvh.vertices_of(part)) {
+        for (i, (at, &v)) in projected.iter_mut().zip(organ.bvh.vertices_of(part)).enumerate() {
             let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return false };
+            // With holes tolerated, a seen point does not keep a part from being culled.
+            if i < SEEN_VERTICES && holes.is_none() && self.sees(p) {
+                return false;
+            }
             let p = Vec3A::from(p);
             (*at, lo, hi) = (p, lo.min(p), hi.max(p));
         }
-        let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
-        // Off the screen, it draws nothing.
-        self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, bound).1)
-            || part.triangles().all(|t| {
-                let tri = organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
-                let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]).into(), tri[0].max(tri[1]).max(tri[2]).into());
-                let tri = tri.map(Vec3::from);
-                self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
-            })
+        // Off the screen, a footprint draws nothing.
+        let footprint_hidden = |lo: Vec3A, hi: Vec3A| {
+            let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
+            self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, &bound).1)
+        };
+        if footprint_hidden(lo, hi) {
+            return true;
+        }
+        let corners = |t: u32| organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
+        let triangle_hidden = |t: u32| {
+            let tri = corners(t);
+            let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]).into(), tri[0].max(tri[1]).max(tri[2]).into());
+            let tri = tri.map(Vec3::from);
+            self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
+        };
+        let end = part.first + part.count;
+        (part.first..end).step_by(GROUP_TRIANGLES).all(|first| {
+            let group = first..(first + GROUP_TRIANGLES as u32).min(end);
+            let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+            for p in group.clone().flat_map(corners) {
+                (lo, hi) = (lo.min(p), hi.max(p));
+            }
+            footprint_hidden(lo, hi) || group.into_iter().all(triangle_hidden)
+        })
+    }
+
+    /// Whether point `p` (in pixels, with its NDC depth) is seen where it lies: inside a pixel (not
+    /// on its border) that no occluder covers, or in front of the occluder depth there. Then no
+    /// triangle through it, nor box holding it, can be behind the occluders over that pixel: its
+    /// least depth there is at most `p`'s.
+    fn sees(&self, p: Vec3) -> bool {
+        // Truncation is the floor for the positive values it is used on.
+        let (x, y) = (p.x as usize, p.y as usize);
+        p.x > 0.0
+            && p.y > 0.0
+            && (x as f32) < p.x
+            && (y as f32) < p.y
+            && x < self.maps.width
+            && y < self.maps.height
+            && p.z <= self.maps.depth[y * self.maps.width + x]
     }
 
     /// The pixel rectangle (rounded outward, clamped) of the screen box `lo..hi` in pixels, or
@@ -725,6 +764,14 @@ impl OrganView {
 /// extra tests cost more than they cull.
 const TRIANGLES_PER_PIXEL: usize = 4;
 
+/// A failing part's triangles are tested in groups of this many, each by its footprint first.
+const GROUP_TRIANGLES: usize = 8;
+
+/// How many of a failing part's vertices are looked up where they lie ([`Occluders::sees`]): one
+/// seen ends its tests at once (most parts that fail are visible), and the lookups of a part that
+/// turns out hidden are wasted.
+const SEEN_VERTICES: usize = 4;
+
 /// Subtrees of at most this many triangles are the tasks shared between the threads.
 const SUBTREE_TRIANGLES: u32 = 1 << 13;
 
@@ -898,5 +945,31 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn a_point_is_seen_where_uncovered_or_in_front() {
+        // A 4 x 2 raster: pixel (1, 0) covered at depth 0.5, the rest uncovered.
+        let (w, h) = (4, 2);
+        let mut depth = vec![f32::INFINITY; w * h];
+        depth[1] = 0.5;
+        let covered: Vec<u8> = depth.iter().map(|d| u8::from(d.is_finite())).collect();
+        let occ = Occluders {
+            opacity: OpacityMap::new(&covered, w, h),
+            sparse: SparseDepth::new(&depth, w, h),
+            maps: OccluderMaps { width: w, height: h, covered, depth },
+            approximate: None,
+            leaves: 0,
+            triangles: 0,
+        };
+        assert!(occ.sees(Vec3::new(1.5, 0.5, 0.4)), "in front of the occluder");
+        assert!(occ.sees(Vec3::new(1.5, 0.5, 0.5)), "at its depth");
+        assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.6)), "behind it");
+        assert!(occ.sees(Vec3::new(2.5, 1.5, 0.9)), "uncovered");
+        // On a pixel's border, or off the raster, nothing is said.
+        assert!(!occ.sees(Vec3::new(2.0, 0.5, 0.1)));
+        assert!(!occ.sees(Vec3::new(0.5, 1.0, 0.1)));
+        assert!(!occ.sees(Vec3::new(-0.5, 0.5, 0.1)));
+        assert!(!occ.sees(Vec3::new(4.5, 0.5, 0.1)));
     }
 }
