@@ -106,6 +106,8 @@ struct Patch {
     flags: Vec<u8>,
     /// Per pixel left to the exact test: its place among them (else NONE).
     slot: Vec<u32>,
+    /// The same pixels as bits, row by row ([`Patch::words`] 64-bit words a row).
+    exact: Vec<u64>,
 }
 
 /// Where a patch's rectangle starts in the image, and how far apart its rows lie.
@@ -123,8 +125,36 @@ impl Patch {
         ys.into_iter().any(|y| self.flags[y * self.at.stride..][xs.clone()].iter().any(|&f| f & SECOND != 0))
     }
 
+    /// 64-bit words per row of [`Patch::exact`].
+    fn words(&self) -> usize {
+        self.w.div_ceil(64)
+    }
+
+    /// Leaves pixel (x, y) (patch coordinates) to the exact test, as the `slot`-th.
+    fn leave_to_exact(&mut self, x: usize, y: usize, slot: u32) {
+        self.slot[y * self.at.stride + x] = slot;
+        let words = self.words();
+        self.exact[y * words + x / 64] |= 1 << (x % 64);
+    }
+
+    /// Is any pixel of the inclusive rectangle (patch coordinates) left to the exact test?
+    fn any_exact(&self, x0: usize, x1: usize, y0: usize, y1: usize) -> bool {
+        let words = self.words();
+        (y0..=y1).any(|y| {
+            let row = &self.exact[y * words..(y + 1) * words];
+            (x0 / 64..=x1 / 64).any(|k| {
+                // The bits of columns x0..=x1 within word k.
+                let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
+                let mask = (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
+                row[k] & mask != 0
+            })
+        })
+    }
+
     fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
         (self.at, self.w, self.h) = (Window { x0, y0, stride: w + 3 }, w, h);
+        self.exact.clear();
+        self.exact.resize(self.words() * h, 0);
         let n = self.at.stride * h;
         self.far.clear();
         self.far.resize(n, f32::NEG_INFINITY);
@@ -162,6 +192,8 @@ pub(crate) struct Rasterising {
     /// Per pixel of the patch left to the exact test, its index in the image.
     exact: Vec<usize>,
     fragments: Vec<Fragment>,
+    /// Room to sort the fragments into.
+    spare: Vec<Fragment>,
     scratch: Scratch,
 }
 
@@ -172,6 +204,7 @@ impl Rasterising {
             patch: Patch::default(),
             exact: Vec::new(),
             fragments: Vec::new(),
+            spare: Vec::new(),
             scratch: Scratch::default(),
         }
     }
@@ -303,7 +336,7 @@ impl OccluderRaster {
         }
     }
 
-    /// The connected patches of the triangles added: per patch, its triangles.
+    /// The connected patches of the triangles added: per patch, its triangles in increasing order.
     fn patches(&self) -> Vec<Vec<u32>> {
         let n = self.triangles.len();
         let mut parent: Vec<u32> = (0..n as u32).collect();
@@ -356,7 +389,7 @@ impl OccluderRaster {
     /// [`OccluderRaster::reach`]).
     fn rasterise(&self, r: &mut Rasterising, tris: &[u32], reach: &[Option<[usize; 4]>]) {
         let w = self.width;
-        let Rasterising { maps, patch, exact, fragments, scratch } = r;
+        let Rasterising { maps, patch, exact, fragments, spare, scratch } = r;
         let Some([x0, x1, y0, y1]) = tris
             .iter()
             .filter_map(|&t| reach[t as usize])
@@ -374,7 +407,7 @@ impl OccluderRaster {
                 if flags == CENTRE {
                     maps.cover(out + x, patch.far[at + x]);
                 } else if flags & CENTRE != 0 && (flags & SECOND != 0 || patch.overlaps_near(x, y)) {
-                    patch.slot[at + x] = exact.len() as u32;
+                    patch.leave_to_exact(x, y, exact.len() as u32);
                     exact.push(out + x);
                 }
             }
@@ -383,6 +416,7 @@ impl OccluderRaster {
             return;
         }
         self.exact_fragments(patch, tris, reach, fragments);
+        sort_by_slot(fragments, exact.len(), spare);
         for here in fragments.chunk_by(|f, g| f.slot == g.slot) {
             if let Some(z) = pixel_depth(here, &self.neighbours, scratch) {
                 maps.cover(exact[here[0].slot as usize], z);
@@ -415,16 +449,15 @@ impl OccluderRaster {
     }
 
     /// The second pass, over the triangles that reach pixels left to the exact test (where the
-    /// patch overlaps itself, or an outline edge passes): their fragments there, by pixel and
-    /// triangle.
+    /// patch overlaps itself, or an outline edge passes): their fragments there, triangle by
+    /// triangle (in the order of `tris`).
     fn exact_fragments(&self, patch: &Patch, tris: &[u32], reach: &[Option<[usize; 4]>], out: &mut Vec<Fragment>) {
         out.clear();
         for &t in tris {
             let tri = &self.triangles[t as usize];
             let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
             let at = patch.at;
-            let (xs, ys) = (x0 - at.x0..=x1 - at.x0, y0 - at.y0..=y1 - at.y0);
-            if !ys.into_iter().any(|y| patch.slot[y * at.stride..][xs.clone()].iter().any(|&s| s != NONE)) {
+            if !patch.any_exact(x0 - at.x0, x1 - at.x0, y0 - at.y0, y1 - at.y0) {
                 continue;
             }
             self.lanes(at, tri, rect, |l| {
@@ -439,7 +472,6 @@ impl OccluderRaster {
                 }
             });
         }
-        out.sort_unstable_by_key(|f| (u64::from(f.slot) << 32) | u64::from(f.triangle));
     }
 }
 
@@ -466,6 +498,27 @@ impl OccluderMaps {
         self.covered[i] = 1;
         self.depth[i] = self.depth[i].min(z);
     }
+}
+
+/// Sorts `fragments` by their slot (below `slots`), in place and stably (a counting sort through
+/// `spare`): those of one pixel stay in the order of their triangles.
+fn sort_by_slot(fragments: &mut Vec<Fragment>, slots: usize, spare: &mut Vec<Fragment>) {
+    // Per slot, where its fragments start.
+    let mut start = vec![0u32; slots + 1];
+    for f in fragments.iter() {
+        start[f.slot as usize + 1] += 1;
+    }
+    for i in 1..=slots {
+        start[i] += start[i - 1];
+    }
+    spare.clear();
+    spare.resize(fragments.len(), Fragment { slot: 0, triangle: 0, z: 0.0, centre: false, edges: 0 });
+    for f in fragments.iter() {
+        let at = &mut start[f.slot as usize];
+        spare[*at as usize] = *f;
+        *at += 1;
+    }
+    std::mem::swap(fragments, spare);
 }
 
 /// Working space of [`pixel_depth`], kept from pixel to pixel.
@@ -716,5 +769,37 @@ mod tests {
             }
         }
         assert!(overlap > 10);
+    }
+
+    #[test]
+    fn pixels_left_to_the_exact_test_are_found_in_any_rectangle() {
+        let mut rng = crate::rng::XorShift(7);
+        for w in [1, 5, 63, 64, 65, 130] {
+            let mut patch = Patch::default();
+            patch.reset(0, 0, w, 4);
+            let mut set = vec![false; w * 4];
+            for slot in 0..(w as u32 / 3).max(1) {
+                let (x, y) = (rng.next_u64() as usize % w, rng.next_u64() as usize % 4);
+                patch.leave_to_exact(x, y, slot);
+                set[y * w + x] = true;
+            }
+            for _ in 0..200 {
+                let (mut x0, mut x1) = (rng.next_u64() as usize % w, rng.next_u64() as usize % w);
+                let (mut y0, mut y1) = (rng.next_u64() as usize % 4, rng.next_u64() as usize % 4);
+                (x0, x1, y0, y1) = (x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1));
+                let brute = (y0..=y1).any(|y| (x0..=x1).any(|x| set[y * w + x]));
+                assert_eq!(patch.any_exact(x0, x1, y0, y1), brute, "{w} wide: {x0}..={x1} x {y0}..={y1}");
+            }
+        }
+    }
+
+    #[test]
+    fn fragments_sorted_by_slot_keep_their_order_within_one() {
+        let fragment = |slot, triangle| Fragment { slot, triangle, z: 0.0, centre: false, edges: 0 };
+        let mut fragments: Vec<Fragment> =
+            [(2, 1), (0, 1), (2, 3), (1, 4), (0, 5), (2, 6)].into_iter().map(|(s, t)| fragment(s, t)).collect();
+        sort_by_slot(&mut fragments, 3, &mut Vec::new());
+        let order: Vec<(u32, u32)> = fragments.iter().map(|f| (f.slot, f.triangle)).collect();
+        assert_eq!(order, [(0, 1), (0, 5), (1, 4), (2, 1), (2, 3), (2, 6)]);
     }
 }
