@@ -19,8 +19,10 @@
 //!    against the frustum only. (Depth bounds also use each node's slab, [`crate::bvh::Slab`].) A
 //!    leaf that fails falls back on its parts ([`crate::bvh::Part`]), each culled on its own, and a
 //!    part that fails, where its triangles are not much smaller than the pixels, on its footprint
-//!    (the rectangle of its projected vertices) and then on its triangles, each tested with its own
-//!    rectangle and depth plane; a node wholly inside the frustum with nothing more to test is
+//!    (the rectangle of its projected vertices), then on the footprints of groups of its
+//!    triangles, and then on those triangles, each tested with its own rectangle and depth plane
+//!    (a vertex seen in front of the occluders ends these tests); a node wholly inside the
+//!    frustum with nothing more to test is
 //!    drawn as one range. A [`Culler`] kept from frame to frame starts each organ's traversal
 //!    where the last frame's stopped ([`cut`]), not at its root. Below the top levels, subtrees
 //!    (and groups of small starts) are traversed as tasks [`share`]d between the calling thread
