@@ -22,9 +22,9 @@
 //!    (the rectangle of its projected vertices), then on the footprints of groups of its
 //!    triangles, and then on those triangles, each tested with its own rectangle and depth plane
 //!    (a vertex seen in front of the occluders ends these tests); a node wholly inside the
-//!    frustum with nothing more to test is
-//!    drawn as one range. A [`Culler`] kept from frame to frame starts each organ's traversal
-//!    where the last frame's stopped ([`cut`]), not at its root. Below the top levels, subtrees
+//!    frustum with nothing more to test is drawn as one range. A [`Culler`] kept from frame to
+//!    frame starts each organ's traversal where the last frame's stopped ([`cut`]), not at its
+//!    root. Below the top levels, subtrees
 //!    (and groups of small starts) are traversed as tasks [`share`]d between the calling thread
 //!    and the pool, as are the occluder patches in step 3.
 //!
