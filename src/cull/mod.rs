@@ -24,9 +24,8 @@
 //!    (a vertex seen in front of the occluders ends these tests); a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. A [`Culler`] kept from frame to
 //!    frame starts each organ's traversal where the last frame's stopped ([`cut`]), not at its
-//!    root. Below the top levels, subtrees
-//!    (and groups of small starts) are traversed as tasks [`share`]d between the calling thread
-//!    and the pool, as are the occluder patches in step 3.
+//!    root. Below the top levels, subtrees (and groups of small starts) are traversed as tasks
+//!    [`share`]d between the calling thread and the pool, as are the occluder patches in step 3.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 

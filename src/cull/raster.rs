@@ -107,7 +107,7 @@ struct Patch {
     /// Per pixel left to the exact test: its place among them (else NONE).
     slot: Vec<u32>,
     /// The same pixels as bits, row by row ([`Patch::words`] 64-bit words a row).
-    exact: Vec<u64>,
+    exact_bits: Vec<u64>,
 }
 
 /// Where a patch's rectangle starts in the image, and how far apart its rows lie.
@@ -125,7 +125,7 @@ impl Patch {
         ys.into_iter().any(|y| self.flags[y * self.at.stride..][xs.clone()].iter().any(|&f| f & SECOND != 0))
     }
 
-    /// 64-bit words per row of [`Patch::exact`].
+    /// 64-bit words per row of [`Patch::exact_bits`].
     fn words(&self) -> usize {
         self.w.div_ceil(64)
     }
@@ -134,14 +134,14 @@ impl Patch {
     fn leave_to_exact(&mut self, x: usize, y: usize, slot: u32) {
         self.slot[y * self.at.stride + x] = slot;
         let words = self.words();
-        self.exact[y * words + x / 64] |= 1 << (x % 64);
+        self.exact_bits[y * words + x / 64] |= 1 << (x % 64);
     }
 
     /// Is any pixel of the inclusive rectangle (patch coordinates) left to the exact test?
     fn any_exact(&self, x0: usize, x1: usize, y0: usize, y1: usize) -> bool {
         let words = self.words();
         (y0..=y1).any(|y| {
-            let row = &self.exact[y * words..(y + 1) * words];
+            let row = &self.exact_bits[y * words..(y + 1) * words];
             (x0 / 64..=x1 / 64).any(|k| {
                 // The bits of columns x0..=x1 within word k.
                 let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
@@ -153,8 +153,8 @@ impl Patch {
 
     fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
         (self.at, self.w, self.h) = (Window { x0, y0, stride: w + 3 }, w, h);
-        self.exact.clear();
-        self.exact.resize(self.words() * h, 0);
+        self.exact_bits.clear();
+        self.exact_bits.resize(self.words() * h, 0);
         let n = self.at.stride * h;
         self.far.clear();
         self.far.resize(n, f32::NEG_INFINITY);
