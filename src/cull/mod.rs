@@ -24,7 +24,8 @@
 //!    (a vertex seen in front of the occluders ends these tests); a node wholly inside the
 //!    frustum with nothing more to test is drawn as one range. A [`Culler`] kept from frame to
 //!    frame starts each organ's traversal where the last frame's stopped ([`cut`]), not at its
-//!    root. Below the top levels, subtrees (and groups of small starts) are traversed as tasks
+//!    root, and first looks up, of a part seen last frame, the vertex that was seen: seen again,
+//!    it shows the part without its tests ([`witness`]). Below the top levels, subtrees (and groups of small starts) are traversed as tasks
 //!    [`share`]d between the calling thread and the pool, as are the occluder patches in step 3.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
@@ -36,6 +37,7 @@ pub mod raster;
 pub mod selection;
 mod share;
 pub mod sparse_depth;
+mod witness;
 
 pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource, Selection};
 
@@ -52,6 +54,7 @@ use raster::{OccluderMaps, OccluderRaster};
 use share::{Phase, Tasks};
 use sparse_depth::SparseDepth;
 use std::ops::Range;
+use witness::Witnesses;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]
@@ -285,7 +288,8 @@ impl Occluders {
     /// that fails by each of its triangles on its own, with its own rectangle and depth plane. A
     /// part reaching before the near plane is not, nor one of whose first [`SEEN_VERTICES`]
     /// vertices is seen ([`Occluders::sees`]: none of these tests could then pass). Its vertices
-    /// are projected once.
+    /// are projected once. A part not hidden is [`Verdict::Seen`] where one of its vertices is
+    /// seen (looked for among the rest only once its tests failed).
     fn part_hidden(
         &self,
         organ: &crate::organ_set::Organ,
@@ -293,16 +297,17 @@ impl Occluders {
         mvp: &Mat4,
         holes: Option<f32>,
         bound: impl Fn() -> DepthBound,
-    ) -> bool {
+    ) -> Verdict {
         let (w, h) = (self.maps.width, self.maps.height);
         // 16-byte vectors: each is stored and loaded whole.
         let mut projected = [Vec3A::ZERO; 3 * PART_TRIANGLES];
         let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
-        for (i, (at, &v)) in projected.iter_mut().zip(organ.bvh.vertices_of(part)).enumerate() {
-            let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return false };
+        let vertices = organ.bvh.vertices_of(part);
+        for (i, (at, &v)) in projected.iter_mut().zip(vertices).enumerate() {
+            let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return Verdict::Shown };
             // With holes tolerated, a seen point does not keep a part from being culled.
             if i < SEEN_VERTICES && holes.is_none() && self.sees(p) {
-                return false;
+                return Verdict::Seen(i);
             }
             let p = Vec3A::from(p);
             (*at, lo, hi) = (p, lo.min(p), hi.max(p));
@@ -313,7 +318,7 @@ impl Occluders {
             self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, &bound).1)
         };
         if footprint_hidden(lo, hi) {
-            return true;
+            return Verdict::Hidden;
         }
         let corners = |t: u32| organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
         let triangle_hidden = |t: u32| {
@@ -323,30 +328,49 @@ impl Occluders {
             self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
         };
         let end = part.first + part.count;
-        (part.first..end).step_by(GROUP_TRIANGLES).all(|first| {
+        let hidden = (part.first..end).step_by(GROUP_TRIANGLES).all(|first| {
             let group = first..(first + GROUP_TRIANGLES as u32).min(end);
             let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
             for p in group.clone().flat_map(corners) {
                 (lo, hi) = (lo.min(p), hi.max(p));
             }
             footprint_hidden(lo, hi) || group.into_iter().all(triangle_hidden)
-        })
+        });
+        match hidden {
+            true => Verdict::Hidden,
+            false if holes.is_some() => Verdict::Shown,
+            // A witness for the next frame, among the vertices not yet looked up.
+            false => (SEEN_VERTICES..vertices.len())
+                .find(|&i| self.sees(Vec3::from(projected[i])))
+                .map_or(Verdict::Shown, Verdict::Seen),
+        }
     }
 
-    /// Whether point `p` (in pixels, with its NDC depth) is seen where it lies: inside a pixel (not
-    /// on its border) that no occluder covers, or in front of the occluder depth there. Then no
-    /// triangle through it, nor box holding it, can be behind the occluders over that pixel: its
-    /// least depth there is at most `p`'s.
+    /// Is vertex `place` of `part` seen ([`Occluders::sees`])? Then the part is not hidden.
+    fn vertex_seen(&self, organ: &crate::organ_set::Organ, part: &Part, place: usize, mvp: &Mat4) -> bool {
+        let (w, h) = (self.maps.width, self.maps.height);
+        let v = organ.bvh.vertices_of(part).get(place);
+        v.and_then(|&v| project_point(organ.mesh.positions[v as usize], mvp, w, h)).is_some_and(|p| self.sees(p))
+    }
+
+    /// Whether point `p` (in pixels, with its NDC depth) is seen where it lies: in a pixel that no
+    /// occluder covers, or in front of the occluder depth there, and inside the frustum, each by a
+    /// margin ([`SEEN_MARGIN`] pixels from the pixel's border, [`SEEN_DEPTH_MARGIN`] in depth) far
+    /// above the rounding by which a box's or a triangle's projection may miss a point it holds.
+    /// Then no triangle through it, nor box holding it, is outside the frustum or behind the
+    /// occluders over that pixel: its least depth there is at most `p`'s.
     fn sees(&self, p: Vec3) -> bool {
         // Truncation is the floor for the positive values it is used on.
         let (x, y) = (p.x as usize, p.y as usize);
+        let clear = |v: f32, floor: usize| (SEEN_MARGIN..1.0 - SEEN_MARGIN).contains(&(v - floor as f32));
         p.x > 0.0
             && p.y > 0.0
-            && (x as f32) < p.x
-            && (y as f32) < p.y
             && x < self.maps.width
             && y < self.maps.height
-            && p.z <= self.maps.depth[y * self.maps.width + x]
+            && clear(p.x, x)
+            && clear(p.y, y)
+            && (SEEN_DEPTH_MARGIN..1.0 - SEEN_DEPTH_MARGIN).contains(&p.z)
+            && p.z + SEEN_DEPTH_MARGIN < self.maps.depth[y * self.maps.width + x]
     }
 
     /// The pixel rectangle (rounded outward, clamped) of the screen box `lo..hi` in pixels, or
@@ -510,12 +534,14 @@ pub fn cull(
 }
 
 /// The culler of a sequence of frames: it keeps, per organ, where the last frame's traversal
-/// stopped and starts the next one there ([`cut`]). What it culls does not depend on what it
-/// kept; only how many tests that takes. It may be used with any set: a kept cut that does not
-/// fit an organ's hierarchy is dropped.
+/// stopped and starts the next one there ([`cut`]), and a vertex of each visible part that was
+/// seen, to look up first ([`witness`]). What it culls does not depend on what it kept; only how
+/// many tests that takes. It may be used with any set: what it kept for an organ whose hierarchy
+/// it does not fit is dropped.
 #[derive(Clone, Debug, Default)]
 pub struct Culler {
     cuts: Vec<Cut>,
+    witnesses: Vec<Witnesses>,
 }
 
 impl Culler {
@@ -545,7 +571,11 @@ impl Culler {
         let started = std::time::Instant::now();
         let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
         self.cuts.resize_with(set.organs.len(), Cut::default);
-        let cuts = &mut self.cuts;
+        self.witnesses.resize_with(set.organs.len(), Witnesses::default);
+        for (w, organ) in self.witnesses.iter_mut().zip(&set.organs) {
+            w.fit(organ.bvh.parts.len());
+        }
+        let kept = (&mut self.cuts[..], &self.witnesses[..]);
         let phases = Phases::default();
         // The pool's threads help where occlusion is tested (without it, the work is too small to
         // pay for waking them).
@@ -555,9 +585,9 @@ impl Culler {
                     phases.raster.help(quit);
                     phases.traversal.help(quit);
                 },
-                || cull_in_phases(set, layout, camera, aspect, &settings, given, cuts, &phases),
+                || cull_in_phases(set, layout, camera, aspect, &settings, given, kept, &phases),
             ),
-            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, cuts, &phases),
+            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, kept, &phases),
         };
         stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
         (list, stats)
@@ -582,7 +612,7 @@ fn cull_in_phases<'a>(
     aspect: f32,
     settings: &CullSettings,
     given: Option<&[LeafRef]>,
-    cuts: &mut [Cut],
+    (cuts, witnesses): (&mut [Cut], &'a [Witnesses]),
     phases: &Phases<'a>,
 ) -> (DrawList, CullStats) {
     let view_proj = camera.view_projection(aspect);
@@ -614,9 +644,10 @@ fn cull_in_phases<'a>(
         .organs
         .iter()
         .zip(&layout.organs)
-        .map(|(organ, state)| {
+        .zip(witnesses)
+        .map(|((organ, state), witnesses)| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
-            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye))
+            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye, witnesses))
         })
         .collect();
     // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their
@@ -685,7 +716,7 @@ struct Start {
 /// reached nodes.
 struct Subtrees<'a> {
     set: &'a OrganSet,
-    views: Vec<Option<OrganView>>,
+    views: Vec<Option<OrganView<'a>>>,
     occ: Option<Occluders>,
     settings: CullSettings,
     starts: Vec<Start>,
@@ -737,17 +768,19 @@ impl Tasks for Subtrees<'_> {
 }
 
 /// How one organ is seen: its model-view-projection matrix, that matrix's inverse and the eye in
-/// organ space (for the boxes' depth bounds).
-struct OrganView {
+/// organ space (for the boxes' depth bounds); and its parts' witnesses, from the last frames.
+struct OrganView<'a> {
     mvp: Mat4,
     inverse: Unprojection,
     eye: Vec3,
+    witnesses: &'a Witnesses,
 }
 
-impl OrganView {
-    fn new(view_proj: &Mat4, model: &Mat4, eye: Vec3) -> OrganView {
+impl<'a> OrganView<'a> {
+    fn new(view_proj: &Mat4, model: &Mat4, eye: Vec3, witnesses: &'a Witnesses) -> OrganView<'a> {
         let mvp = *view_proj * *model;
-        OrganView { mvp, inverse: Unprojection::of(&mvp), eye: model.inverse().transform_point3(eye) }
+        let eye = model.inverse().transform_point3(eye);
+        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses }
     }
 
     fn depth_bound(&self, b: &Bounds, slab: Option<&Slab>, nearest: f32, w: usize, h: usize) -> DepthBound {
@@ -767,6 +800,23 @@ const TRIANGLES_PER_PIXEL: usize = 4;
 
 /// A failing part's triangles are tested in groups of this many, each by its footprint first.
 const GROUP_TRIANGLES: usize = 8;
+
+/// What the tests of a part whose box failed found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Verdict {
+    Hidden,
+    /// Not hidden: vertex `i` of the part (its place among the part's vertices) is seen.
+    Seen(usize),
+    /// Not hidden, and no vertex is seen.
+    Shown,
+}
+
+/// How far from a pixel's border (in pixels) a point must lie to be seen ([`Occluders::sees`]).
+const SEEN_MARGIN: f32 = 1e-3;
+
+/// How far in front of the occluder depth (and inside the near and far planes) a point must lie to
+/// be seen ([`Occluders::sees`]), in NDC depth: ten times the depth bounds' own margin.
+const SEEN_DEPTH_MARGIN: f32 = 1e-5;
 
 /// How many of a failing part's vertices are looked up where they lie ([`Occluders::sees`]): one
 /// seen ends its tests at once (most parts that fail are visible), and the lookups of a part that
@@ -858,14 +908,23 @@ fn traverse_below(
             // A leaf that failed: its parts' tighter boxes may still be hidden.
             (true, Some(o)) if test_children && parts => {
                 let mut all_culled = true;
-                for part in organ.bvh.parts_of(node.leaf) {
+                let first = organ.bvh.leaf_parts[node.leaf as usize] as usize;
+                for (p, part) in (first..).zip(organ.bvh.parts_of(node.leaf)) {
                     stats.nodes_tested += 1;
-                    let hidden = match see(&view.mvp, &part.bounds, w, h) {
+                    // Its witness seen again: the part is drawn (its tests could not pass).
+                    let witness = view.witnesses.get(p).filter(|_| holes.is_none());
+                    if witness.is_some_and(|i| o.vertex_seen(organ, part, i, &view.mvp)) {
+                        all_culled = false;
+                        push_merged(list, 3 * part.first..3 * (part.first + part.count));
+                        continue;
+                    }
+                    let verdict = match see(&view.mvp, &part.bounds, w, h) {
                         Seen::Outside => {
                             stats.frustum_culled += part.count as usize;
+                            view.witnesses.set(p, None);
                             continue;
                         }
-                        Seen::Straddles => false,
+                        Seen::Straddles => Verdict::Shown,
                         Seen::Rect { x0, y0, x1, y1, z, .. } => {
                             let rect = [x0, y0, x1, y1];
                             // Computed at most once: by the box's test, and again by its footprint's.
@@ -873,14 +932,25 @@ fn traverse_below(
                             let bound =
                                 || *cell.get_or_init(|| view.depth_bound(&part.bounds, Some(&part.slab), z, w, h));
                             let area = (x1 - x0 + 1) * (y1 - y0 + 1);
-                            o.test(rect, z, holes, bound).1
-                                || (part.count as usize <= TRIANGLES_PER_PIXEL * area
-                                    && o.part_hidden(organ, part, &view.mvp, holes, bound))
+                            if o.test(rect, z, holes, bound).1 {
+                                Verdict::Hidden
+                            } else if part.count as usize <= TRIANGLES_PER_PIXEL * area {
+                                o.part_hidden(organ, part, &view.mvp, holes, bound)
+                            } else {
+                                Verdict::Shown
+                            }
                         }
                     };
-                    match hidden {
-                        true => stats.occlusion_culled += part.count as usize,
-                        false => {
+                    view.witnesses.set(
+                        p,
+                        match verdict {
+                            Verdict::Seen(i) => Some(i),
+                            _ => None,
+                        },
+                    );
+                    match verdict {
+                        Verdict::Hidden => stats.occlusion_culled += part.count as usize,
+                        _ => {
                             all_culled = false;
                             push_merged(list, 3 * part.first..3 * (part.first + part.count))
                         }
@@ -964,13 +1034,73 @@ mod tests {
             triangles: 0,
         };
         assert!(occ.sees(Vec3::new(1.5, 0.5, 0.4)), "in front of the occluder");
-        assert!(occ.sees(Vec3::new(1.5, 0.5, 0.5)), "at its depth");
+        assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.5)), "at its depth");
+        assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.5 - SEEN_DEPTH_MARGIN / 2.0)), "within the margin");
         assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.6)), "behind it");
         assert!(occ.sees(Vec3::new(2.5, 1.5, 0.9)), "uncovered");
-        // On a pixel's border, or off the raster, nothing is said.
+        assert!(occ.sees(Vec3::new(2.01, 1.99, 0.9)), "uncovered, clear of the border");
+        // On or near a pixel's border, off the raster, or outside the near and far planes, nothing
+        // is said.
         assert!(!occ.sees(Vec3::new(2.0, 0.5, 0.1)));
-        assert!(!occ.sees(Vec3::new(0.5, 1.0, 0.1)));
+        assert!(!occ.sees(Vec3::new(2.0 + SEEN_MARGIN / 2.0, 0.5, 0.1)));
+        assert!(!occ.sees(Vec3::new(0.5, 1.0 - SEEN_MARGIN / 2.0, 0.1)));
         assert!(!occ.sees(Vec3::new(-0.5, 0.5, 0.1)));
         assert!(!occ.sees(Vec3::new(4.5, 0.5, 0.1)));
+        assert!(!occ.sees(Vec3::new(2.5, 1.5, 1.0)));
+        assert!(!occ.sees(Vec3::new(2.5, 1.5, 0.0)));
+    }
+
+    #[test]
+    fn a_part_is_seen_through_its_witness_only_where_its_tests_fail() {
+        // A cube of 12 triangles (one part) under an occluder covering the whole raster at `wall`
+        // depth, seen from a camera on its axis: its witness is seen exactly when the part is shown.
+        let mut mesh = Mesh {
+            positions: (0..8).map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]).collect(),
+            normals: vec![],
+            indices: vec![
+                0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3,
+                7, 5,
+            ],
+        };
+        mesh.compute_normals();
+        let organ = crate::organ_set::Organ::new("cube".into(), "Cube".into(), [1.0; 3], mesh);
+        let camera = Camera {
+            eye: Vec3::new(0.5, 0.5, 4.0),
+            target: Vec3::splat(0.5),
+            up: Vec3::Y,
+            fov_y: 45.0,
+            near: 1.0,
+            far: 10.0,
+        };
+        let witnesses = Witnesses::default();
+        let view = OrganView::new(&camera.view_projection(1.0), &Mat4::IDENTITY, camera.eye, &witnesses);
+        let mvp = view.mvp;
+        let (w, h) = (16, 16);
+        let part = &organ.bvh.parts[0];
+        let near =
+            organ.mesh.positions.iter().filter_map(|&p| project_point(p, &mvp, w, h)).map(|p| p.z).fold(1.0, f32::min);
+        for (wall, hidden) in [(near - 0.01, true), (1.0 - 1e-4, false)] {
+            let depth = vec![wall; w * h];
+            let covered = vec![1u8; w * h];
+            let occ = Occluders {
+                opacity: OpacityMap::new(&covered, w, h),
+                sparse: SparseDepth::new(&depth, w, h),
+                maps: OccluderMaps { width: w, height: h, covered, depth },
+                approximate: None,
+                leaves: 0,
+                triangles: 0,
+            };
+            let Seen::Rect { z, .. } = see(&mvp, &part.bounds, w, h) else { panic!("the cube is in view") };
+            let bound = || view.depth_bound(&part.bounds, Some(&part.slab), z, w, h);
+            let verdict = occ.part_hidden(&organ, part, &mvp, None, bound);
+            let seen: Vec<usize> = (0..8).filter(|&i| occ.vertex_seen(&organ, part, i, &mvp)).collect();
+            match hidden {
+                true => assert!(verdict == Verdict::Hidden && seen.is_empty(), "{verdict:?}, {seen:?}"),
+                false => match verdict {
+                    Verdict::Seen(i) => assert!(seen.contains(&i), "witness {i}, seen {seen:?}"),
+                    _ => panic!("a part in front of the wall is {verdict:?}"),
+                },
+            }
+        }
     }
 }
