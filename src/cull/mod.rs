@@ -491,8 +491,9 @@ fn rasterise_organ(
     // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
     // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
-    let mut slot: Vec<u32> = Vec::new();
-    let (mut triangles, mut ids) = (Vec::new(), Vec::new());
+    let chosen = leaves.iter().map(|&l| bvh.leaf_range(l).len() / 3).sum();
+    let mut slot: Vec<u32> = Vec::with_capacity(chosen);
+    let (mut triangles, mut ids) = (Vec::with_capacity(chosen), Vec::with_capacity(chosen));
     let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];

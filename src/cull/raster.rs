@@ -28,6 +28,7 @@
 use super::share::{Phase, Tasks};
 use crate::bvh::NONE;
 use glam::{BVec4A, Vec3, Vec4};
+use std::ops::Range;
 
 /// A projected occluder triangle: x, y in culling pixels, z = NDC depth.
 pub type Triangle = [Vec3; 3];
@@ -139,16 +140,24 @@ impl Patch {
 
     /// Is any pixel of the inclusive rectangle (patch coordinates) left to the exact test?
     fn any_exact(&self, x0: usize, x1: usize, y0: usize, y1: usize) -> bool {
+        (y0..=y1).any(|y| self.exact_span(y, x0, x1).is_some())
+    }
+
+    /// The first and the last of columns `x0..=x1` of row `y` (patch coordinates) left to the
+    /// exact test, if any is.
+    fn exact_span(&self, y: usize, x0: usize, x1: usize) -> Option<(usize, usize)> {
         let words = self.words();
-        (y0..=y1).any(|y| {
-            let row = &self.exact_bits[y * words..(y + 1) * words];
-            (x0 / 64..=x1 / 64).any(|k| {
-                // The bits of columns x0..=x1 within word k.
-                let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
-                let mask = (u64::MAX >> (63 - hi)) & (u64::MAX << lo);
-                row[k] & mask != 0
-            })
-        })
+        let row = &self.exact_bits[y * words..(y + 1) * words];
+        // The bits of columns x0..=x1 within word k.
+        let bits = |k: usize| {
+            let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
+            Some(row[k] & (u64::MAX >> (63 - hi)) & (u64::MAX << lo)).filter(|&b| b != 0)
+        };
+        let mut ks = x0 / 64..=x1 / 64;
+        let first = ks.clone().find_map(|k| bits(k).map(|b| 64 * k + b.trailing_zeros() as usize))?;
+        let last =
+            ks.rfind(|&k| bits(k).is_some()).and_then(|k| bits(k).map(|b| 64 * k + 63 - b.leading_zeros() as usize));
+        last.map(|last| (first, last))
     }
 
     fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
@@ -169,7 +178,9 @@ impl Patch {
 pub(crate) struct Patches {
     raster: OccluderRaster,
     reach: Vec<Option<[usize; 4]>>,
-    patches: Vec<Vec<u32>>,
+    /// All triangles, patch by patch ([`OccluderRaster::patches`]), and where each patch lies.
+    triangles: Vec<u32>,
+    patches: Vec<Range<usize>>,
 }
 
 impl Tasks for Patches {
@@ -181,7 +192,7 @@ impl Tasks for Patches {
         Rasterising::new(self.raster.width, self.raster.height)
     }
     fn run(&self, r: &mut Rasterising, i: usize) {
-        self.raster.rasterise(r, &self.patches[i], &self.reach);
+        self.raster.rasterise(r, &self.triangles[self.patches[i].clone()], &self.reach);
     }
 }
 
@@ -284,8 +295,17 @@ impl OccluderRaster {
     }
 
     /// Visits the pixels of a patch (at `at`) in `t`'s reach (from [`OccluderRaster::reach`]),
-    /// four of a row at a time, with the triangle's centre and edge masks and depth there.
-    fn lanes(&self, at: Window, t: &Triangle, [x0, x1, y0, y1]: [usize; 4], mut visit: impl FnMut(Lanes)) {
+    /// four of a row at a time, with the triangle's centre and edge masks and depth there: of each
+    /// row `y`, those of the fours that meet columns `span(y)` (inclusive), if any. (The fours
+    /// start at the reach's first column, whatever the span.)
+    fn lanes(
+        &self,
+        at: Window,
+        t: &Triangle,
+        [x0, _, y0, y1]: [usize; 4],
+        span: impl Fn(usize) -> Option<(usize, usize)>,
+        mut visit: impl FnMut(Lanes),
+    ) {
         let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
         // Edge functions, positive inside whatever the winding; `reach` is how far from the line
         // (in edge-function units) a widened square centred at a point may still meet it.
@@ -301,6 +321,7 @@ impl OccluderRaster {
         let a = edges.each_ref().map(|e| Vec4::splat(e.a));
         let reach = edges.each_ref().map(|e| Vec4::splat(-e.reach));
         for y in y0..=y1 {
+            let Some((from, to)) = span(y) else { continue };
             let cy = y as f32 + 0.5;
             let by = edges.map(|e| Vec4::splat(e.b * cy + e.c));
             let z_row = Vec4::splat(t[0].z + dzdy * (cy - t[0].y) + slope);
@@ -308,8 +329,8 @@ impl OccluderRaster {
             let row_mask =
                 (0..3).fold(0u8, |m, k| m | (u8::from(edges[k].y_lo <= cy + 0.5 && edges[k].y_hi >= cy - 0.5) << k));
             let row = (y - at.y0) * at.stride;
-            let mut x = x0;
-            while x <= x1 {
+            let mut x = x0 + (from - x0) / 4 * 4;
+            while x <= to {
                 let cx = Vec4::splat(x as f32) + centres;
                 x += 4;
                 let f = [0, 1, 2].map(|k| a[k] * cx + by[k]);
@@ -336,8 +357,9 @@ impl OccluderRaster {
         }
     }
 
-    /// The connected patches of the triangles added: per patch, its triangles in increasing order.
-    fn patches(&self) -> Vec<Vec<u32>> {
+    /// The connected patches of the triangles added, largest first: all triangles, patch by patch
+    /// (each patch's in increasing order), and where each patch lies among them.
+    fn patches(&self) -> (Vec<u32>, Vec<Range<usize>>) {
         let n = self.triangles.len();
         let mut parent: Vec<u32> = (0..n as u32).collect();
         fn root(parent: &mut [u32], mut i: u32) -> u32 {
@@ -356,17 +378,27 @@ impl OccluderRaster {
                 }
             }
         }
-        let mut index = vec![NONE; n];
-        let mut patches: Vec<Vec<u32>> = Vec::new();
-        for i in 0..n as u32 {
-            let r = root(&mut parent, i) as usize;
-            if index[r] == NONE {
-                index[r] = patches.len() as u32;
-                patches.push(Vec::new());
-            }
-            patches[index[r] as usize].push(i);
+        // Grouped by a counting sort: per root (a patch's first triangle), its patch's size, then
+        // where its next triangle goes.
+        let roots: Vec<u32> = (0..n as u32).map(|i| root(&mut parent, i)).collect();
+        let mut next = vec![0usize; n];
+        for &r in &roots {
+            next[r as usize] += 1;
         }
-        patches
+        let mut firsts: Vec<usize> = (0..n).filter(|&r| next[r] > 0).collect();
+        firsts.sort_by_key(|&r| std::cmp::Reverse(next[r]));
+        let mut patches = Vec::with_capacity(firsts.len());
+        for r in firsts {
+            let start = patches.last().map_or(0, |p: &Range<usize>| p.end);
+            patches.push(start..start + next[r]);
+            next[r] = start;
+        }
+        let mut triangles = vec![0u32; n];
+        for (i, &r) in roots.iter().enumerate() {
+            triangles[next[r as usize]] = i as u32;
+            next[r as usize] += 1;
+        }
+        (triangles, patches)
     }
 
     /// Coverage and depth of every pixel, patch by patch, on the calling thread alone.
@@ -379,9 +411,8 @@ impl OccluderRaster {
     pub(crate) fn finish_on(self, phase: &Phase<Patches>) -> OccluderMaps {
         let (w, h) = (self.width, self.height);
         let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
-        let mut patches = self.patches();
-        patches.sort_unstable_by_key(|p| std::cmp::Reverse(p.len()));
-        let done = phase.run(Patches { raster: self, reach, patches });
+        let (triangles, patches) = self.patches();
+        let done = phase.run(Patches { raster: self, reach, triangles, patches });
         done.into_iter().map(|r| r.maps).reduce(OccluderMaps::merge).unwrap_or_else(|| OccluderMaps::empty(w, h))
     }
 
@@ -432,7 +463,8 @@ impl OccluderRaster {
         for &t in tris {
             let Some(rect) = reach[t as usize] else { continue };
             let outline = self.neighbours[t as usize].map(|n| n == NONE);
-            self.lanes(patch.at, &self.triangles[t as usize], rect, |l| {
+            let all = |_| Some((rect[0], rect[1]));
+            self.lanes(patch.at, &self.triangles[t as usize], rect, all, |l| {
                 let border = (0..3).filter(|&k| outline[k]).fold(BVec4A::FALSE, |m, k| m | l.edges[k]);
                 let far = &mut patch.far[l.i..l.i + 4];
                 Vec4::select(l.reached(), Vec4::from_slice(far).max(l.z), Vec4::from_slice(far)).write_to_slice(far);
@@ -460,7 +492,9 @@ impl OccluderRaster {
             if !patch.any_exact(x0 - at.x0, x1 - at.x0, y0 - at.y0, y1 - at.y0) {
                 continue;
             }
-            self.lanes(at, tri, rect, |l| {
+            // Only the fours that hold such pixels.
+            let span = |y| patch.exact_span(y - at.y0, x0 - at.x0, x1 - at.x0).map(|(a, b)| (a + at.x0, b + at.x0));
+            self.lanes(at, tri, rect, span, |l| {
                 let reached = l.reached().bitmask();
                 for j in (0..4).filter(|j| reached & (1 << j) != 0) {
                     let slot = patch.slot[l.i + j];
@@ -789,8 +823,26 @@ mod tests {
                 (x0, x1, y0, y1) = (x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1));
                 let brute = (y0..=y1).any(|y| (x0..=x1).any(|x| set[y * w + x]));
                 assert_eq!(patch.any_exact(x0, x1, y0, y1), brute, "{w} wide: {x0}..={x1} x {y0}..={y1}");
+                let row: Vec<usize> = (x0..=x1).filter(|&x| set[y0 * w + x]).collect();
+                let span = row.first().zip(row.last()).map(|(&a, &b)| (a, b));
+                assert_eq!(patch.exact_span(y0, x0, x1), span, "{w} wide: {x0}..={x1} in row {y0}");
             }
         }
+    }
+
+    #[test]
+    fn patches_are_the_connected_triangles_largest_first() {
+        // Triangles 0-1-4 joined in a chain, 2 alone, 3-5 joined; a triangle's neighbour names it
+        // back.
+        let mut raster = OccluderRaster::new(8, 8);
+        let t = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        raster.add(
+            &[t; 6],
+            &[[1, NONE, NONE], [0, 4, NONE], [NONE; 3], [5, NONE, NONE], [1, NONE, NONE], [3, NONE, NONE]],
+        );
+        let (triangles, patches) = raster.patches();
+        let groups: Vec<&[u32]> = patches.into_iter().map(|p| &triangles[p]).collect();
+        assert_eq!(groups, [&[0, 1, 4][..], &[3, 5], &[2]]);
     }
 
     #[test]
