@@ -812,6 +812,16 @@ enum Verdict {
     Shown,
 }
 
+impl Verdict {
+    /// The vertex to look up first in the next frame ([`witness`]).
+    fn witness(self) -> Option<usize> {
+        match self {
+            Verdict::Seen(i) => Some(i),
+            _ => None,
+        }
+    }
+}
+
 /// How far from a pixel's border (in pixels) a point must lie to be seen ([`Occluders::sees`]).
 const SEEN_MARGIN: f32 = 1e-3;
 
@@ -942,13 +952,7 @@ fn traverse_below(
                             }
                         }
                     };
-                    view.witnesses.set(
-                        p,
-                        match verdict {
-                            Verdict::Seen(i) => Some(i),
-                            _ => None,
-                        },
-                    );
+                    view.witnesses.set(p, verdict.witness());
                     match verdict {
                         Verdict::Hidden => stats.occlusion_culled += part.count as usize,
                         _ => {
