@@ -1023,21 +1023,26 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_point_is_seen_where_uncovered_or_in_front() {
-        // A 4 x 2 raster: pixel (1, 0) covered at depth 0.5, the rest uncovered.
-        let (w, h) = (4, 2);
-        let mut depth = vec![f32::INFINITY; w * h];
-        depth[1] = 0.5;
+    /// Occluders of a `w` x `h` depth map: covered where the depth is finite.
+    fn occluders_of(depth: Vec<f32>, w: usize, h: usize) -> Occluders {
         let covered: Vec<u8> = depth.iter().map(|d| u8::from(d.is_finite())).collect();
-        let occ = Occluders {
+        Occluders {
             opacity: OpacityMap::new(&covered, w, h),
             sparse: SparseDepth::new(&depth, w, h),
             maps: OccluderMaps { width: w, height: h, covered, depth },
             approximate: None,
             leaves: 0,
             triangles: 0,
-        };
+        }
+    }
+
+    #[test]
+    fn a_point_is_seen_where_uncovered_or_in_front() {
+        // A 4 x 2 raster: pixel (1, 0) covered at depth 0.5, the rest uncovered.
+        let (w, h) = (4, 2);
+        let mut depth = vec![f32::INFINITY; w * h];
+        depth[1] = 0.5;
+        let occ = occluders_of(depth, w, h);
         assert!(occ.sees(Vec3::new(1.5, 0.5, 0.4)), "in front of the occluder");
         assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.5)), "at its depth");
         assert!(!occ.sees(Vec3::new(1.5, 0.5, 0.5 - SEEN_DEPTH_MARGIN / 2.0)), "within the margin");
@@ -1085,16 +1090,7 @@ mod tests {
         let near =
             organ.mesh.positions.iter().filter_map(|&p| project_point(p, &mvp, w, h)).map(|p| p.z).fold(1.0, f32::min);
         for (wall, hidden) in [(near - 0.01, true), (1.0 - 1e-4, false)] {
-            let depth = vec![wall; w * h];
-            let covered = vec![1u8; w * h];
-            let occ = Occluders {
-                opacity: OpacityMap::new(&covered, w, h),
-                sparse: SparseDepth::new(&depth, w, h),
-                maps: OccluderMaps { width: w, height: h, covered, depth },
-                approximate: None,
-                leaves: 0,
-                triangles: 0,
-            };
+            let occ = occluders_of(vec![wall; w * h], w, h);
             let Seen::Rect { z, .. } = see(&mvp, &part.bounds, w, h) else { panic!("the cube is in view") };
             let bound = || view.depth_bound(&part.bounds, Some(&part.slab), z, w, h);
             let verdict = occ.part_hidden(&organ, part, &mvp, None, bound);

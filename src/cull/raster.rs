@@ -153,11 +153,10 @@ impl Patch {
             let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
             Some(row[k] & (u64::MAX >> (63 - hi)) & (u64::MAX << lo)).filter(|&b| b != 0)
         };
-        let mut ks = x0 / 64..=x1 / 64;
+        let ks = x0 / 64..=x1 / 64;
         let first = ks.clone().find_map(|k| bits(k).map(|b| 64 * k + b.trailing_zeros() as usize))?;
-        let last =
-            ks.rfind(|&k| bits(k).is_some()).and_then(|k| bits(k).map(|b| 64 * k + 63 - b.leading_zeros() as usize));
-        last.map(|last| (first, last))
+        let last = ks.rev().find_map(|k| bits(k).map(|b| 64 * k + 63 - b.leading_zeros() as usize))?;
+        Some((first, last))
     }
 
     fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
