@@ -19,6 +19,8 @@ use crate::bvh::Bvh;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Reached {
     pub node: u32,
+    /// The node's first triangle: where it lies in the organ's triangle order.
+    pub first: u32,
     /// Nothing below it was tested for occlusion: it was culled whole, or a test found nothing
     /// below it worth testing.
     pub closed: bool,
@@ -50,20 +52,21 @@ impl Cut {
     }
 
     /// Keeps the nodes the traversal reached as the next frame's starts, merging sibling pairs
-    /// (see the module's header).
-    pub fn keep(&mut self, bvh: &Bvh, mut reached: Vec<Reached>) {
-        reached.sort_unstable_by_key(|r| bvh.nodes[r.node as usize].first);
+    /// (see the module's header). `reached` comes as runs in triangle order (one per traversal),
+    /// which a stable sort joins in about linear time.
+    pub fn keep(&mut self, mut reached: Vec<Reached>) {
+        reached.sort_by_key(|r| r.first);
         self.nodes.clear();
+        let parent_of = |r: &Reached| self.parent.get(r.node as usize).copied().unwrap_or(crate::bvh::NONE);
         let mut i = 0;
         while i < reached.len() {
             let r = reached[i];
-            let parent = self.parent.get(r.node as usize).copied().unwrap_or(crate::bvh::NONE);
+            let parent = parent_of(&r);
+            // In triangle order, two children of one parent are its first and its second.
             let merge = match reached.get(i + 1) {
                 Some(s) => {
                     let mergeable = |x: &Reached| x.closed && x.started;
-                    mergeable(&r)
-                        && mergeable(s)
-                        && bvh.nodes.get(parent as usize).is_some_and(|p| p.children == [r.node, s.node])
+                    mergeable(&r) && mergeable(s) && parent != crate::bvh::NONE && parent_of(s) == parent
                 }
                 None => false,
             };
@@ -127,6 +130,10 @@ mod tests {
         Bvh::build(&mut mesh)
     }
 
+    fn reach(bvh: &Bvh, node: u32, closed: bool, started: bool) -> Reached {
+        Reached { node, first: bvh.nodes[node as usize].first, closed, started }
+    }
+
     fn leaves(bvh: &Bvh) -> Vec<u32> {
         let mut l = bvh.leaves.clone();
         l.sort_by_key(|&n| bvh.nodes[n as usize].first);
@@ -145,15 +152,15 @@ mod tests {
         let mut cut = Cut::default();
         cut.starts(&bvh);
         let reached = |closed: bool, started: bool| -> Vec<Reached> {
-            leaves(&bvh).into_iter().map(|node| Reached { node, closed, started }).collect()
+            leaves(&bvh).into_iter().map(|node| reach(&bvh, node, closed, started)).collect()
         };
-        cut.keep(&bvh, reached(true, true));
+        cut.keep(reached(true, true));
         let merged = cut.starts(&bvh).to_vec();
         assert_eq!(merged.len(), bvh.leaves.len() / 2, "every pair of sibling leaves merged once");
         assert!(merged.iter().all(|&n| !bvh.nodes[n as usize].is_leaf()));
         // Not closed, or reached by descent: kept as they are.
         for (closed, started) in [(false, true), (true, false)] {
-            cut.keep(&bvh, reached(closed, started));
+            cut.keep(reached(closed, started));
             assert_eq!(cut.starts(&bvh), leaves(&bvh).as_slice());
         }
     }
@@ -165,13 +172,13 @@ mod tests {
         cut.starts(&bvh);
         // A leaf missing: its triangles would never be drawn.
         let mut reached: Vec<Reached> =
-            leaves(&bvh).into_iter().map(|node| Reached { node, closed: false, started: false }).collect();
+            leaves(&bvh).into_iter().map(|node| reach(&bvh, node, false, false)).collect();
         reached.remove(3);
-        cut.keep(&bvh, reached);
+        cut.keep(reached);
         assert_eq!(cut.starts(&bvh), &[0]);
         // Another organ's hierarchy.
         let other = strip(1000);
-        cut.keep(&bvh, leaves(&bvh).into_iter().map(|node| Reached { node, closed: false, started: false }).collect());
+        cut.keep(leaves(&bvh).into_iter().map(|node| reach(&bvh, node, false, false)).collect());
         assert_eq!(cut.starts(&other), &[0]);
     }
 }

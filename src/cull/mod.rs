@@ -689,10 +689,10 @@ fn cull_in_phases<'a>(
     }
     // In triangle order, as one traversal depth first would give them.
     let mut list = DrawList { ranges: vec![Vec::new(); set.organs.len()] };
-    for (o, (walk, organ)) in walks.into_iter().zip(&set.organs).enumerate() {
+    for (o, walk) in walks.into_iter().enumerate() {
         stats.add_traversal(&walk.stats);
         if testing && !walk.reached.is_empty() {
-            cuts[o].keep(&organ.bvh, walk.reached);
+            cuts[o].keep(walk.reached);
         }
         let mut r = walk.list;
         r.sort_unstable_by_key(|r| r.start);
@@ -872,7 +872,7 @@ fn traverse_below(
         // where nothing below it is tested.
         let mut stop = |closed: bool| {
             if test && occ.is_some() {
-                reached.push(Reached { node: n, closed, started: started && n == root });
+                reached.push(Reached { node: n, first: node.first, closed, started: started && n == root });
             }
         };
         let seen = see(&view.mvp, &node.bounds, w, h);
