@@ -52,8 +52,8 @@ impl Cut {
     }
 
     /// Keeps the nodes the traversal reached as the next frame's starts, merging sibling pairs
-    /// (see the module's header). `reached` comes as runs in triangle order (one per traversal),
-    /// which a stable sort joins in about linear time.
+    /// (see the module's header). `reached` comes as a few runs in triangle order (one per
+    /// thread), which a stable sort joins in about linear time.
     pub fn keep(&mut self, mut reached: Vec<Reached>) {
         reached.sort_by_key(|r| r.first);
         self.nodes.clear();

@@ -679,7 +679,10 @@ fn cull_in_phases<'a>(
             }
         }
     }
-    job.tasks.sort_by_key(|t| std::cmp::Reverse(t.0));
+    // In triangle order: each thread then hands back an organ's ranges and reached nodes as one
+    // ordered run, which the stable sorts below join in about linear time.
+    let first = |s: &Start| (s.organ, set.organs[s.organ].bvh.nodes[s.node as usize].first);
+    job.tasks.sort_by_key(|t| first(&job.starts[t.1.start]));
     (job.views, job.occ) = (views, occ);
     for (o, walk) in phases.traversal.run(job).into_iter().flatten() {
         let to = &mut walks[o];
@@ -695,7 +698,7 @@ fn cull_in_phases<'a>(
             cuts[o].keep(walk.reached);
         }
         let mut r = walk.list;
-        r.sort_unstable_by_key(|r| r.start);
+        r.sort_by_key(|r| r.start);
         r.into_iter().for_each(|r| list.push(o, r));
     }
     stats.drawn = list.triangles();
@@ -713,7 +716,7 @@ struct Start {
 }
 
 /// The traversals left to share, as tasks: single subtrees, or groups of small starts of one organ
-/// up to [`SUBTREE_TRIANGLES`] in all; biggest first. Each gives its organs' ranges, counts and
+/// up to [`SUBTREE_TRIANGLES`] in all. Each gives its organs' ranges, counts and
 /// reached nodes.
 struct Subtrees<'a> {
     set: &'a OrganSet,
