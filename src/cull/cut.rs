@@ -171,8 +171,7 @@ mod tests {
         let mut cut = Cut::default();
         cut.starts(&bvh);
         // A leaf missing: its triangles would never be drawn.
-        let mut reached: Vec<Reached> =
-            leaves(&bvh).into_iter().map(|node| reach(&bvh, node, false, false)).collect();
+        let mut reached: Vec<Reached> = leaves(&bvh).into_iter().map(|node| reach(&bvh, node, false, false)).collect();
         reached.remove(3);
         cut.keep(reached);
         assert_eq!(cut.starts(&bvh), &[0]);
