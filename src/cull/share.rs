@@ -14,7 +14,8 @@ use std::sync::{Mutex, OnceLock};
 /// A phase's work: numbered tasks, each participant running those it claims with a state of its own.
 pub trait Tasks: Sync {
     type State: Send;
-    /// How many tasks; put the biggest first (a participant claims one at a time).
+    /// How many tasks. A participant claims one at a time, in order: the biggest first balance
+    /// the load best; tasks in an order of their own hand back states in that order.
     fn count(&self) -> usize;
     /// A participant's state, made before its first task.
     fn state(&self) -> Self::State;
