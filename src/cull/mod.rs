@@ -716,8 +716,7 @@ struct Start {
 }
 
 /// The traversals left to share, as tasks: single subtrees, or groups of small starts of one organ
-/// up to [`SUBTREE_TRIANGLES`] in all. Each gives its organs' ranges, counts and
-/// reached nodes.
+/// up to [`SUBTREE_TRIANGLES`] in all. Each gives its organs' ranges, counts and reached nodes.
 struct Subtrees<'a> {
     set: &'a OrganSet,
     views: Vec<Option<OrganView<'a>>>,
