@@ -261,7 +261,12 @@ impl Bvh {
 
     /// The parts of a leaf.
     pub fn parts_of(&self, leaf: u32) -> &[Part] {
-        &self.parts[self.leaf_parts[leaf as usize] as usize..self.leaf_parts[leaf as usize + 1] as usize]
+        &self.parts[self.part_range(leaf)]
+    }
+
+    /// Where the parts of a leaf lie in [`Bvh::parts`].
+    pub fn part_range(&self, leaf: u32) -> std::ops::Range<usize> {
+        self.leaf_parts[leaf as usize] as usize..self.leaf_parts[leaf as usize + 1] as usize
     }
 
     /// Index-buffer range (in indices) of a leaf.

@@ -25,8 +25,9 @@
 //!    frustum with nothing more to test is drawn as one range. A [`Culler`] kept from frame to
 //!    frame starts each organ's traversal where the last frame's stopped ([`cut`]), not at its
 //!    root, and first looks up, of a part seen last frame, the vertex that was seen: seen again,
-//!    it shows the part without its tests ([`witness`]). Below the top levels, subtrees (and groups of small starts) are traversed as tasks
-//!    [`share`]d between the calling thread and the pool, as are the occluder patches in step 3.
+//!    it shows the part without its tests ([`witness`]). Below the top levels, subtrees (and
+//!    groups of small starts) are traversed as tasks [`share`]d between the calling thread and
+//!    the pool, as are the occluder patches in step 3.
 //!
 //! The result is a [`DrawList`]: per organ, the index ranges to draw.
 
@@ -921,8 +922,8 @@ fn traverse_below(
             // A leaf that failed: its parts' tighter boxes may still be hidden.
             (true, Some(o)) if test_children && parts => {
                 let mut all_culled = true;
-                let first = organ.bvh.leaf_parts[node.leaf as usize] as usize;
-                for (p, part) in (first..).zip(organ.bvh.parts_of(node.leaf)) {
+                for p in organ.bvh.part_range(node.leaf) {
+                    let part = &organ.bvh.parts[p];
                     stats.nodes_tested += 1;
                     // Its witness seen again: the part is drawn (its tests could not pass).
                     let witness = view.witnesses.get(p).filter(|_| holes.is_none());
