@@ -59,3 +59,17 @@ mod tests {
         assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
     }
 }
+
+/// Writes `image` as a PNG file, atomically; with `replace` false an existing file is refused.
+pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| Error::Encode { path: path.to_path_buf(), message: e.to_string() })?;
+    let fill = |w: &mut dyn Write| w.write_all(&bytes);
+    if replace {
+        write(path, fill)
+    } else {
+        write_new(path, fill)
+    }
+}

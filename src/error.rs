@@ -9,6 +9,8 @@ pub enum Error {
     Parse { path: PathBuf, line: Option<usize>, message: String },
     #[error("{}: {source}", path.display())]
     Io { path: PathBuf, source: std::io::Error },
+    #[error("{}: cannot encode: {message}", path.display())]
+    Encode { path: PathBuf, message: String },
     #[error("{0}")]
     Other(String),
 }
