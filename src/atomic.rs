@@ -21,7 +21,7 @@ fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
     };
-    let name = path.file_name().ok_or_else(|| Error::Other(format!("{}: not a file name", path.display())))?;
+    let name = path.file_name().ok_or_else(|| Error::NotAFileName { path: path.to_path_buf() })?;
     let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
@@ -42,6 +42,20 @@ fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<
     result.map_err(io)
 }
 
+/// Writes `image` as a PNG file, atomically; with `replace` false an existing file is refused.
+pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
+    let mut bytes = Vec::new();
+    image
+        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
+        .map_err(|e| Error::Encode { path: path.to_path_buf(), message: e.to_string() })?;
+    let fill = |w: &mut dyn Write| w.write_all(&bytes);
+    if replace {
+        write(path, fill)
+    } else {
+        write_new(path, fill)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -57,19 +71,5 @@ mod tests {
         assert_eq!(std::fs::read(&p).ok().as_deref(), Some(&b"two"[..]));
         // No temporary file is left behind.
         assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
-    }
-}
-
-/// Writes `image` as a PNG file, atomically; with `replace` false an existing file is refused.
-pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
-    let mut bytes = Vec::new();
-    image
-        .write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)
-        .map_err(|e| Error::Encode { path: path.to_path_buf(), message: e.to_string() })?;
-    let fill = |w: &mut dyn Write| w.write_all(&bytes);
-    if replace {
-        write(path, fill)
-    } else {
-        write_new(path, fill)
     }
 }

@@ -384,13 +384,7 @@ mod tests {
 
     fn icosphere(level: usize) -> Mesh {
         // An octahedron subdivided: closed, consistently wound.
-        let mut m = Mesh {
-            positions: vec![[1., 0., 0.], [-1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.], [0., 0., -1.]],
-            normals: vec![],
-            indices: vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5],
-        };
-        m.compute_normals();
-        subdivide(&m, level)
+        subdivide(&Mesh::octahedron(), level)
     }
 
     #[test]

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-/// An error while reading or writing one file.
+/// An error of the core: reading or writing one file, or the GPU.
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     #[error("{}{}: {message}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
@@ -11,8 +11,26 @@ pub enum Error {
     Io { path: PathBuf, source: std::io::Error },
     #[error("{}: cannot encode: {message}", path.display())]
     Encode { path: PathBuf, message: String },
-    #[error("{0}")]
-    Other(String),
+    #[error("{}: not a file name", path.display())]
+    NotAFileName { path: PathBuf },
+    #[error("{}: {problem}", path.display())]
+    OccluderDb { path: PathBuf, problem: DbProblem },
+    #[error("no label of the table occurs in the volume")]
+    NoLabels,
+    #[error("{}: the organ loader panicked", path.display())]
+    LoaderPanicked { path: PathBuf },
+    /// No GPU adapter could be opened; `tried` says what was tried and how it failed.
+    #[error("{help} ({tried})", help = NO_ADAPTER_HELP)]
+    NoAdapter { tried: String },
+    #[error("could not open the GPU device of {adapter}: {message}")]
+    Device { adapter: String, message: String },
+    /// A wgpu operation (poll, buffer mapping, read-back) failed.
+    #[error("GPU {operation}: {message}")]
+    Gpu { operation: &'static str, message: String },
+    #[error("image size {width}x{height} outside 1..={max} pixels per side")]
+    ImageSize { width: u32, height: u32, max: u32 },
+    #[error("organ \"{organ}\" needs a {bytes}-byte buffer; this GPU allows {max}")]
+    BufferTooLarge { organ: String, bytes: u64, max: u64 },
 }
 
 impl Error {
@@ -23,6 +41,25 @@ impl Error {
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
         Error::Io { path: path.into(), source }
     }
+
+    pub(crate) fn gpu(operation: &'static str, message: impl std::fmt::Display) -> Self {
+        Error::Gpu { operation, message: message.to_string() }
+    }
+}
+
+/// What to install when no adapter is found.
+pub const NO_ADAPTER_HELP: &str = "no GPU adapter found (Vulkan, Metal, DX12 or OpenGL). On a machine without a GPU, \
+install Mesa's software Vulkan driver (lavapipe): on Debian or Ubuntu `apt-get install mesa-vulkan-drivers`";
+
+/// Why an occluder database beside a set is not used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum DbProblem {
+    #[error("version {found} (this vbrain reads {reads}); run `vbrain occluders` again")]
+    Version { found: u32, reads: u32 },
+    #[error("stale (the organs changed since it was made); run `vbrain occluders` again")]
+    Stale,
+    #[error("names leaves the set does not have")]
+    UnknownLeaves,
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

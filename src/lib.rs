@@ -21,12 +21,11 @@
 //! Nothing here panics on bad input: every file error names its file (and line).
 
 pub mod atomic;
-pub mod bench;
 pub mod bvh;
 pub mod camera;
-pub mod city;
 pub mod cull;
 pub mod error;
+pub mod lab;
 pub mod layout;
 pub mod mesh;
 pub mod mos;

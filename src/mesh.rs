@@ -123,6 +123,17 @@ impl Mesh {
         self.indices.extend(other.indices.iter().map(|i| i + base));
     }
 
+    /// The unit octahedron: closed, wound counter-clockwise seen from outside, with normals.
+    pub fn octahedron() -> Mesh {
+        let mut m = Mesh {
+            positions: vec![[1., 0., 0.], [-1., 0., 0.], [0., 1., 0.], [0., -1., 0.], [0., 0., 1.], [0., 0., -1.]],
+            normals: vec![],
+            indices: vec![0, 2, 4, 2, 1, 4, 1, 3, 4, 3, 0, 4, 2, 0, 5, 1, 2, 5, 3, 1, 5, 0, 3, 5],
+        };
+        m.compute_normals();
+        m
+    }
+
     /// Checks the invariants stated on [`Mesh`]; returns a description of the first violation.
     pub fn validate(&self) -> Result<(), String> {
         if self.normals.len() != self.positions.len() {

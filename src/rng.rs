@@ -31,6 +31,13 @@ impl XorShift {
         (self.next_u64() % n as u64) as usize
     }
 
+    /// A permutation of `0..n` shuffled by a generator from `seed`.
+    pub fn permutation(n: usize, seed: u64) -> Vec<usize> {
+        let mut order: Vec<usize> = (0..n).collect();
+        XorShift::seeded(seed).shuffle(&mut order);
+        order
+    }
+
     /// Shuffles `items` in place (Fisher-Yates).
     pub fn shuffle<T>(&mut self, items: &mut [T]) {
         for i in (1..items.len()).rev() {

@@ -16,6 +16,7 @@
 //! image: the smallest over the far faces, where rays leave.
 
 use super::raster::Triangle;
+use super::rect::PixelRect;
 use crate::bvh::Slab;
 use crate::mesh::Bounds;
 use glam::{DMat4, DVec3, DVec4, Vec3, Vec4};
@@ -114,7 +115,8 @@ impl DepthBound {
     }
 
     /// Whether every pixel of the inclusive rectangle holds an occluder depth in front of this.
-    pub fn behind(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+    pub fn behind(&self, depth: &[f32], width: usize, r: PixelRect) -> bool {
+        let PixelRect { x0, y0, x1, y1 } = r;
         (y0..=y1).all(|y| (x0..=x1).all(|x| depth[y * width + x] < self.at(x, y)))
     }
 }
@@ -227,7 +229,8 @@ impl FarBound {
 
     /// Whether the box lies in front of the occluders wherever they cover the inclusive rectangle:
     /// then nothing inside it can be hidden.
-    pub fn in_front(&self, depth: &[f32], width: usize, [x0, y0, x1, y1]: [usize; 4]) -> bool {
+    pub fn in_front(&self, depth: &[f32], width: usize, r: PixelRect) -> bool {
+        let PixelRect { x0, y0, x1, y1 } = r;
         (y0..=y1).all(|y| (x0..=x1).all(|x| self.at(x, y) < depth[y * width + x]))
     }
 }

@@ -3,6 +3,8 @@
 //! take four look-ups. Rows here run top to bottom (the thesis counts from the lower left; the
 //! counts are the same).
 
+use super::rect::PixelRect;
+
 /// `Op(x, y)` = covered pixels in columns `1..=x`, rows `1..=y` (1-based; row and column 0 are 0).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OpacityMap {
@@ -31,20 +33,21 @@ impl OpacityMap {
         self.op[y * (self.width + 1) + x]
     }
 
-    /// The thesis's opacity function: covered pixels in `x1 < x <= x2`, `y1 < y <= y2`.
-    pub fn opf(&self, x1: usize, x2: usize, y1: usize, y2: usize) -> u32 {
+    /// Covered pixels in `r`: the thesis's opacity function OPF(x1, x2, y1, y2) over
+    /// `x1 < x <= x2`, `y1 < y <= y2` in its 1-based pixels is `covered` of the 0-based
+    /// `PixelRect { x0: x1, y0: y1, x1: x2 - 1, y1: y2 - 1 }`.
+    pub fn covered(&self, r: PixelRect) -> u32 {
+        let (x1, x2, y1, y2) = (r.x0, r.x1 + 1, r.y0, r.y1 + 1);
         (self.op(x1, y1) + self.op(x2, y2)) - (self.op(x1, y2) + self.op(x2, y1))
-    }
-
-    /// Covered pixels in the inclusive 0-based pixel rectangle `x0..=x1`, `y0..=y1`.
-    pub fn covered(&self, x0: usize, y0: usize, x1: usize, y1: usize) -> u32 {
-        self.opf(x0, x1 + 1, y0, y1 + 1)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The thesis's OPF(2, 5, 1, 5): 1-based columns 3..=5, rows 2..=5.
+    const OPF_2_5_1_5: PixelRect = PixelRect { x0: 2, y0: 1, x1: 4, y1: 4 };
 
     /// A bitmap whose opacity values match the thesis's Figure 5 worked example (lower-left origin
     /// there; here row index 0 is the thesis's row 1).
@@ -61,8 +64,8 @@ mod tests {
         let m = OpacityMap::new(&bitmap, 5, 5);
         // The thesis's region 2 < x <= 5, 1 < y <= 5 (12 pixels) is not wholly covered.
         let brute: u32 = (1..5).flat_map(|y| (2..5).map(move |x| u32::from(bitmap[y * 5 + x]))).sum();
-        assert_eq!(m.opf(2, 5, 1, 5), brute);
-        assert!(m.opf(2, 5, 1, 5) < 12);
+        assert_eq!(m.covered(OPF_2_5_1_5), brute);
+        assert!(m.covered(OPF_2_5_1_5) < 12);
     }
 
     #[test]
@@ -84,7 +87,7 @@ mod tests {
             (m.op(2, 1) as i64, m.op(2, 5) as i64, m.op(5, 1) as i64, m.op(5, 5) as i64),
             (op21, op25, op51, op55)
         );
-        assert_eq!(m.opf(2, 5, 1, 5), 6);
+        assert_eq!(m.covered(OPF_2_5_1_5), 6);
     }
 
     #[test]
@@ -108,7 +111,7 @@ mod tests {
                     .flat_map(|y| (x0..=x1).map(move |x| (y, x)))
                     .map(|(y, x)| u32::from(bitmap[y * w + x]))
                     .sum();
-                assert_eq!(m.covered(x0, y0, x1, y1), brute);
+                assert_eq!(m.covered(PixelRect::new(x0, y0, x1, y1)), brute);
             }
         }
     }

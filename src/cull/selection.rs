@@ -3,45 +3,13 @@
 //! organs (no pre-processing, so organs may move), or the pre-computed minimum occluder sets of the
 //! nearest grid viewpoint ([`crate::mos`]) while the layout is the pre-processed one.
 
-use super::{see, wholly_ahead, CullSettings, Seen};
+use super::database::Database;
+use super::project::{project_box, wholly_ahead, ScreenBox};
+use super::settings::{CullSettings, Selection};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use glam::Mat4;
-
-/// How occluders are chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Selection {
-    /// The pre-computed minimum occluder sets while the layout is the pre-processed one, the set
-    /// has a fresh database and the camera is near one of its viewpoints; projected size otherwise.
-    #[default]
-    Auto,
-    /// Projected size every frame.
-    ProjectedSize,
-    /// The pre-computed minimum occluder sets of the nearest viewpoint, even after organs moved
-    /// (still conservative: occluders are rasterised where they are now; faded ones are skipped).
-    Mos,
-}
-
-impl Selection {
-    pub const ALL: [Selection; 3] = [Selection::Auto, Selection::ProjectedSize, Selection::Mos];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Selection::Auto => "auto",
-            Selection::ProjectedSize => "projected-size",
-            Selection::Mos => "mos",
-        }
-    }
-
-    pub fn parse(s: &str) -> Option<Selection> {
-        match s {
-            "ps" => Some(Selection::ProjectedSize),
-            _ => Selection::ALL.into_iter().find(|m| m.name() == s),
-        }
-    }
-}
 
 /// Which occluders a frame used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -118,11 +86,11 @@ pub fn by_projected_size(
             continue;
         }
         let mvp = *view_proj * state.transform.matrix();
-        match see(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
-            Seen::Rect { x0, y0, x1, y1, .. } => organs.push(((x1 - x0 + 1) * (y1 - y0 + 1), o)),
+        match project_box(&mvp, &organ.bvh.nodes[0].bounds, w, h) {
+            ScreenBox::Rect { rect, .. } => organs.push((rect.area(), o)),
             // Around the eye (a wall the camera stands at): it may fill the screen.
-            Seen::Straddles => organs.push((w * h, o)),
-            Seen::Outside => {}
+            ScreenBox::Straddles => organs.push((w * h, o)),
+            ScreenBox::Outside => {}
         }
     }
     organs.sort_unstable_by_key(|&(area, _)| std::cmp::Reverse(area));
@@ -139,7 +107,7 @@ pub fn by_projected_size(
         let mut near: Vec<(f32, u32)> = Vec::new();
         for (l, &n) in bvh.leaves.iter().enumerate() {
             let bounds = &bvh.nodes[n as usize].bounds;
-            if see(&mvp, bounds, w, h) != Seen::Outside {
+            if project_box(&mvp, bounds, w, h) != ScreenBox::Outside {
                 near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
             }
         }
@@ -189,8 +157,9 @@ pub fn choose_occluders(
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
+    database: Option<&Database>,
 ) -> (Vec<LeafRef>, OccluderSource) {
-    let viewpoint = set.occluders.as_ref().and_then(|db| match settings.selection {
+    let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
         Selection::Mos => db.nearest(camera),
         Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),

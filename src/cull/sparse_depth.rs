@@ -3,6 +3,8 @@
 //! the next local peak, so a depth comparison over a row visits only the peaks (and the row's
 //! ends) instead of every pixel, and still sees the row's farthest occluder depth.
 
+use super::rect::PixelRect;
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct SparseDepth {
     pub width: usize,
@@ -47,7 +49,8 @@ impl SparseDepth {
     }
 
     /// Is `z` behind every depth in the inclusive rectangle? Stops at the first depth not in front.
-    pub fn all_in_front_of(&self, depth: &[f32], x0: usize, y0: usize, x1: usize, y1: usize, z: f32) -> bool {
+    pub fn all_in_front_of(&self, depth: &[f32], r: PixelRect, z: f32) -> bool {
+        let PixelRect { x0, y0, x1, y1 } = r;
         (y0..=y1).all(|y| {
             let row = y * self.width;
             let mut x = x0;
@@ -99,7 +102,7 @@ mod tests {
                 let brute = depth[y * w + x0..=y * w + x1].iter().copied().fold(f32::NEG_INFINITY, f32::max);
                 assert_eq!(s.row_max(&depth, y, x0, x1), brute);
                 let z = (rand() % 110) as f32 / 100.0;
-                assert_eq!(s.all_in_front_of(&depth, x0, y, x1, y, z), brute < z);
+                assert_eq!(s.all_in_front_of(&depth, PixelRect::new(x0, y, x1, y), z), brute < z);
             }
         }
     }

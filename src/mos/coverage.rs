@@ -3,7 +3,8 @@
 //! Space: pixels of a `width` x `height` image (x right, y down, pixel (i, j) sampled at its centre
 //! (i + 0.5, j + 0.5)); depth = NDC z, larger is farther.
 
-use crate::cull::{project_triangle, LeafRef};
+use crate::cull::project::project_triangle;
+use crate::cull::LeafRef;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use glam::{Mat4, Vec3};

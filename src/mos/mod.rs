@@ -14,17 +14,16 @@
 //! 3. gains (the triangles of the occludees a set hides, supersets inheriting), cost (occluders
 //!    and their projected size), score and selection over an ID buffer ([`select`]).
 //!
-//! The result is stored in a [`database::Database`] beside the set, used at run time while the
+//! The result is stored in a [`crate::cull::database::Database`] beside the set, used at run time while the
 //! layout is unchanged ([`crate::cull::choose_occluders`]).
 
 pub mod coverage;
-pub mod database;
-pub mod experiment;
 pub mod search;
 pub mod select;
 
 use crate::camera::Camera;
-use crate::cull::{see, LeafRef, Seen};
+use crate::cull::project::{project_box, ScreenBox};
+use crate::cull::{LeafRef, PixelRect};
 use crate::layout::Layout;
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
@@ -32,7 +31,7 @@ use coverage::LeafImage;
 use rayon::prelude::*;
 use search::SearchLimits;
 
-pub use database::Database;
+use crate::cull::database::{self, Database};
 
 /// Pre-processing parameters.
 #[derive(Clone, Debug, PartialEq)]
@@ -86,7 +85,7 @@ pub fn candidates(set: &OrganSet, layout: &Layout, camera: &Camera, size: usize)
         }
         let mvp = view_proj * state.transform.matrix();
         for (l, &n) in organ.bvh.leaves.iter().enumerate() {
-            if see(&mvp, &organ.bvh.nodes[n as usize].bounds, size, size) != Seen::Outside {
+            if project_box(&mvp, &organ.bvh.nodes[n as usize].bounds, size, size) != ScreenBox::Outside {
                 out.push(LeafRef { organ: o as u32, leaf: l as u32, stand_in: false });
             }
         }
@@ -112,7 +111,7 @@ pub fn select_for_view(set: &OrganSet, layout: &Layout, camera: &Camera, params:
     lists.par_iter_mut().for_each(|l| l.sort_unstable_by(|a, b| a.0.total_cmp(&b.0)));
     let cost = cost_fn(&images, params.size_weight);
     // Occludees: on-screen nodes of drawn organs above the size threshold.
-    let mut occludees: Vec<(f64, [usize; 4], f32)> = Vec::new();
+    let mut occludees: Vec<(f64, PixelRect, f32)> = Vec::new();
     for (organ, state) in set.organs.iter().zip(&layout.organs) {
         if !state.is_drawn() {
             continue;
@@ -120,15 +119,16 @@ pub fn select_for_view(set: &OrganSet, layout: &Layout, camera: &Camera, params:
         let mvp = view_proj * state.transform.matrix();
         for node in &organ.bvh.nodes {
             if node.count > params.min_occludee_triangles {
-                if let Seen::Rect { x0, y0, x1, y1, z, .. } = see(&mvp, &node.bounds, n, n) {
-                    occludees.push((node.count as f64, [x0, y0, x1, y1], z));
+                if let ScreenBox::Rect { rect, z, .. } = project_box(&mvp, &node.bounds, n, n) {
+                    occludees.push((node.count as f64, rect, z));
                 }
             }
         }
     }
     let found: Vec<Vec<(Vec<u32>, f64)>> = occludees
         .par_iter()
-        .map(|&(gain, [x0, y0, x1, y1], z)| {
+        .map(|&(gain, rect, z)| {
+            let PixelRect { x0, y0, x1, y1 } = rect;
             let stack = |x: usize, y: usize| {
                 let l = &lists[y * n + x];
                 let mut ids: Vec<u32> = l[..l.partition_point(|e| e.0 < z)].iter().map(|e| e.1).collect();
@@ -211,5 +211,5 @@ pub fn preprocess(
             database::Viewpoint { eye: camera.eye.into(), target: camera.target.into(), occluders: chosen.occluders }
         })
         .collect();
-    Database::new(set, layout, params, directions, views)
+    Database::new(set, layout, (directions, params.size, params.limit), views)
 }

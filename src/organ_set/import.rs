@@ -232,7 +232,7 @@ pub fn import(
         present
     });
     if organs.is_empty() {
-        return Err(Error::Other("no label of the table occurs in the volume".into()));
+        return Err(Error::NoLabels);
     }
     // Extract every surface first; the budget is then shared by surface size.
     let total_steps = organs.len() * 2;

@@ -85,9 +85,6 @@ pub struct OrganSet {
     pub description: String,
     pub sources: Vec<Source>,
     pub organs: Vec<Organ>,
-    /// Pre-computed occluders for the default layout ([`crate::mos`]), when a fresh database lies
-    /// beside the manifest.
-    pub occluders: Option<crate::mos::Database>,
 }
 
 /// An opened set with what went wrong on the way.
@@ -163,8 +160,10 @@ impl OrganSet {
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&o.name, &stand_in.mesh)], w))?;
             }
         }
-        let json = serde_json::to_string_pretty(&self.manifest()).map_err(|e| Error::Other(e.to_string()))?;
-        crate::atomic::write(&dir.join(MANIFEST_FILE), |w| w.write_all(json.as_bytes()))
+        let path = dir.join(MANIFEST_FILE);
+        let json = serde_json::to_string_pretty(&self.manifest())
+            .map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
+        crate::atomic::write(&path, |w| w.write_all(json.as_bytes()))
     }
 }
 
@@ -223,7 +222,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
         let handles: Vec<_> = manifest.organs.iter().map(|entry| s.spawn(|| load_entry(entry, dir, path))).collect();
         handles
             .into_iter()
-            .map(|h| h.join().unwrap_or_else(|_| Err(Error::Other("organ loader panicked".into()))))
+            .map(|h| h.join().unwrap_or_else(|_| Err(Error::LoaderPanicked { path: path.to_path_buf() })))
             .collect()
     });
     for (entry, result) in manifest.organs.iter().zip(results) {
@@ -239,10 +238,6 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
     loaded.set.sources = manifest.sources;
-    match crate::mos::Database::load_for(dir, &loaded.set) {
-        Ok(db) => loaded.set.occluders = db,
-        Err(warning) => loaded.warnings.push(warning),
-    }
     Ok(loaded)
 }
 

@@ -92,8 +92,6 @@ pub fn subdivide(mesh: &Mesh, n: usize) -> Mesh {
 pub fn scale_set(set: &OrganSet, n: usize, progress: super::import::Progress) -> OrganSet {
     let mut out = set.clone();
     out.title = format!("{} (x{})", set.title, n * n);
-    // Pre-computed occluders name leaves of the old hierarchies.
-    out.occluders = None;
     let total = out.organs.len();
     for (i, o) in out.organs.iter_mut().enumerate() {
         progress(i, total, &o.id);

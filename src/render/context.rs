@@ -3,9 +3,7 @@
 
 use crate::error::{Error, Result};
 
-/// What to tell a user who has no GPU adapter at all.
-pub const NO_ADAPTER_HELP: &str = "no GPU adapter found (Vulkan, Metal, DX12 or OpenGL). On a machine without a GPU, \
-install Mesa's software Vulkan driver (lavapipe): on Debian or Ubuntu `apt-get install mesa-vulkan-drivers`";
+pub use crate::error::NO_ADAPTER_HELP;
 
 pub struct GpuContext {
     pub instance: wgpu::Instance,
@@ -33,7 +31,7 @@ impl GpuContext {
                 Err(e) => last_error = e.to_string(),
             }
         }
-        Err(Error::Other(format!("{NO_ADAPTER_HELP} ({last_error})")))
+        Err(Error::NoAdapter { tried: last_error })
     }
 
     fn open(instance: wgpu::Instance, adapter: wgpu::Adapter) -> Result<GpuContext> {
@@ -45,7 +43,7 @@ impl GpuContext {
             required_limits: limits,
             ..Default::default()
         }))
-        .map_err(|e| Error::Other(format!("could not open the GPU device of {}: {e}", adapter.get_info().name)))?;
+        .map_err(|e| Error::Device { adapter: adapter.get_info().name, message: e.to_string() })?;
         Ok(GpuContext { instance, adapter, device, queue })
     }
 

@@ -4,14 +4,32 @@
 //! Spaces: meshes are uploaded in organ space; the vertex shader applies each organ's model matrix
 //! (organ -> world, millimetres RAS) and the camera's view-projection (world -> wgpu clip space,
 //! depth 0..1). Targets are in screen pixels, origin top left.
+//!
+//! [`Renderer`] holds the set on the GPU (`scene`) and one technique per way of drawing a frame,
+//! each its own module with its pipelines and per-frame data, called through one interface
+//! (`frame::Technique`): `blend` (opaque, and sorted or unsorted alpha blending), `screendoor`
+//! (thesis chapter 4), `weighted` (weighted blended OIT), `exact` (the reference), `debug` (the
+//! culling view, thesis Figure 21) and `ids` (picking and leaf visibility). `uniforms` holds the
+//! structs shared with WGSL, `pipelines` what the techniques build them with.
 
+mod blend;
 mod context;
-mod oit;
+mod debug;
+mod exact;
+mod frame;
+mod ids;
+mod pipelines;
 mod renderer;
+mod scene;
+mod screendoor;
 mod target;
+pub mod uniforms;
+mod weighted;
 
 pub use context::{GpuContext, NO_ADAPTER_HELP};
-pub use renderer::{FrameInput, RenderStats, Renderer, SAMPLE_COUNT};
+pub use frame::{FrameInput, RenderStats};
+pub use pipelines::SAMPLE_COUNT;
+pub use renderer::Renderer;
 pub use target::{Target, COLOR_FORMAT};
 
 /// An sRGB colour component (0..1) to linear light.
@@ -32,8 +50,16 @@ pub fn linear_to_srgb(c: f32) -> f32 {
     }
 }
 
-/// The WGSL sources, by file name, for validation and pipeline creation.
-pub const SHADERS: &[(&str, &str)] = &[
-    ("organ.wgsl", include_str!("../../shaders/organ.wgsl")),
-    ("composite.wgsl", include_str!("../../shaders/composite.wgsl")),
-];
+/// A WGSL source by its file name in `shaders/`.
+pub struct Shader {
+    pub name: &'static str,
+    pub source: &'static str,
+}
+
+/// Organ shading, picking, screen-door and weighted sums.
+pub const ORGAN_SHADER: Shader = Shader { name: "organ.wgsl", source: include_str!("../../shaders/organ.wgsl") };
+/// Full-screen passes: accumulation, presentation, the weighted resolve.
+pub const COMPOSITE_SHADER: Shader =
+    Shader { name: "composite.wgsl", source: include_str!("../../shaders/composite.wgsl") };
+/// Every shader, for validation.
+pub const SHADERS: [&Shader; 2] = [&ORGAN_SHADER, &COMPOSITE_SHADER];

@@ -11,6 +11,8 @@ pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth3
 pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 pub struct Target {
+    /// Unique among the process's targets: techniques keep bind groups of the last one drawn into.
+    id: u64,
     pub width: u32,
     pub height: u32,
     pub(crate) msaa_color: wgpu::TextureView,
@@ -48,7 +50,7 @@ impl Target {
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Target> {
         let max = device.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max || height > max {
-            return Err(Error::Other(format!("image size {width}x{height} outside 1..={max} pixels per side")));
+            return Err(Error::ImageSize { width, height, max });
         }
         let make = |label, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
@@ -72,7 +74,9 @@ impl Target {
             | wgpu::TextureUsages::COPY_DST;
         let color = make("target color", COLOR_FORMAT, 1, painted, &[plain]);
         let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC, &[]);
+        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         Ok(Target {
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             width,
             height,
             msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach, &[])),
@@ -85,6 +89,10 @@ impl Target {
             ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
             hdr: std::sync::OnceLock::new(),
         })
+    }
+
+    pub(crate) fn id(&self) -> u64 {
+        self.id
     }
 
     /// The float images, made on first use.
@@ -129,7 +137,7 @@ impl Target {
         let bytes =
             read_texture(device, queue, &self.color, 4, [0, 0], [self.width, self.height], wgpu::TextureAspect::All)?;
         image::RgbaImage::from_raw(self.width, self.height, bytes)
-            .ok_or_else(|| Error::Other("read-back size mismatch".into()))
+            .ok_or_else(|| Error::gpu("read-back", "size mismatch"))
     }
 
     /// Reads the organ-ID buffer back (blocking): organ index + 1 per pixel, 0 for background.
@@ -188,11 +196,9 @@ pub(crate) fn read_texture(
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
     });
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Other(format!("GPU poll: {e}")))?;
-    rx.recv()
-        .map_err(|e| Error::Other(format!("read-back: {e}")))?
-        .map_err(|e| Error::Other(format!("read-back: {e}")))?;
-    let data = buffer.get_mapped_range(..).map_err(|e| Error::Other(format!("read-back: {e}")))?;
+    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::gpu("poll", e))?;
+    rx.recv().map_err(|e| Error::gpu("read-back", e))?.map_err(|e| Error::gpu("read-back", e))?;
+    let data = buffer.get_mapped_range(..).map_err(|e| Error::gpu("read-back", e))?;
     let mut out = Vec::with_capacity((row * h) as usize);
     for r in 0..h as usize {
         out.extend_from_slice(&data[r * padded as usize..r * padded as usize + row as usize]);

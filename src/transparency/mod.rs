@@ -10,11 +10,9 @@
 //! - [`table`]: the tabular pixel mask (§4.3) with neighbourhood error compensation (§4.3.3);
 //!   Mulder's pixel-tree masks are the same splitting in a random order.
 //! - [`white_noise`]: random masks, the usual reference.
-//! - [`experiment`]: stacking masks and counting faulty pixels (thesis Figures 19 and 20).
 //! - [`layout`]: where each logical sub-sample lies in the pixel (MSAA sample and pass jitter).
 //! - [`regions`]: masks regenerated per screen region from the organs present there (§4.3.4).
 
-pub mod experiment;
 pub mod layout;
 pub mod mask;
 pub mod regions;

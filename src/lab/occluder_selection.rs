@@ -4,16 +4,16 @@
 //!
 //! * **PS**, projected size: pixels each candidate covers, occlusion ignored;
 //! * **FH**, first hit: pixels each candidate holds in an exact ID render (the visible ones);
-//! * **MOS**: the minimum occluder set selection of that viewpoint ([`super::select_for_view`]).
+//! * **MOS**: the minimum occluder set selection of that viewpoint ([`crate::mos::select_for_view`]).
 //!
 //! Each prefix of each ranking is handed to the run-time culler
 //! ([`crate::cull::Culler::cull_with`]), so the figures are what the conservative culler really
 //! removes.
 
-use super::{candidates, coverage, select_for_view, Params};
 use crate::camera::Camera;
 use crate::cull::{CullMode, CullSettings, Culler, LeafRef};
 use crate::layout::Layout;
+use crate::mos::{candidates, coverage, select_for_view, Params};
 use crate::organ_set::OrganSet;
 
 /// Occluder counts on the curve by default (the thesis plots up to 512).

@@ -15,19 +15,18 @@
 //! pixel without holding its centre would have an edge in it, one leading to an outline edge
 //! there, so where only one triangle holds the centre they all form one surface in the pixel.
 //!
-//! Where the patch overlaps itself on screen (two triangles hold the pixel's centre: the near wall
-//! of a shell joined round its rim to the far wall) the farthest would bound the pixel by the far
-//! layer, and an outline edge of the far layer would cut the near layer's coverage. Those pixels
-//! (overlapping, or touched by an outline edge next to an overlap) go to the exact test: the
-//! triangles' *fragments* there, joined across edges that touch the pixel, form local components;
-//! one none of whose touching edges leads to a triangle outside it has no border inside the pixel,
-//! and if it also holds the centre the pixel lies wholly inside its image. The pixel is then
-//! covered as deep as that component's farthest fragment (the nearest such component counts).
+//! Where the patch overlaps itself on screen, pixels go to the [`exact`] test.
 //! Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
 
+mod exact;
+mod patch;
+
+use super::rect::PixelRect;
 use super::share::{Phase, Tasks};
 use crate::bvh::NONE;
+use exact::{pixel_depth, sort_by_slot, Fragment, Scratch};
 use glam::{BVec4A, Vec3, Vec4};
+use patch::{Patch, Window, BORDER, CENTRE, SECOND};
 use std::ops::Range;
 
 /// A projected occluder triangle: x, y in culling pixels, z = NDC depth.
@@ -87,96 +86,10 @@ impl Edge {
     }
 }
 
-/// Per pixel of a patch: a triangle holds its centre; two or more do (the patch overlaps itself
-/// there); an outline edge touches it.
-const CENTRE: u8 = 1;
-const SECOND: u8 = 2;
-const BORDER: u8 = 4;
-
-/// The pixels of one patch's bounding rectangle, filled triangle by triangle.
-#[derive(Default)]
-struct Patch {
-    /// The rectangle: where it starts, its width and height (rows lie `stride` apart, three
-    /// more than the width, so four pixels from any column fit).
-    at: Window,
-    w: usize,
-    h: usize,
-    /// Per pixel: the farthest depth of any triangle over it (-inf where none reaches it).
-    far: Vec<f32>,
-    /// Per pixel: [`CENTRE`], [`SECOND`], [`BORDER`].
-    flags: Vec<u8>,
-    /// Per pixel left to the exact test: its place among them (else NONE).
-    slot: Vec<u32>,
-    /// The same pixels as bits, row by row ([`Patch::words`] 64-bit words a row).
-    exact_bits: Vec<u64>,
-}
-
-/// Where a patch's rectangle starts in the image, and how far apart its rows lie.
-#[derive(Clone, Copy, Debug, Default)]
-struct Window {
-    x0: usize,
-    y0: usize,
-    stride: usize,
-}
-
-impl Patch {
-    /// Does the patch overlap itself at a pixel next to (x, y) (patch coordinates)?
-    fn overlaps_near(&self, x: usize, y: usize) -> bool {
-        let (xs, ys) = (x.saturating_sub(1)..=(x + 1).min(self.w - 1), y.saturating_sub(1)..=(y + 1).min(self.h - 1));
-        ys.into_iter().any(|y| self.flags[y * self.at.stride..][xs.clone()].iter().any(|&f| f & SECOND != 0))
-    }
-
-    /// 64-bit words per row of [`Patch::exact_bits`].
-    fn words(&self) -> usize {
-        self.w.div_ceil(64)
-    }
-
-    /// Leaves pixel (x, y) (patch coordinates) to the exact test, as the `slot`-th.
-    fn leave_to_exact(&mut self, x: usize, y: usize, slot: u32) {
-        self.slot[y * self.at.stride + x] = slot;
-        let words = self.words();
-        self.exact_bits[y * words + x / 64] |= 1 << (x % 64);
-    }
-
-    /// Is any pixel of the inclusive rectangle (patch coordinates) left to the exact test?
-    fn any_exact(&self, x0: usize, x1: usize, y0: usize, y1: usize) -> bool {
-        (y0..=y1).any(|y| self.exact_span(y, x0, x1).is_some())
-    }
-
-    /// The first and the last of columns `x0..=x1` of row `y` (patch coordinates) left to the
-    /// exact test, if any is.
-    fn exact_span(&self, y: usize, x0: usize, x1: usize) -> Option<(usize, usize)> {
-        let words = self.words();
-        let row = &self.exact_bits[y * words..(y + 1) * words];
-        // The bits of columns x0..=x1 within word k.
-        let bits = |k: usize| {
-            let (lo, hi) = (x0.max(64 * k) - 64 * k, x1.min(64 * k + 63) - 64 * k);
-            Some(row[k] & (u64::MAX >> (63 - hi)) & (u64::MAX << lo)).filter(|&b| b != 0)
-        };
-        let ks = x0 / 64..=x1 / 64;
-        let first = ks.clone().find_map(|k| bits(k).map(|b| 64 * k + b.trailing_zeros() as usize))?;
-        let last = ks.rev().find_map(|k| bits(k).map(|b| 64 * k + 63 - b.leading_zeros() as usize))?;
-        Some((first, last))
-    }
-
-    fn reset(&mut self, x0: usize, y0: usize, w: usize, h: usize) {
-        (self.at, self.w, self.h) = (Window { x0, y0, stride: w + 3 }, w, h);
-        self.exact_bits.clear();
-        self.exact_bits.resize(self.words() * h, 0);
-        let n = self.at.stride * h;
-        self.far.clear();
-        self.far.resize(n, f32::NEG_INFINITY);
-        self.flags.clear();
-        self.flags.resize(n, 0);
-        self.slot.clear();
-        self.slot.resize(n, NONE);
-    }
-}
-
 /// The raster's patches (largest first) as tasks to share, with each triangle's reach.
 pub(crate) struct Patches {
     raster: OccluderRaster,
-    reach: Vec<Option<[usize; 4]>>,
+    reach: Vec<Option<PixelRect>>,
     /// All triangles, patch by patch ([`OccluderRaster::patches`]), and where each patch lies.
     triangles: Vec<u32>,
     patches: Vec<Range<usize>>,
@@ -242,19 +155,6 @@ fn bytes(m: u32) -> u32 {
 }
 
 /// One triangle over one pixel left to the exact test.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct Fragment {
-    /// The pixel's place among those left to the exact test.
-    slot: u32,
-    triangle: u32,
-    /// Farthest depth of the triangle over the pixel.
-    z: f32,
-    /// The pixel's centre lies inside the triangle.
-    centre: bool,
-    /// Bit k: edge k (corner k to corner k + 1) touches the pixel.
-    edges: u8,
-}
-
 impl OccluderRaster {
     pub fn new(width: usize, height: usize) -> OccluderRaster {
         OccluderRaster { width, height, triangles: Vec::new(), neighbours: Vec::new() }
@@ -270,9 +170,8 @@ impl OccluderRaster {
         self.neighbours.extend(neighbours.iter().map(|n| n.map(|j| if j == NONE { NONE } else { base + j })));
     }
 
-    /// The pixel rectangle (first and last column, first and last row) that triangle `t` may
-    /// touch, if it has area and reaches the image.
-    fn reach(&self, t: &Triangle) -> Option<[usize; 4]> {
+    /// The pixels that triangle `t` may touch, if it has area and reaches the image.
+    fn reach(&self, t: &Triangle) -> Option<PixelRect> {
         let min = t[0].min(t[1]).min(t[2]);
         let max = t[0].max(t[1]).max(t[2]);
         let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
@@ -290,7 +189,7 @@ impl OccluderRaster {
         let span = |lo: f32, hi: f32, n: f32| ((lo - EPS).max(0.0) as usize, (hi + EPS).clamp(0.0, n - 1.0) as usize);
         let (x0, x1) = span(min.x, max.x, w);
         let (y0, y1) = span(min.y, max.y, h);
-        Some([x0, x1, y0, y1])
+        Some(PixelRect { x0, y0, x1, y1 })
     }
 
     /// Visits the pixels of a patch (at `at`) in `t`'s reach (from [`OccluderRaster::reach`]),
@@ -301,7 +200,7 @@ impl OccluderRaster {
         &self,
         at: Window,
         t: &Triangle,
-        [x0, _, y0, y1]: [usize; 4],
+        PixelRect { x0, y0, y1, .. }: PixelRect,
         span: impl Fn(usize) -> Option<(usize, usize)>,
         mut visit: impl FnMut(Lanes),
     ) {
@@ -409,7 +308,7 @@ impl OccluderRaster {
     /// patch is rasterised on its own, so the result does not depend on how).
     pub(crate) fn finish_on(self, phase: &Phase<Patches>) -> OccluderMaps {
         let (w, h) = (self.width, self.height);
-        let reach: Vec<Option<[usize; 4]>> = self.triangles.iter().map(|t| self.reach(t)).collect();
+        let reach: Vec<Option<PixelRect>> = self.triangles.iter().map(|t| self.reach(t)).collect();
         let (triangles, patches) = self.patches();
         let done = phase.run(Patches { raster: self, reach, triangles, patches });
         done.into_iter().map(|r| r.maps).reduce(OccluderMaps::merge).unwrap_or_else(|| OccluderMaps::empty(w, h))
@@ -417,14 +316,12 @@ impl OccluderRaster {
 
     /// Adds the coverage and depth of one patch's pixels to `r`'s maps (`reach`: per triangle, from
     /// [`OccluderRaster::reach`]).
-    fn rasterise(&self, r: &mut Rasterising, tris: &[u32], reach: &[Option<[usize; 4]>]) {
+    fn rasterise(&self, r: &mut Rasterising, tris: &[u32], reach: &[Option<PixelRect>]) {
         let w = self.width;
         let Rasterising { maps, patch, exact, fragments, spare, scratch } = r;
-        let Some([x0, x1, y0, y1]) = tris
-            .iter()
-            .filter_map(|&t| reach[t as usize])
-            .reduce(|a, b| [a[0].min(b[0]), a[1].max(b[1]), a[2].min(b[2]), a[3].max(b[3])])
-        else {
+        let Some(PixelRect { x0, y0, x1, y1 }) = tris.iter().filter_map(|&t| reach[t as usize]).reduce(|a, b| {
+            PixelRect { x0: a.x0.min(b.x0), y0: a.y0.min(b.y0), x1: a.x1.max(b.x1), y1: a.y1.max(b.y1) }
+        }) else {
             return;
         };
         patch.reset(x0, y0, x1 - x0 + 1, y1 - y0 + 1);
@@ -458,11 +355,11 @@ impl OccluderRaster {
     /// and its flags. Where one triangle holds the centre and no outline edge touches the pixel,
     /// the patch's triangles there form a single component with no border in the pixel (one not
     /// holding the centre would have a border): the pixel is covered, as deep as the farthest.
-    fn fill(&self, patch: &mut Patch, tris: &[u32], reach: &[Option<[usize; 4]>]) {
+    fn fill(&self, patch: &mut Patch, tris: &[u32], reach: &[Option<PixelRect>]) {
         for &t in tris {
             let Some(rect) = reach[t as usize] else { continue };
             let outline = self.neighbours[t as usize].map(|n| n == NONE);
-            let all = |_| Some((rect[0], rect[1]));
+            let all = |_| Some((rect.x0, rect.x1));
             self.lanes(patch.at, &self.triangles[t as usize], rect, all, |l| {
                 let border = (0..3).filter(|&k| outline[k]).fold(BVec4A::FALSE, |m, k| m | l.edges[k]);
                 let far = &mut patch.far[l.i..l.i + 4];
@@ -482,13 +379,13 @@ impl OccluderRaster {
     /// The second pass, over the triangles that reach pixels left to the exact test (where the
     /// patch overlaps itself, or an outline edge passes): their fragments there, triangle by
     /// triangle (in the order of `tris`).
-    fn exact_fragments(&self, patch: &Patch, tris: &[u32], reach: &[Option<[usize; 4]>], out: &mut Vec<Fragment>) {
+    fn exact_fragments(&self, patch: &Patch, tris: &[u32], reach: &[Option<PixelRect>], out: &mut Vec<Fragment>) {
         out.clear();
         for &t in tris {
             let tri = &self.triangles[t as usize];
-            let Some(rect @ [x0, x1, y0, y1]) = reach[t as usize] else { continue };
+            let Some(rect @ PixelRect { x0, y0, x1, y1 }) = reach[t as usize] else { continue };
             let at = patch.at;
-            if !patch.any_exact(x0 - at.x0, x1 - at.x0, y0 - at.y0, y1 - at.y0) {
+            if !patch.any_exact(PixelRect { x0: x0 - at.x0, y0: y0 - at.y0, x1: x1 - at.x0, y1: y1 - at.y0 }) {
                 continue;
             }
             // Only the fours that hold such pixels.
@@ -531,124 +428,6 @@ impl OccluderMaps {
         self.covered[i] = 1;
         self.depth[i] = self.depth[i].min(z);
     }
-}
-
-/// Sorts `fragments` by their slot (below `slots`), in place and stably (a counting sort through
-/// `spare`): those of one pixel stay in the order of their triangles.
-fn sort_by_slot(fragments: &mut Vec<Fragment>, slots: usize, spare: &mut Vec<Fragment>) {
-    // Per slot, where its fragments start.
-    let mut start = vec![0u32; slots + 1];
-    for f in fragments.iter() {
-        start[f.slot as usize + 1] += 1;
-    }
-    for i in 1..=slots {
-        start[i] += start[i - 1];
-    }
-    spare.clear();
-    spare.resize(fragments.len(), Fragment { slot: 0, triangle: 0, z: 0.0, centre: false, edges: 0 });
-    for f in fragments.iter() {
-        let at = &mut start[f.slot as usize];
-        spare[*at as usize] = *f;
-        *at += 1;
-    }
-    std::mem::swap(fragments, spare);
-}
-
-/// Working space of [`pixel_depth`], kept from pixel to pixel.
-#[derive(Default)]
-struct Scratch {
-    /// The pixel's fragments that have an edge in it (by triangle, as the pixel's fragments are).
-    edged: Vec<Fragment>,
-}
-
-/// Most fragments with an edge in one pixel whose components are told apart (as bit sets).
-const MAX_EDGED: usize = 64;
-
-/// The depth bound of a pixel from its fragments (sorted by triangle), if they cover it.
-fn pixel_depth(here: &[Fragment], neighbours: &[[u32; 3]], s: &mut Scratch) -> Option<f32> {
-    // A fragment with no edge in the pixel that holds the centre covers it alone. (Were it joined
-    // to others, they would only make its component's depth farther.)
-    let mut best = f32::INFINITY;
-    let mut centre = false;
-    s.edged.clear();
-    for f in here {
-        if f.edges == 0 {
-            if f.centre {
-                best = best.min(f.z);
-            }
-        } else {
-            s.edged.push(*f);
-            centre |= f.centre;
-        }
-    }
-    let found = |best: f32| (best < f32::INFINITY).then_some(best);
-    if !centre {
-        return found(best);
-    }
-    // The others form components across their touching edges; one whose edge leads to a fragment
-    // not among them (or to none) has a border. Fragments i and j joined: bit j of `joined[i]`.
-    let edged = &s.edged[..];
-    let m = edged.len();
-    // The fragment of a triangle among them (they are few: a short scan beats a binary search);
-    // NONE matches none.
-    let position = |t: u32| match m {
-        0..=16 => edged.iter().position(|g| g.triangle == t),
-        _ => edged.binary_search_by_key(&t, |g| g.triangle).ok(),
-    };
-    if m > MAX_EDGED {
-        // Too many to tell apart (degenerate input): taken as one component, which can only
-        // make the pixel farther, or uncovered.
-        let border = edged
-            .iter()
-            .any(|f| (0..3).any(|k| f.edges & (1 << k) != 0 && position(neighbours[f.triangle as usize][k]).is_none()));
-        return found(if border { best } else { best.min(edged.iter().map(|f| f.z).fold(f32::MIN, f32::max)) });
-    }
-    let mut joined = [0u64; MAX_EDGED];
-    let (mut border, mut centres) = (0u64, 0u64);
-    for (i, f) in edged.iter().enumerate() {
-        joined[i] |= 1 << i;
-        centres |= u64::from(f.centre) << i;
-        let mut edges = f.edges;
-        while edges != 0 {
-            let k = edges.trailing_zeros() as usize;
-            edges &= edges - 1;
-            match position(neighbours[f.triangle as usize][k]) {
-                Some(j) => {
-                    joined[i] |= 1 << j;
-                    joined[j] |= 1 << i;
-                }
-                None => border |= 1 << i,
-            }
-        }
-    }
-    // Components one by one: grown from their lowest fragment until closed.
-    let mut left = if m == 64 { u64::MAX } else { (1u64 << m) - 1 };
-    while left != 0 {
-        let mut component = left & left.wrapping_neg();
-        loop {
-            let grown = bits(component).fold(component, |c, j| c | joined[j]);
-            if grown == component {
-                break;
-            }
-            component = grown;
-        }
-        left &= !component;
-        if component & border == 0 && component & centres != 0 {
-            best = best.min(bits(component).map(|j| edged[j].z).fold(f32::MIN, f32::max));
-        }
-    }
-    found(best)
-}
-
-/// The positions of the set bits of `b`, lowest first.
-fn bits(mut b: u64) -> impl Iterator<Item = usize> {
-    std::iter::from_fn(move || {
-        (b != 0).then(|| {
-            let j = b.trailing_zeros() as usize;
-            b &= b - 1;
-            j
-        })
-    })
 }
 
 #[cfg(test)]
@@ -821,7 +600,7 @@ mod tests {
                 let (mut y0, mut y1) = (rng.next_u64() as usize % 4, rng.next_u64() as usize % 4);
                 (x0, x1, y0, y1) = (x0.min(x1), x0.max(x1), y0.min(y1), y0.max(y1));
                 let brute = (y0..=y1).any(|y| (x0..=x1).any(|x| set[y * w + x]));
-                assert_eq!(patch.any_exact(x0, x1, y0, y1), brute, "{w} wide: {x0}..={x1} x {y0}..={y1}");
+                assert_eq!(patch.any_exact(PixelRect { x0, y0, x1, y1 }), brute, "{w} wide: {x0}..={x1} x {y0}..={y1}");
                 let row: Vec<usize> = (x0..=x1).filter(|&x| set[y0 * w + x]).collect();
                 let span = row.first().zip(row.last()).map(|(&a, &b)| (a, b));
                 assert_eq!(patch.exact_span(y0, x0, x1), span, "{w} wide: {x0}..={x1} in row {y0}");
@@ -842,15 +621,5 @@ mod tests {
         let (triangles, patches) = raster.patches();
         let groups: Vec<&[u32]> = patches.into_iter().map(|p| &triangles[p]).collect();
         assert_eq!(groups, [&[0, 1, 4][..], &[3, 5], &[2]]);
-    }
-
-    #[test]
-    fn fragments_sorted_by_slot_keep_their_order_within_one() {
-        let fragment = |slot, triangle| Fragment { slot, triangle, z: 0.0, centre: false, edges: 0 };
-        let mut fragments: Vec<Fragment> =
-            [(2, 1), (0, 1), (2, 3), (1, 4), (0, 5), (2, 6)].into_iter().map(|(s, t)| fragment(s, t)).collect();
-        sort_by_slot(&mut fragments, 3, &mut Vec::new());
-        let order: Vec<(u32, u32)> = fragments.iter().map(|f| (f.slot, f.triangle)).collect();
-        assert_eq!(order, [(0, 1), (0, 5), (1, 4), (2, 1), (2, 3), (2, 6)]);
     }
 }

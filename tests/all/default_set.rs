@@ -1,18 +1,9 @@
 //! The default organ set (organs/brain): real anatomy, enough organs and triangles, and one shared
 //! space (millimetres, RAS): cortex inside the skull, skull inside the scalp.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
-
+use crate::common::default_set;
 use glam::Vec3;
 use vbrain::mesh::Mesh;
-use vbrain::organ_set::{self, OrganSet};
-
-fn default_set() -> OrganSet {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain");
-    let loaded = organ_set::open(&path).unwrap();
-    assert!(loaded.errors.is_empty(), "{:?}", loaded.errors);
-    loaded.set
-}
 
 /// Does the ray from `origin` along `dir` cross triangle `t` (its three indices), on either side?
 fn crosses(mesh: &Mesh, t: &[u32], origin: Vec3, dir: Vec3) -> bool {

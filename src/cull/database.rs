@@ -1,12 +1,13 @@
 //! The occluder database: per grid viewpoint (eye in world space), its minimum-occluder-set
-//! occluders; stored beside the set as `occluders.json` (versioned JSON, written atomically). It
+//! occluders (thesis §3.2, made by [`crate::mos`]); stored beside the set as `occluders.json`
+//! (versioned JSON, written atomically) and owned at run time by the [`super::Culler`]. It
 //! names the set's content and the layout it was computed for by fingerprints: a database whose set
 //! changed is stale and ignored; one whose layout differs from the current one is not used (the
 //! culler falls back to projected size), nor is it for a camera far from every viewpoint.
 
-use super::Params;
+use super::LeafRef;
 use crate::camera::Camera;
-use crate::cull::LeafRef;
+pub use crate::error::DbProblem;
 use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -90,11 +91,12 @@ pub fn layout_fingerprint(layout: &Layout) -> String {
 }
 
 impl Database {
+    /// A database for `set` in `layout`, made on a grid of `directions` with images of `size`
+    /// pixels and at most `limit` occluders per viewpoint.
     pub fn new(
         set: &OrganSet,
         layout: &Layout,
-        params: &Params,
-        directions: usize,
+        (directions, size, limit): (usize, usize, usize),
         viewpoints: Vec<Viewpoint>,
     ) -> Self {
         Database {
@@ -102,8 +104,8 @@ impl Database {
             set: set_fingerprint(set),
             layout: layout_fingerprint(layout),
             directions,
-            size: params.size,
-            limit: params.limit,
+            size,
+            limit,
             viewpoints,
         }
     }
@@ -136,36 +138,42 @@ impl Database {
 
     /// Writes `occluders.json` into the set's folder, atomically.
     pub fn save(&self, dir: &Path) -> Result<()> {
-        let json = serde_json::to_string(self).map_err(|e| Error::Other(e.to_string()))?;
-        crate::atomic::write(&dir.join(FILE), |w| w.write_all(json.as_bytes()))
+        let path = dir.join(FILE);
+        let json =
+            serde_json::to_string(self).map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
+        crate::atomic::write(&path, |w| w.write_all(json.as_bytes()))
     }
 
-    /// The database beside a set, if there is one and it fits the set. `Ok(None)`: no file. `Err`:
-    /// a message saying why the file there is not used (unreadable, another version, stale).
-    pub fn load_for(dir: &Path, set: &OrganSet) -> std::result::Result<Option<Database>, String> {
+    /// The database beside a set opened from `opened` (its folder or its manifest), if there is one
+    /// and it fits the set. `Ok(None)`: no file there (or a set opened from mesh files). `Err`: why
+    /// the file there is not used (unreadable, another version, stale); culling then chooses
+    /// occluders by projected size only.
+    pub fn load_for(opened: &Path, set: &OrganSet) -> Result<Option<Database>> {
+        let manifest = crate::organ_set::MANIFEST_FILE;
+        let dir = if opened.is_dir() && opened.join(manifest).is_file() {
+            opened
+        } else if opened.file_name().is_some_and(|n| n == manifest) {
+            opened.parent().unwrap_or(Path::new("."))
+        } else {
+            return Ok(None);
+        };
         let path = dir.join(FILE);
+        let unusable = |problem| Error::OccluderDb { path: path.clone(), problem };
         let text = match std::fs::read(&path) {
             Ok(t) => t,
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(format!("{}: {e}; occluders by projected size only", path.display())),
+            Err(e) => return Err(Error::io(&path, e)),
         };
-        let db: Database = serde_json::from_slice(&text)
-            .map_err(|e| format!("{}:{}: {e}; occluders by projected size only", path.display(), e.line()))?;
+        let db: Database =
+            serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
         if db.version != VERSION {
-            return Err(format!(
-                "{}: version {} (this vbrain reads {VERSION}); run `vbrain occluders` again",
-                path.display(),
-                db.version
-            ));
+            return Err(unusable(DbProblem::Version { found: db.version, reads: VERSION }));
         }
         if db.set != set_fingerprint(set) {
-            return Err(format!(
-                "{}: stale (the organs changed since it was made); run `vbrain occluders` again",
-                path.display()
-            ));
+            return Err(unusable(DbProblem::Stale));
         }
         if !db.viewpoints.iter().flat_map(|v| &v.occluders).all(|r| r.exists_in(set)) {
-            return Err(format!("{}: names leaves the set does not have", path.display()));
+            return Err(unusable(DbProblem::UnknownLeaves));
         }
         Ok(Some(db))
     }

@@ -5,7 +5,7 @@
 //! A 20 x 20 grid of blocks, each `SIZE / 20` wide, separated by streets along every block
 //! boundary; one building per block (a few blocks are left open as squares), its facades divided into
 //! storeys and bays. Blocks are grouped into 5 x 5 districts of 4 x 4 blocks, one organ each, plus
-//! the ground. The walkthrough routes of [`crate::bench::Route`] run along streets, whose centre
+//! the ground. The walkthrough routes of [`super::bench::Route`] run along streets, whose centre
 //! lines lie at multiples of 1/20 of the extent.
 
 use crate::mesh::Mesh;
@@ -72,7 +72,6 @@ pub fn generate(seed: u64) -> OrganSet {
             attribution: "generated procedurally; no external data".into(),
         }],
         organs,
-        occluders: None,
     }
 }
 

@@ -1,20 +1,14 @@
-#![allow(clippy::unwrap_used, clippy::expect_used)]
 //! Screen-door transparency on rendered images (lavapipe in CI): the image does not depend on the
 //! order organs are drawn in, and a transparent organ shows only its outermost layer.
 
-mod common;
-
-use common::cube;
+use crate::common::{cube, default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::Camera;
 use vbrain::layout::Layout;
-use vbrain::organ_set::{self, Organ, OrganSet};
+use vbrain::organ_set::{Organ, OrganSet};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::rng::XorShift;
 use vbrain::transparency::{TransparencyMode, TransparencySettings};
-
-fn gpu() -> GpuContext {
-    GpuContext::headless().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
-}
 
 fn render(
     gpu: &GpuContext,
@@ -37,28 +31,22 @@ fn render(
     target.read_color(&gpu.device, &gpu.queue).unwrap()
 }
 
-fn shuffled(n: usize, seed: u64) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..n).collect();
-    vbrain::rng::XorShift::seeded(seed).shuffle(&mut order);
-    order
-}
-
 #[test]
 fn screendoor_does_not_depend_on_draw_order() {
     let gpu = gpu();
-    let set = organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set;
-    let renderer = Renderer::new(&gpu.device, &set).unwrap();
-    let mut layout = Layout::new(&set);
+    let set = default_set();
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
     for (i, s) in layout.organs.iter_mut().enumerate() {
         s.opacity = [0.3, 0.5, 0.7, 1.0, 0.45][i % 5];
     }
-    let camera = Camera::orbit(&layout.bounds(&set), 35.0, 10.0);
+    let camera = Camera::orbit(&layout.bounds(set), 35.0, 10.0);
     let n = set.organs.len();
-    let base = render(&gpu, &renderer, &set, &layout, &camera, TransparencyMode::Screendoor, None);
+    let base = render(gpu, &renderer, set, &layout, &camera, TransparencyMode::Screendoor, None);
     assert!(base.pixels().filter(|p| p[0] > 20).count() > 1000, "the brain is not in the picture");
     for seed in 1..4 {
-        let order = shuffled(n, seed);
-        let img = render(&gpu, &renderer, &set, &layout, &camera, TransparencyMode::Screendoor, Some(&order));
+        let order = XorShift::permutation(n, seed);
+        let img = render(gpu, &renderer, set, &layout, &camera, TransparencyMode::Screendoor, Some(&order));
         let diff = base.pixels().zip(img.pixels()).filter(|(a, b)| a != b).count();
         if diff > 0 {
             base.save(std::env::temp_dir().join("screendoor-order-base.png")).unwrap();
@@ -69,8 +57,8 @@ fn screendoor_does_not_depend_on_draw_order() {
     // The check can fail: blending without sorting does depend on the order.
     let unsorted: Vec<_> = (1..4)
         .map(|seed| {
-            let order = shuffled(n, seed);
-            render(&gpu, &renderer, &set, &layout, &camera, TransparencyMode::AlphaUnsorted, Some(&order))
+            let order = XorShift::permutation(n, seed);
+            render(gpu, &renderer, set, &layout, &camera, TransparencyMode::AlphaUnsorted, Some(&order))
         })
         .collect();
     assert!(unsorted.windows(2).any(|w| w[0] != w[1]), "alpha-unsorted gave the same image in every order");
@@ -107,7 +95,7 @@ fn screendoor_shows_only_the_outermost_layer() {
         let mut layout = Layout::new(&set);
         layout.organs[0].opacity = 0.5;
         let camera = Camera::orbit(&scene(false).bounds(), 20.0, 15.0);
-        render(&gpu, &renderer, &set, &layout, &camera, mode, None)
+        render(gpu, &renderer, &set, &layout, &camera, mode, None)
     };
     let differing = |mode| {
         let (a, b) = (image(false, mode), image(true, mode));

@@ -6,8 +6,8 @@
 //! sub-samples it keeps. (Without the rounding every level would show up to half a pixel of error
 //! that no mask could remove.)
 
-use super::{generate, Mask, MaskMethod};
 use crate::rng::XorShift;
+use crate::transparency::{generate, Mask, MaskMethod};
 
 #[derive(Clone, Debug)]
 pub struct Experiment {

@@ -5,6 +5,7 @@
 //! leaves exact visibility could cull, and how many of those the culler culled.
 
 use crate::camera::Camera;
+use crate::cull::database::Database;
 use crate::cull::{CullMode, CullSettings, Culler, DrawList};
 use crate::error::{Error, Result};
 use crate::layout::Layout;
@@ -38,7 +39,7 @@ pub fn orbit_camera(home: &crate::mesh::Bounds, i: usize, n: usize) -> Camera {
 }
 
 /// The camera path of a run: the orbit of the Virtual Brain run, or one of the thesis's three
-/// walkthrough routes (§5.1.1.2) for a city on a street grid at 1/20 of its extent ([`crate::city`]),
+/// walkthrough routes (§5.1.1.2) for a city on a street grid at 1/20 of its extent ([`super::city`]),
 /// at 5 m above the ground in a 2 km city.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
@@ -99,19 +100,29 @@ impl Route {
     }
 }
 
+/// What one benchmark run measures.
+#[derive(Clone, Debug)]
+pub struct Run<'a> {
+    /// Image size, pixels.
+    pub size: [u32; 2],
+    pub frames: usize,
+    /// The culling modes compared, each over the same frames.
+    pub modes: &'a [CullMode],
+    pub settings: CullSettings,
+    pub route: Route,
+    /// The set's pre-computed occluders, for the modes' cullers.
+    pub database: Option<&'a Database>,
+}
+
 /// Runs the benchmark; `progress(done, total)` hears of every frame.
-#[allow(clippy::too_many_arguments)]
 pub fn run(
     gpu: &GpuContext,
     set: &OrganSet,
     layout: &Layout,
-    size: [u32; 2],
-    frames: usize,
-    modes: &[CullMode],
-    settings: &CullSettings,
-    route: Route,
+    run: &Run,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<FrameRecord>> {
+    let Run { size, frames, modes, ref settings, route, database } = *run;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size[0], size[1])?;
     let home = layout.bounds(set);
@@ -124,7 +135,7 @@ pub fn run(
             Some(first)
         })
         .collect();
-    let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Other(format!("GPU: {e}")));
+    let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::gpu("poll", e));
     // Exact visibility per frame, shared by all modes.
     let mut hidden: Vec<Vec<bool>> = Vec::with_capacity(frames);
     let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
@@ -146,7 +157,7 @@ pub fn run(
     for (m, &mode) in modes.iter().enumerate() {
         let settings = CullSettings { mode, ..*settings };
         // Each mode culls its frames in turn, as a viewer would.
-        let mut culler = Culler::default();
+        let mut culler = Culler::new(database.cloned());
         // One frame: cull, draw, wait for the GPU.
         let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = route.camera(&home, i, frames);

@@ -2,16 +2,13 @@
 //! loads back beside the set, is ignored once the set changes, is used while the layout is the
 //! pre-processed one and not after an organ moves, and never lets a faded organ occlude.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
-
-mod common;
-
-use common::cube;
+use crate::common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
-use vbrain::cull::{choose_occluders, cull, CullSettings, OccluderSource, Selection};
+use vbrain::cull::database::{self, Database, DbProblem};
+use vbrain::cull::{choose_occluders, CullSettings, Culler, OccluderSource, Selection};
 use vbrain::layout::Layout;
-use vbrain::mos::{self, database, Params};
+use vbrain::mos::{self, Params};
 use vbrain::organ_set::{self, Organ, OrganSet};
 
 /// A wall in front of a row of boxes, seen from the front: the wall hides the boxes.
@@ -44,57 +41,58 @@ fn the_database_round_trips_and_goes_stale() {
     db.save(&dir).unwrap();
     let loaded = organ_set::open(&dir).unwrap();
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
-    assert_eq!(loaded.set.occluders.as_ref(), Some(&db));
+    assert_eq!(Database::load_for(&dir, &loaded.set).unwrap().as_ref(), Some(&db));
+    // Also when the set is opened from its manifest; a set of mesh files has none.
+    let manifest = dir.join(organ_set::MANIFEST_FILE);
+    assert_eq!(Database::load_for(&manifest, &loaded.set).unwrap().as_ref(), Some(&db));
     // The set changes: the database is stale, says so, and is not used.
     let mut changed = loaded.set.clone();
     changed.organs[1].set_mesh(cube(Vec3::ZERO, Vec3::splat(7.0), 6));
-    changed.occluders = None;
     changed.save(&dir).unwrap();
     let reloaded = organ_set::open(&dir).unwrap();
-    assert!(reloaded.set.occluders.is_none());
-    assert!(
-        reloaded.warnings.iter().any(|w| w.contains("stale") && w.contains(database::FILE)),
-        "{:?}",
-        reloaded.warnings
-    );
+    match Database::load_for(&dir, &reloaded.set) {
+        Err(e @ vbrain::Error::OccluderDb { problem: DbProblem::Stale, .. }) => {
+            assert!(e.to_string().contains(database::FILE), "{e}")
+        }
+        other => panic!("a stale database: {other:?}"),
+    }
     // A broken file names itself and its line.
     std::fs::write(dir.join(database::FILE), "{\n  \"version\": oops\n}").unwrap();
-    let broken = organ_set::open(&dir).unwrap();
-    assert!(broken.set.occluders.is_none());
-    assert!(broken.warnings.iter().any(|w| w.contains(&format!("{}:2", database::FILE))), "{:?}", broken.warnings);
+    let broken = Database::load_for(&dir, &reloaded.set).unwrap_err().to_string();
+    assert!(broken.contains(&format!("{}:2", database::FILE)), "{broken}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
-    let mut set = wall_and_boxes();
+    let set = wall_and_boxes();
     let layout = Layout::new(&set);
-    set.occluders = Some(mos::preprocess(&set, &layout, 32, &Params::default(), &|_, _| {}));
+    let db = mos::preprocess(&set, &layout, 32, &Params::default(), &|_, _| {});
     let home = layout.bounds(&set);
     // From the front (anterior, +y), looking through the wall at the boxes.
     let camera = Camera::orbit(&home, 0.0, 0.0);
     let vp = camera.view_projection(1.0);
     let auto = CullSettings::default();
-    let (list, source) = choose_occluders(&set, &layout, &camera, &vp, &auto);
+    let (list, source) = choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db));
     assert_eq!(source, OccluderSource::Mos);
     assert!(list.iter().any(|r| r.organ == 0), "the wall is not among the pre-computed occluders: {list:?}");
-    let (_, stats) = cull(&set, &layout, &camera, 1.0, &auto);
+    let (_, stats) = Culler::new(Some(db.clone())).cull(&set, &layout, &camera, 1.0, &auto);
     assert_eq!(stats.source, Some(OccluderSource::Mos));
     assert!(stats.occlusion_culled > 0, "the wall culled nothing");
     // An organ moves: projected size again, unless the database is forced.
     let mut moved = layout.clone();
     moved.organs[3].transform.translation = Vec3::new(0.0, 0.0, 5.0);
-    assert_eq!(choose_occluders(&set, &moved, &camera, &vp, &auto).1, OccluderSource::ProjectedSize);
+    assert_eq!(choose_occluders(&set, &moved, &camera, &vp, &auto, Some(&db)).1, OccluderSource::ProjectedSize);
     let forced = CullSettings { selection: Selection::Mos, ..auto };
-    assert_eq!(choose_occluders(&set, &moved, &camera, &vp, &forced).1, OccluderSource::Mos);
+    assert_eq!(choose_occluders(&set, &moved, &camera, &vp, &forced, Some(&db)).1, OccluderSource::Mos);
     // Far from every viewpoint (inside the set, looking sideways): projected size.
     let inside = Camera { eye: home.center(), target: home.center() + Vec3::X, ..camera };
-    assert_eq!(choose_occluders(&set, &layout, &inside, &vp, &auto).1, OccluderSource::ProjectedSize);
+    assert_eq!(choose_occluders(&set, &layout, &inside, &vp, &auto, Some(&db)).1, OccluderSource::ProjectedSize);
     let ps = CullSettings { selection: Selection::ProjectedSize, ..auto };
-    assert_eq!(choose_occluders(&set, &layout, &camera, &vp, &ps).1, OccluderSource::ProjectedSize);
+    assert_eq!(choose_occluders(&set, &layout, &camera, &vp, &ps, Some(&db)).1, OccluderSource::ProjectedSize);
     // A faded wall never occludes, even when the database is forced.
     let mut faded = layout.clone();
     faded.organs[0].opacity = 0.5;
-    let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced);
+    let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db));
     assert!(list.iter().all(|r| r.organ != 0));
 }

@@ -2,21 +2,12 @@
 //! fading organs changes the image, the ID buffer names the organ under a pixel, model transforms
 //! move organs. With no adapter the test fails and says what to install.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
-
+use crate::common::{default_database, default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::{Camera, View};
 use vbrain::layout::Layout;
-use vbrain::organ_set::{self, OrganSet};
+use vbrain::organ_set::OrganSet;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
-
-fn gpu() -> GpuContext {
-    GpuContext::headless().unwrap_or_else(|e| panic!("GPU tests need an adapter: {e}"))
-}
-
-fn default_set() -> OrganSet {
-    organ_set::open(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain")).unwrap().set
-}
 
 struct Shot {
     image: image::RgbaImage,
@@ -50,10 +41,10 @@ fn count(ids: &[u32], organ: usize) -> usize {
 fn default_brain_hide_fade_pick_move() {
     let gpu = gpu();
     let set = default_set();
-    let renderer = Renderer::new(&gpu.device, &set).unwrap();
-    let layout = Layout::new(&set);
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let layout = Layout::new(set);
     let dark = [0.0, 0.0, 0.0, 1.0];
-    let base = shoot(&gpu, &renderer, &set, &layout, View::Left, dark);
+    let base = shoot(gpu, &renderer, set, &layout, View::Left, dark);
     let lit = base.image.pixels().filter(|p| p[0] > 10 || p[1] > 10 || p[2] > 10).count();
     let total = (base.image.width() * base.image.height()) as usize;
     assert!(lit > total / 5, "only {lit} of {total} pixels show the brain");
@@ -66,7 +57,7 @@ fn default_brain_hide_fade_pick_move() {
     assert!(count(&base.ids, frontal) > 300);
     let mut hidden = layout.clone();
     hidden.organs[frontal].visible = false;
-    let shot = shoot(&gpu, &renderer, &set, &hidden, View::Left, dark);
+    let shot = shoot(gpu, &renderer, set, &hidden, View::Left, dark);
     assert_eq!(count(&shot.ids, frontal), 0);
     assert_ne!(shot.image, base.image);
     let white = set.find("white_matter_l").unwrap();
@@ -75,7 +66,7 @@ fn default_brain_hide_fade_pick_move() {
     // Faded to 0.2 it is still drawn (blended) but no longer picked, and the colour changes.
     let mut faded = layout.clone();
     faded.organs[frontal].opacity = 0.2;
-    let shot = shoot(&gpu, &renderer, &set, &faded, View::Left, dark);
+    let shot = shoot(gpu, &renderer, set, &faded, View::Left, dark);
     assert_eq!(count(&shot.ids, frontal), 0);
     let i = base.ids.iter().position(|&id| id == frontal as u32 + 1).unwrap();
     let (x, y) = ((i % 160) as u32, (i / 160) as u32);
@@ -96,8 +87,8 @@ fn default_brain_hide_fade_pick_move() {
     }
     let mut still = moved.clone();
     still.organs[stem].transform.translation = Vec3::ZERO;
-    let up = shoot(&gpu, &renderer, &set, &moved, View::Anterior, dark);
-    let down = shoot(&gpu, &renderer, &set, &still, View::Anterior, dark);
+    let up = shoot(gpu, &renderer, set, &moved, View::Anterior, dark);
+    let down = shoot(gpu, &renderer, set, &still, View::Anterior, dark);
     assert!(mean_row(&up.ids) + 10.0 < mean_row(&down.ids), "{} vs {}", mean_row(&up.ids), mean_row(&down.ids));
 }
 
@@ -105,41 +96,39 @@ fn default_brain_hide_fade_pick_move() {
 fn transparent_background_and_empty_scene() {
     let gpu = gpu();
     let set = default_set();
-    let renderer = Renderer::new(&gpu.device, &set).unwrap();
-    let mut layout = Layout::new(&set);
-    let shot = shoot(&gpu, &renderer, &set, &layout, View::Superior, [0.0; 4]);
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
+    let shot = shoot(gpu, &renderer, set, &layout, View::Superior, [0.0; 4]);
     assert_eq!(shot.image.get_pixel(0, 0)[3], 0, "corner should be transparent");
     assert_eq!(shot.image.get_pixel(80, 64)[3], 255, "centre should be opaque brain");
     layout.organs.iter_mut().for_each(|s| s.visible = false);
-    let empty = shoot(&gpu, &renderer, &set, &layout, View::Superior, [0.0; 4]);
+    let empty = shoot(gpu, &renderer, set, &layout, View::Superior, [0.0; 4]);
     assert!(empty.ids.iter().all(|&i| i == 0));
     assert!(empty.image.pixels().all(|p| p[3] == 0));
 }
 
 #[test]
 fn culling_debug_view_colours_what_was_culled() {
-    use vbrain::cull::{cull, CullMode, CullSettings};
+    use vbrain::cull::{CullMode, CullSettings, Culler};
     let gpu = gpu();
     let set = default_set();
-    let renderer = Renderer::new(&gpu.device, &set).unwrap();
-    let mut layout = Layout::new(&set);
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
     layout.organs[set.find("skull").unwrap()].visible = true;
     let target = Target::new(&gpu.device, 160, 128).unwrap();
-    let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
+    let camera = Camera::orbit(&layout.bounds(set), 30.0, 15.0);
     // Saturated pixels: culled triangles drawn in colour; the grey model has none.
     let coloured = |draw: &vbrain::cull::DrawList| {
-        let frame = FrameInput {
-            draw: Some(draw),
-            background: [0.0, 0.0, 0.0, 1.0],
-            ..FrameInput::new(&set, &camera, &layout)
-        };
-        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &frame);
+        let frame =
+            FrameInput { draw: Some(draw), background: [0.0, 0.0, 0.0, 1.0], ..FrameInput::new(set, &camera, &layout) };
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &frame).unwrap();
         let img = target.read_color(&gpu.device, &gpu.queue).unwrap();
         img.pixels().filter(|p| p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 40).count()
     };
-    let (nothing_culled, _) =
-        cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode: CullMode::None, ..Default::default() });
-    let (occluded, stats) = cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
+    let mut culler = Culler::new(default_database());
+    let none = CullSettings { mode: CullMode::None, ..Default::default() };
+    let (nothing_culled, _) = culler.cull(set, &layout, &camera, target.aspect(), &none);
+    let (occluded, stats) = culler.cull(set, &layout, &camera, target.aspect(), &CullSettings::default());
     assert!(stats.occlusion_culled > 0);
     assert_eq!(coloured(&nothing_culled), 0);
     assert!(coloured(&occluded) > 200, "culled triangles should show in colour");

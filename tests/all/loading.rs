@@ -1,8 +1,6 @@
 //! Loading organ sets and mesh files: quirky valid OBJ loads with the right triangle count; every
 //! malformed input gets an error naming the file (and line), and never a panic.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
-
 use std::path::{Path, PathBuf};
 use vbrain::organ_set::{self, obj};
 

@@ -1,0 +1,375 @@
+//! One frame's occluders (thesis §3.3-3.4): the chosen leaves rasterised into coverage and depth
+//! ([`super::raster`]), the opacity map and sparse depth map over them, and the tests of boxes,
+//! footprints, triangles and points against them. Culling pixels (x right, y down), NDC depth
+//! (larger is farther); rectangles inclusive.
+
+use super::depth_bound::DepthBound;
+use super::opacity_map::OpacityMap;
+use super::project::{first_pixel, last_pixel, project_point, ProjectedVertices};
+use super::raster::{OccluderMaps, OccluderRaster, Patches};
+use super::rect::PixelRect;
+use super::selection::LeafRef;
+use super::share::Phase;
+use super::sparse_depth::SparseDepth;
+use crate::bvh::{Bvh, Part, NONE, PART_TRIANGLES};
+use crate::layout::Layout;
+use crate::mesh::Mesh;
+use crate::organ_set::{Organ, OrganSet};
+use glam::{Mat4, Vec3, Vec3A};
+
+/// A failing part's triangles are tested in groups of this many, each by its footprint first.
+const GROUP_TRIANGLES: usize = 8;
+
+/// What the tests of a part whose box failed found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Verdict {
+    Hidden,
+    /// Not hidden: vertex `i` of the part (its place among the part's vertices) is visible, its
+    /// witness for the next frame.
+    Witnessed(usize),
+    /// Not hidden, and no vertex is seen.
+    Shown,
+}
+
+impl Verdict {
+    /// The vertex to look up first in the next frame ([`witness`]).
+    pub(super) fn witness(self) -> Option<usize> {
+        match self {
+            Verdict::Witnessed(i) => Some(i),
+            _ => None,
+        }
+    }
+}
+
+/// How far from a pixel's border (in pixels) a point must lie to be seen ([`Occluders::shows`]).
+const VISIBLE_MARGIN: f32 = 1e-3;
+
+/// How far in front of the occluder depth (and inside the near and far planes) a point must lie to
+/// be seen ([`Occluders::shows`]), in NDC depth: ten times the depth bounds' own margin.
+const VISIBLE_DEPTH_MARGIN: f32 = 1e-5;
+
+/// How many of a failing part's vertices are looked up where they lie ([`Occluders::shows`]): one
+/// seen ends its tests at once (most parts that fail are visible), and the lookups of a part that
+/// turns out hidden are wasted.
+const LOOKED_UP_VERTICES: usize = 4;
+
+/// The occluder maps and look-up structures of one frame.
+pub struct Occluders {
+    pub maps: OccluderMaps,
+    pub opacity: OpacityMap,
+    pub sparse: SparseDepth,
+    /// For the approximate test: the depth map with uncovered pixels never in the way (-inf), and
+    /// its sparse depth map.
+    pub approximate: Option<(Vec<f32>, SparseDepth)>,
+    pub leaves: usize,
+    /// Triangles rasterised: those of the leaves that face the eye, beyond the near plane.
+    pub triangles: usize,
+}
+
+impl Occluders {
+    /// Tests a box seen as the inclusive pixel rectangle with nearest depth `z`: how many of its
+    /// pixels are covered, and whether it is hidden (wholly covered, or but for `holes` pixels
+    /// with the approximate test, and behind every occluder depth there: behind the farthest over
+    /// the rectangle, or else pixel by pixel behind each, by the box's depth bound `bound`).
+    pub(super) fn test(
+        &self,
+        rect: PixelRect,
+        z: f32,
+        holes: Option<f32>,
+        bound: impl FnOnce() -> DepthBound,
+    ) -> (u32, bool) {
+        let area = rect.area() as u32;
+        let covered = self.opacity.covered(rect);
+        let (overlapped, depth, sparse) = match (holes, &self.approximate) {
+            (Some(t), Some((depth, sparse))) => {
+                (covered + (t.clamp(0.0, 1.0) * area as f32) as u32 >= area, depth, sparse)
+            }
+            _ => (covered >= area, &self.maps.depth, &self.sparse),
+        };
+        let hidden =
+            overlapped && (sparse.all_in_front_of(depth, rect, z) || bound().behind(depth, self.maps.width, rect));
+        (covered, hidden)
+    }
+
+    /// Whether a part of `organ` whose box failed is hidden all the same (tested as above): by its
+    /// footprint, the rectangle of its projected vertices with their nearest depth and the box's
+    /// depth bound `bound`; or else group by group of [`GROUP_TRIANGLES`] consecutive triangles
+    /// (lying together: a part is split like the hierarchy) by the group's footprint, and where
+    /// that fails by each of its triangles on its own, with its own rectangle and depth plane. A
+    /// part reaching before the near plane is not, nor one of whose first [`LOOKED_UP_VERTICES`]
+    /// vertices is seen ([`Occluders::shows`]: none of these tests could then pass). Its vertices
+    /// are projected once. A part not hidden is [`Verdict::Witnessed`] where one of its vertices is
+    /// seen (looked for among the rest only once its tests failed).
+    pub(super) fn part_hidden(
+        &self,
+        organ: &Organ,
+        part: &Part,
+        mvp: &Mat4,
+        holes: Option<f32>,
+        bound: impl Fn() -> DepthBound,
+    ) -> Verdict {
+        let (w, h) = (self.maps.width, self.maps.height);
+        // 16-byte vectors: each is stored and loaded whole.
+        let mut projected = [Vec3A::ZERO; 3 * PART_TRIANGLES];
+        let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+        let vertices = organ.bvh.vertices_of(part);
+        for (i, (at, &v)) in projected.iter_mut().zip(vertices).enumerate() {
+            let Some(p) = project_point(organ.mesh.positions[v as usize], mvp, w, h) else { return Verdict::Shown };
+            // With holes tolerated, a seen point does not keep a part from being culled.
+            if i < LOOKED_UP_VERTICES && holes.is_none() && self.shows(p) {
+                return Verdict::Witnessed(i);
+            }
+            let p = Vec3A::from(p);
+            (*at, lo, hi) = (p, lo.min(p), hi.max(p));
+        }
+        // Off the screen, a footprint draws nothing.
+        let footprint_hidden = |lo: Vec3A, hi: Vec3A| {
+            let (lo, hi) = (Vec3::from(lo), Vec3::from(hi));
+            self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, &bound).1)
+        };
+        if footprint_hidden(lo, hi) {
+            return Verdict::Hidden;
+        }
+        let corners = |t: u32| organ.bvh.corners[t as usize].map(|c| projected[c as usize]);
+        let triangle_hidden = |t: u32| {
+            let tri = corners(t);
+            let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]).into(), tri[0].max(tri[1]).max(tri[2]).into());
+            let tri = tri.map(Vec3::from);
+            self.rect(lo, hi).is_none_or(|rect| self.test(rect, lo.z, holes, || DepthBound::of_triangle(&tri)).1)
+        };
+        let end = part.first + part.count;
+        let hidden = (part.first..end).step_by(GROUP_TRIANGLES).all(|first| {
+            let group = first..(first + GROUP_TRIANGLES as u32).min(end);
+            let (mut lo, mut hi) = (Vec3A::INFINITY, Vec3A::NEG_INFINITY);
+            for p in group.clone().flat_map(corners) {
+                (lo, hi) = (lo.min(p), hi.max(p));
+            }
+            footprint_hidden(lo, hi) || group.into_iter().all(triangle_hidden)
+        });
+        match hidden {
+            true => Verdict::Hidden,
+            false if holes.is_some() => Verdict::Shown,
+            // A witness for the next frame, among the vertices not yet looked up.
+            false => (LOOKED_UP_VERTICES..vertices.len())
+                .find(|&i| self.shows(Vec3::from(projected[i])))
+                .map_or(Verdict::Shown, Verdict::Witnessed),
+        }
+    }
+
+    /// Is vertex `place` of `part` seen ([`Occluders::shows`])? Then the part is not hidden.
+    pub(super) fn shows_vertex(&self, organ: &Organ, part: &Part, place: usize, mvp: &Mat4) -> bool {
+        let (w, h) = (self.maps.width, self.maps.height);
+        let v = organ.bvh.vertices_of(part).get(place);
+        v.and_then(|&v| project_point(organ.mesh.positions[v as usize], mvp, w, h)).is_some_and(|p| self.shows(p))
+    }
+
+    /// Whether point `p` (in pixels, with its NDC depth) is seen where it lies: in a pixel that no
+    /// occluder covers, or in front of the occluder depth there, and inside the frustum, each by a
+    /// margin ([`VISIBLE_MARGIN`] pixels from the pixel's border, [`VISIBLE_DEPTH_MARGIN`] in depth) far
+    /// above the rounding by which a box's or a triangle's projection may miss a point it holds.
+    /// Then no triangle through it, nor box holding it, is outside the frustum or behind the
+    /// occluders over that pixel: its least depth there is at most `p`'s.
+    pub(super) fn shows(&self, p: Vec3) -> bool {
+        // Truncation is the floor for the positive values it is used on.
+        let (x, y) = (p.x as usize, p.y as usize);
+        let clear = |v: f32, floor: usize| (VISIBLE_MARGIN..1.0 - VISIBLE_MARGIN).contains(&(v - floor as f32));
+        p.x > 0.0
+            && p.y > 0.0
+            && x < self.maps.width
+            && y < self.maps.height
+            && clear(p.x, x)
+            && clear(p.y, y)
+            && (VISIBLE_DEPTH_MARGIN..1.0 - VISIBLE_DEPTH_MARGIN).contains(&p.z)
+            && p.z + VISIBLE_DEPTH_MARGIN < self.maps.depth[y * self.maps.width + x]
+    }
+
+    /// The pixel rectangle (rounded outward, clamped) of the screen box `lo..hi` in pixels, or
+    /// `None` where it lies off the screen.
+    fn rect(&self, lo: Vec3, hi: Vec3) -> Option<PixelRect> {
+        let (wf, hf) = (self.maps.width as f32, self.maps.height as f32);
+        (hi.x > 0.0 && hi.y > 0.0 && lo.x < wf && lo.y < hf).then(|| PixelRect {
+            x0: first_pixel(lo.x, wf),
+            y0: first_pixel(lo.y, hf),
+            x1: last_pixel(hi.x, wf),
+            y1: last_pixel(hi.y, hf),
+        })
+    }
+}
+
+/// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
+/// patches) and builds the look-up structures.
+pub(super) fn rasterise_occluders(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &Mat4,
+    list: &[LeafRef],
+    w: usize,
+    h: usize,
+    phase: &Phase<Patches>,
+) -> Occluders {
+    // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
+    let mut chosen: Vec<[Vec<u32>; 2]> = vec![Default::default(); set.organs.len()];
+    for r in list {
+        chosen[r.organ as usize][usize::from(r.stand_in)].push(r.leaf);
+    }
+    let mut raster = OccluderRaster::new(w, h);
+    let mut triangles = 0;
+    for (o, [own, stand_in]) in chosen.iter().enumerate() {
+        let organ = &set.organs[o];
+        let mvp = *view_proj * layout.organs[o].transform.matrix();
+        if !own.is_empty() {
+            triangles += rasterise_organ(&mut raster, &organ.mesh, &organ.bvh, own, &mvp, w, h, 0.0);
+        }
+        if let (Some(s), false) = (&organ.stand_in, stand_in.is_empty()) {
+            // Pushed back a little: a stand-in on the surface must not hide the surface itself.
+            triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
+        }
+    }
+    let maps = raster.finish_on(phase);
+    let opacity = OpacityMap::new(&maps.covered, w, h);
+    let sparse = SparseDepth::new(&maps.depth, w, h);
+    Occluders { maps, opacity, sparse, approximate: None, leaves: list.len(), triangles }
+}
+
+/// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
+const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
+
+/// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
+/// its neighbours among them, pushed back by `bias` in NDC depth; returns how many.
+#[allow(clippy::too_many_arguments)]
+fn rasterise_organ(
+    raster: &mut OccluderRaster,
+    mesh: &Mesh,
+    bvh: &Bvh,
+    leaves: &[u32],
+    mvp: &Mat4,
+    w: usize,
+    h: usize,
+    bias: f32,
+) -> usize {
+    // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in `slot`
+    // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
+    // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
+    let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
+    let chosen = leaves.iter().map(|&l| bvh.leaf_range(l).len() / 3).sum();
+    let mut slot: Vec<u32> = Vec::with_capacity(chosen);
+    let (mut triangles, mut ids) = (Vec::with_capacity(chosen), Vec::with_capacity(chosen));
+    let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
+    for &l in leaves {
+        let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
+        offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
+        for t in node.first..node.first + node.count {
+            let tri = projected.triangle(mesh, t).filter(|[a, b, c]| {
+                // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
+                (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0.0
+            });
+            match tri {
+                Some(tri) => {
+                    slot.push(triangles.len() as u32);
+                    triangles.push(tri.map(|v| v + Vec3::new(0.0, 0.0, bias)));
+                    ids.push(t);
+                }
+                None => slot.push(NONE),
+            }
+        }
+    }
+    let index = |t: u32| -> u32 {
+        let leaf = bvh.leaf_of.get(t as usize).and_then(|&l| offset.get(l as usize)).copied().flatten();
+        leaf.map_or(NONE, |o| slot[o.wrapping_add(t) as usize])
+    };
+    let neighbours: Vec<[u32; 3]> = ids.iter().map(|&t| bvh.neighbours[t as usize].map(index)).collect();
+    raster.add(&triangles, &neighbours);
+    triangles.len()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Camera;
+    use crate::cull::depth_bound::Unprojection;
+    use crate::cull::project::{project_box, ScreenBox};
+    use crate::mesh::Mesh;
+
+    /// Occluders of a `w` x `h` depth map: covered where the depth is finite.
+    fn occluders_of(depth: Vec<f32>, w: usize, h: usize) -> Occluders {
+        let covered: Vec<u8> = depth.iter().map(|d| u8::from(d.is_finite())).collect();
+        Occluders {
+            opacity: OpacityMap::new(&covered, w, h),
+            sparse: SparseDepth::new(&depth, w, h),
+            maps: OccluderMaps { width: w, height: h, covered, depth },
+            approximate: None,
+            leaves: 0,
+            triangles: 0,
+        }
+    }
+
+    #[test]
+    fn a_point_is_seen_where_uncovered_or_in_front() {
+        // A 4 x 2 raster: pixel (1, 0) covered at depth 0.5, the rest uncovered.
+        let (w, h) = (4, 2);
+        let mut depth = vec![f32::INFINITY; w * h];
+        depth[1] = 0.5;
+        let occ = occluders_of(depth, w, h);
+        assert!(occ.shows(Vec3::new(1.5, 0.5, 0.4)), "in front of the occluder");
+        assert!(!occ.shows(Vec3::new(1.5, 0.5, 0.5)), "at its depth");
+        assert!(!occ.shows(Vec3::new(1.5, 0.5, 0.5 - VISIBLE_DEPTH_MARGIN / 2.0)), "within the margin");
+        assert!(!occ.shows(Vec3::new(1.5, 0.5, 0.6)), "behind it");
+        assert!(occ.shows(Vec3::new(2.5, 1.5, 0.9)), "uncovered");
+        assert!(occ.shows(Vec3::new(2.01, 1.99, 0.9)), "uncovered, clear of the border");
+        // On or near a pixel's border, off the raster, or outside the near and far planes, nothing
+        // is said.
+        assert!(!occ.shows(Vec3::new(2.0, 0.5, 0.1)));
+        assert!(!occ.shows(Vec3::new(2.0 + VISIBLE_MARGIN / 2.0, 0.5, 0.1)));
+        assert!(!occ.shows(Vec3::new(0.5, 1.0 - VISIBLE_MARGIN / 2.0, 0.1)));
+        assert!(!occ.shows(Vec3::new(-0.5, 0.5, 0.1)));
+        assert!(!occ.shows(Vec3::new(4.5, 0.5, 0.1)));
+        assert!(!occ.shows(Vec3::new(2.5, 1.5, 1.0)));
+        assert!(!occ.shows(Vec3::new(2.5, 1.5, 0.0)));
+    }
+
+    #[test]
+    fn a_part_is_seen_through_its_witness_only_where_its_tests_fail() {
+        // A cube of 12 triangles (one part) under an occluder covering the whole raster at `wall`
+        // depth, seen from a camera on its axis: its witness is seen exactly when the part is shown.
+        let mut mesh = Mesh {
+            positions: (0..8).map(|i| [(i & 1) as f32, ((i >> 1) & 1) as f32, ((i >> 2) & 1) as f32]).collect(),
+            normals: vec![],
+            indices: vec![
+                0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3,
+                7, 5,
+            ],
+        };
+        mesh.compute_normals();
+        let organ = Organ::new("cube".into(), "Cube".into(), [1.0; 3], mesh);
+        let camera = Camera {
+            eye: Vec3::new(0.5, 0.5, 4.0),
+            target: Vec3::splat(0.5),
+            up: Vec3::Y,
+            fov_y: 45.0,
+            near: 1.0,
+            far: 10.0,
+        };
+        let mvp = camera.view_projection(1.0);
+        let inverse = Unprojection::of(&mvp);
+        let (w, h) = (16, 16);
+        let part = &organ.bvh.parts[0];
+        let near =
+            organ.mesh.positions.iter().filter_map(|&p| project_point(p, &mvp, w, h)).map(|p| p.z).fold(1.0, f32::min);
+        for (wall, hidden) in [(near - 0.01, true), (1.0 - 1e-4, false)] {
+            let occ = occluders_of(vec![wall; w * h], w, h);
+            let ScreenBox::Rect { z, .. } = project_box(&mvp, &part.bounds, w, h) else {
+                panic!("the cube is in view")
+            };
+            let bound = || DepthBound::of_box(&inverse, camera.eye, &part.bounds, Some(&part.slab), z, w, h);
+            let verdict = occ.part_hidden(&organ, part, &mvp, None, bound);
+            let seen: Vec<usize> = (0..8).filter(|&i| occ.shows_vertex(&organ, part, i, &mvp)).collect();
+            match hidden {
+                true => assert!(verdict == Verdict::Hidden && seen.is_empty(), "{verdict:?}, {seen:?}"),
+                false => match verdict {
+                    Verdict::Witnessed(i) => assert!(seen.contains(&i), "witness {i}, seen {seen:?}"),
+                    _ => panic!("a part in front of the wall is {verdict:?}"),
+                },
+            }
+        }
+    }
+}

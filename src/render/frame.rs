@@ -1,0 +1,98 @@
+//! What one frame shows ([`FrameInput`]), what drawing it counted ([`RenderStats`]), and the one
+//! interface through which the renderer calls each drawing technique ([`Technique`]).
+
+use super::scene::GpuScene;
+use super::target::Target;
+use crate::camera::Camera;
+use crate::cull::DrawList;
+use crate::error::Result;
+use crate::layout::Layout;
+use crate::organ_set::OrganSet;
+use crate::transparency::TransparencySettings;
+
+/// What one frame shows.
+#[derive(Clone, Copy)]
+pub struct FrameInput<'a> {
+    /// The set the renderer was made for (screen-door masks are built from its meshes).
+    pub set: &'a OrganSet,
+    pub camera: &'a Camera,
+    pub layout: &'a Layout,
+    /// What survived culling; `None` draws every drawn organ whole.
+    pub draw: Option<&'a DrawList>,
+    /// Linear RGBA clear colour; alpha 0 gives a transparent background.
+    pub background: [f32; 4],
+    /// How transparent organs are drawn.
+    pub transparency: TransparencySettings,
+    /// The camera or an organ is moving: screen-door uses its interactive sub-sample count.
+    pub moving: bool,
+    /// Order in which organs are drawn (a permutation of organ indices); `None` is index order.
+    pub draw_order: Option<&'a [usize]>,
+}
+
+impl<'a> FrameInput<'a> {
+    /// A still frame of every drawn organ on a transparent background, default transparency.
+    pub fn new(set: &'a OrganSet, camera: &'a Camera, layout: &'a Layout) -> FrameInput<'a> {
+        FrameInput {
+            set,
+            camera,
+            layout,
+            draw: None,
+            background: [0.0; 4],
+            transparency: TransparencySettings::default(),
+            moving: false,
+            draw_order: None,
+        }
+    }
+
+    /// Organ indices in drawing order.
+    pub(crate) fn order(&self, count: usize) -> Vec<usize> {
+        match self.draw_order {
+            Some(o) if o.len() == count && o.iter().all(|&i| i < count) => o.to_vec(),
+            _ => (0..count).collect(),
+        }
+    }
+
+    /// Of the first `count` organs, the opaque and the transparent (drawn, faded) ones, each in
+    /// drawing order.
+    pub(super) fn split(&self, count: usize) -> (Vec<usize>, Vec<usize>) {
+        let states = &self.layout.organs;
+        let order = self.order(count.min(states.len()));
+        let opaque = order.iter().copied().filter(|&i| states[i].is_opaque()).collect();
+        let transparent = order.iter().copied().filter(|&i| states[i].is_drawn() && !states[i].is_opaque()).collect();
+        (opaque, transparent)
+    }
+
+    /// Whether any drawn organ is faded.
+    pub fn has_transparent(&self) -> bool {
+        self.layout.organs.iter().any(|s| s.is_drawn() && !s.is_opaque())
+    }
+}
+
+/// Counts of one rendered frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RenderStats {
+    pub organs_drawn: usize,
+    pub triangles_drawn: usize,
+    /// Passes over the scene (screen-door draws one per 4 sub-samples).
+    pub passes: usize,
+    /// Screen-door mask regeneration: milliseconds and distinct region configurations.
+    pub mask_ms: f64,
+    pub mask_configs: usize,
+}
+
+/// Everything a technique draws a frame with.
+pub(super) struct Frame<'a> {
+    pub device: &'a wgpu::Device,
+    pub queue: &'a wgpu::Queue,
+    pub scene: &'a GpuScene,
+    pub input: &'a FrameInput<'a>,
+    pub target: &'a Target,
+}
+
+/// A way of drawing a frame (opaque and blended, screen-door, weighted blended, exact, the culling
+/// debug view). It writes its per-frame and per-pass data (uniform slots, pooled buffers) through
+/// the queue and records its passes into the frame's one encoder, which the renderer submits once.
+pub(super) trait Technique {
+    /// Records the frame; the stats' `passes` and mask figures (the renderer counts what was drawn).
+    fn record(&self, frame: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats>;
+}

@@ -1,0 +1,97 @@
+//! The ID passes, into the target's single-sampled ID buffer (screen pixels, 0 = background):
+//! organ index + 1 of the nearest drawn organ per pixel, for picking; or leaf numbers, for
+//! measuring exact visibility.
+
+use super::pipelines::{target, OrganPipeline, PipelineFactory};
+use super::scene::GpuScene;
+use super::target::{Target, ID_FORMAT};
+use super::FrameInput;
+
+pub(super) struct Ids {
+    organ: wgpu::RenderPipeline,
+    leaf: wgpu::RenderPipeline,
+}
+
+/// What an ID pass writes.
+pub(super) enum IdKind<'a> {
+    /// Organs whose opacity is at least this.
+    Organs { min_opacity: f32 },
+    /// `first_id[organ] + leaf + 1` of every leaf of `set`'s drawn organs.
+    Leaves { set: &'a crate::organ_set::OrganSet, first_id: &'a [u32] },
+}
+
+impl Ids {
+    pub fn new(factory: &PipelineFactory, layout: &wgpu::PipelineLayout) -> Ids {
+        let pick = |label, fragment| {
+            factory.build(OrganPipeline {
+                label,
+                fragment,
+                targets: &target(ID_FORMAT, None),
+                depth_write: true,
+                cull: None,
+                samples: 1,
+                layout,
+            })
+        };
+        Ids { organ: pick("organ pick", "fs_pick"), leaf: pick("leaf pick", "fs_pick_instance") }
+    }
+
+    /// Records one ID pass (cleared to 0, with its own depth) after uploading the frame's uniforms.
+    pub fn record(
+        &self,
+        queue: &wgpu::Queue,
+        scene: &GpuScene,
+        (input, target): (&FrameInput, &Target),
+        kind: IdKind,
+        encoder: &mut wgpu::CommandEncoder,
+    ) {
+        scene.upload(queue, input, target.aspect());
+        let label = match kind {
+            IdKind::Organs { .. } => "organ ids",
+            IdKind::Leaves { .. } => "leaf ids",
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.ids_view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.ids_depth,
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        scene.set_frame(&mut pass, 0);
+        let organs = input.layout.organs.iter().enumerate().take(scene.organ_count());
+        match kind {
+            IdKind::Organs { min_opacity } => {
+                pass.set_pipeline(&self.organ);
+                for (i, s) in organs {
+                    if s.is_drawn() && s.opacity >= min_opacity {
+                        scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                    }
+                }
+            }
+            IdKind::Leaves { set, first_id } => {
+                pass.set_pipeline(&self.leaf);
+                for (i, _) in organs.filter(|(_, s)| s.is_drawn()) {
+                    scene.bind_organ(&mut pass, 0, i);
+                    let bvh = &set.organs[i].bvh;
+                    for l in 0..bvh.leaves.len() as u32 {
+                        let id = first_id[i] + l + 1;
+                        pass.draw_indexed(bvh.leaf_range(l), 0, id..id + 1);
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,205 @@
+//! Pipeline construction shared by the techniques: organ pipelines from `organ.wgsl` (one vertex
+//! layout: organ-space position and normal), full-screen passes from `composite.wgsl`, and the
+//! blend states and clear colours they use.
+
+use super::target::DEPTH_FORMAT;
+use super::Shader;
+
+/// Samples per pixel of the colour target (4x MSAA, supported everywhere, lavapipe included).
+pub const SAMPLE_COUNT: u32 = 4;
+
+/// A shader module of one of [`super::SHADERS`].
+pub(super) fn module(device: &wgpu::Device, shader: &Shader) -> wgpu::ShaderModule {
+    device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some(shader.name),
+        source: wgpu::ShaderSource::Wgsl(shader.source.into()),
+    })
+}
+
+/// What differs between the organ pipelines.
+pub(super) struct OrganPipeline<'a> {
+    pub label: &'a str,
+    /// Entry point in organ.wgsl.
+    pub fragment: &'a str,
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub depth_write: bool,
+    pub cull: Option<wgpu::Face>,
+    pub samples: u32,
+    pub layout: &'a wgpu::PipelineLayout,
+}
+
+/// One colour target of `format` written whole, blended by `blend`.
+pub(super) fn target(
+    format: wgpu::TextureFormat,
+    blend: Option<wgpu::BlendState>,
+) -> [Option<wgpu::ColorTargetState>; 1] {
+    [Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })]
+}
+
+/// Builds organ pipelines from organ.wgsl.
+pub(super) struct PipelineFactory<'a> {
+    pub device: &'a wgpu::Device,
+    pub shader: wgpu::ShaderModule,
+}
+
+impl PipelineFactory<'_> {
+    pub fn build(&self, spec: OrganPipeline) -> wgpu::RenderPipeline {
+        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(spec.label),
+            layout: Some(spec.layout),
+            vertex: wgpu::VertexState {
+                module: &self.shader,
+                entry_point: Some("vs_main"),
+                compilation_options: Default::default(),
+                buffers: &[Some(wgpu::VertexBufferLayout {
+                    array_stride: 24,
+                    step_mode: wgpu::VertexStepMode::Vertex,
+                    attributes: &vertex_attributes,
+                })],
+            },
+            primitive: wgpu::PrimitiveState { cull_mode: spec.cull, ..Default::default() },
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(spec.depth_write),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: wgpu::MultisampleState { count: spec.samples, ..Default::default() },
+            fragment: Some(wgpu::FragmentState {
+                module: &self.shader,
+                entry_point: Some(spec.fragment),
+                compilation_options: Default::default(),
+                targets: spec.targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+}
+
+/// A linear RGBA clear colour for wgpu.
+pub(super) fn clear_colour(c: [f32; 4]) -> wgpu::Color {
+    wgpu::Color { r: c[0] as f64, g: c[1] as f64, b: c[2] as f64, a: c[3] as f64 }
+}
+
+/// Plain alpha blending ("over").
+pub(super) const OVER: wgpu::BlendState = wgpu::BlendState {
+    color: wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::SrcAlpha,
+        dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+        operation: wgpu::BlendOperation::Add,
+    },
+    alpha: wgpu::BlendComponent::OVER,
+};
+
+/// Full-screen passes over up to three float images (composite.wgsl).
+pub(super) struct Composite {
+    pub images_layout: wgpu::BindGroupLayout,
+    pipeline_layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+}
+
+impl Composite {
+    pub fn new(device: &wgpu::Device) -> Composite {
+        let texture = |binding| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::FRAGMENT,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        };
+        let images_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("images"),
+            entries: &[texture(0), texture(1), texture(2)],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("images"),
+            bind_group_layouts: &[Some(&images_layout)],
+            immediate_size: 0,
+        });
+        Composite { images_layout, pipeline_layout, module: module(device, &super::COMPOSITE_SHADER) }
+    }
+
+    /// A full-screen pipeline of fragment entry point `fragment` into `format`.
+    pub fn pipeline(
+        &self,
+        device: &wgpu::Device,
+        label: &str,
+        fragment: &str,
+        format: wgpu::TextureFormat,
+        blend: Option<wgpu::BlendState>,
+    ) -> wgpu::RenderPipeline {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(&self.pipeline_layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some("vs_fullscreen"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(fragment),
+                compilation_options: Default::default(),
+                targets: &target(format, blend),
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    }
+
+    /// The bind group of three images (`image`, `accum`, `reveal` in composite.wgsl).
+    pub fn images(&self, device: &wgpu::Device, views: [&wgpu::TextureView; 3]) -> wgpu::BindGroup {
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("images"),
+            layout: &self.images_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(views[0]) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(views[1]) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(views[2]) },
+            ],
+        })
+    }
+}
+
+/// A full-screen pass of `pipeline` over `images` into `view` (cleared first unless `load`), its
+/// blend constant `blend_constant` in every channel.
+pub(super) fn fullscreen_pass(
+    encoder: &mut wgpu::CommandEncoder,
+    view: &wgpu::TextureView,
+    pipeline: &wgpu::RenderPipeline,
+    images: &wgpu::BindGroup,
+    load: bool,
+    blend_constant: f64,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("full screen"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: if load { wgpu::LoadOp::Load } else { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) },
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, images, &[]);
+    let w = blend_constant;
+    pass.set_blend_constant(wgpu::Color { r: w, g: w, b: w, a: w });
+    pass.draw(0..3, 0..1);
+}

@@ -1,0 +1,51 @@
+//! The GPU structs shared with the WGSL shaders: `#[repr(C)]`, each named beside its WGSL struct in
+//! [`SHARED_STRUCTS`] so that a test compares their sizes with what naga reports. Buffers hold them
+//! in slots [`SLOT`] bytes apart, chosen by dynamic offsets: one per organ, or one per pass.
+
+/// Distance between slots of a uniform buffer (the largest alignment a device may require).
+pub(super) const SLOT: u64 = 256;
+
+/// Passes a frame may draw with their own frame and screen-door uniforms: one per 4 of the at most
+/// 64 screen-door sub-samples.
+pub(super) const MAX_PASSES: u64 = 16;
+
+/// Slots of the frame uniform: 0 is the frame as seen, `1 + p` pass `p` of screen-door.
+pub(super) const FRAME_SLOTS: u64 = 1 + MAX_PASSES;
+
+/// `Frame` in shaders/organ.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct FrameUniform {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub jitter: [f32; 4],
+}
+
+/// `Organ` in shaders/organ.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct OrganUniform {
+    pub model: [[f32; 4]; 4],
+    pub normal_matrix: [[f32; 4]; 4],
+    pub colour: [f32; 4],
+    pub id: [u32; 4],
+}
+
+/// `Screendoor` in shaders/organ.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct ScreendoorUniform {
+    pub region_px: u32,
+    pub cols: u32,
+    pub rows: u32,
+    pub organs: u32,
+    pub pass_index: u32,
+    pub pad: [u32; 3],
+}
+
+/// (shader file, WGSL struct, size of the Rust struct in bytes) of every struct shared with WGSL.
+pub const SHARED_STRUCTS: [(&str, &str, usize); 3] = [
+    ("organ.wgsl", "Frame", std::mem::size_of::<FrameUniform>()),
+    ("organ.wgsl", "Organ", std::mem::size_of::<OrganUniform>()),
+    ("organ.wgsl", "Screendoor", std::mem::size_of::<ScreendoorUniform>()),
+];

@@ -1,0 +1,114 @@
+//! Weighted blended order-independent transparency (McGuire and Bavoil 2013), a comparison mode,
+//! in screen pixels: the opaque image with depth, then weighted sums of the transparent organs
+//! over that depth, then the resolve over the opaque image.
+
+use super::frame::{Frame, RenderStats, Technique};
+use super::pipelines::{fullscreen_pass, Composite, OrganPipeline, PipelineFactory};
+use super::target::{COLOR_FORMAT, HDR_FORMAT, REVEAL_FORMAT};
+use crate::error::Result;
+
+pub(super) struct Weighted {
+    opaque: wgpu::RenderPipeline,
+    sums: wgpu::RenderPipeline,
+    resolve: wgpu::RenderPipeline,
+}
+
+impl Weighted {
+    pub fn new(
+        device: &wgpu::Device,
+        factory: &PipelineFactory,
+        layout: &wgpu::PipelineLayout,
+        composite: &Composite,
+        opaque: wgpu::RenderPipeline,
+    ) -> Weighted {
+        let add = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::One,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let keep = wgpu::BlendComponent {
+            src_factor: wgpu::BlendFactor::Zero,
+            dst_factor: wgpu::BlendFactor::OneMinusSrc,
+            operation: wgpu::BlendOperation::Add,
+        };
+        let sums = factory.build(OrganPipeline {
+            label: "organ weighted",
+            fragment: "fs_weighted",
+            targets: &[
+                Some(wgpu::ColorTargetState {
+                    format: HDR_FORMAT,
+                    blend: Some(wgpu::BlendState { color: add, alpha: add }),
+                    write_mask: wgpu::ColorWrites::ALL,
+                }),
+                Some(wgpu::ColorTargetState {
+                    format: REVEAL_FORMAT,
+                    blend: Some(wgpu::BlendState { color: keep, alpha: keep }),
+                    write_mask: wgpu::ColorWrites::ALL,
+                }),
+            ],
+            depth_write: false,
+            cull: None,
+            samples: super::SAMPLE_COUNT,
+            layout,
+        });
+        let resolve = composite.pipeline(device, "weighted resolve", "fs_weighted_resolve", COLOR_FORMAT, None);
+        Weighted { opaque, sums, resolve }
+    }
+}
+
+/// Weighted blending with the composite passes it needs.
+pub(super) struct WeightedFrame<'a> {
+    pub technique: &'a Weighted,
+    pub composite: &'a Composite,
+}
+
+impl Technique for WeightedFrame<'_> {
+    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+        let wb = self.technique;
+        let (scene, input, target) = (f.scene, f.input, f.target);
+        let hdr = target.hdr(f.device);
+        scene.upload(f.queue, input, target.aspect());
+        let (opaque, transparent) = input.split(scene.organ_count());
+        {
+            // The opaque depth stays for the weighted pass to test against.
+            let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
+            pass.set_pipeline(&wb.opaque);
+            for &i in &opaque {
+                scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+            }
+        }
+        {
+            let attachment = |view, resolve, clear_to: wgpu::Color| {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: Some(resolve),
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear_to), store: wgpu::StoreOp::Discard },
+                })
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("weighted sums"),
+                color_attachments: &[
+                    attachment(&hdr.msaa, &hdr.accum, wgpu::Color::TRANSPARENT),
+                    attachment(&hdr.reveal_msaa, &hdr.reveal, wgpu::Color::WHITE),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &target.msaa_depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            scene.set_frame(&mut pass, 0);
+            pass.set_pipeline(&wb.sums);
+            for &i in &transparent {
+                scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+            }
+        }
+        let images = self.composite.images(f.device, [&hdr.resolved, &hdr.accum, &hdr.reveal]);
+        fullscreen_pass(encoder, &target.color_view, &wb.resolve, &images, false, 1.0);
+        Ok(RenderStats { passes: 2, ..Default::default() })
+    }
+}

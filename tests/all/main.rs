@@ -1,0 +1,15 @@
+//! The core's integration tests, one binary (linked once): the architecture, loading, the default
+//! set, culling, occluders, rendering, shaders and transparency. GPU tests run on any adapter
+//! (lavapipe in CI); with none they fail and say what to install.
+
+#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
+
+mod architecture;
+mod common;
+mod culling;
+mod default_set;
+mod loading;
+mod occluders;
+mod render;
+mod shaders;
+mod transparency;
