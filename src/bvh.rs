@@ -91,22 +91,22 @@ impl Slab {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bvh {
     /// Root first.
-    pub nodes: Vec<Node>,
+    pub(crate) nodes: Vec<Node>,
     /// The node of each leaf, in triangle order.
-    pub leaves: Vec<u32>,
+    pub(crate) leaves: Vec<u32>,
     /// Per triangle: the leaf it belongs to.
-    pub leaf_of: Vec<u32>,
+    pub(crate) leaf_of: Vec<u32>,
     /// The parts of all leaves, in triangle order; leaf l's are `leaf_parts[l]..leaf_parts[l + 1]`.
-    pub parts: Vec<Part>,
-    pub leaf_parts: Vec<u32>,
+    pub(crate) parts: Vec<Part>,
+    pub(crate) leaf_parts: Vec<u32>,
     /// The parts' vertices (indices into the mesh's positions), each part's in order of first use.
-    pub part_vertices: Vec<u32>,
+    pub(crate) part_vertices: Vec<u32>,
     /// Per triangle, its corners as places in its part's vertices: the occlusion test projects a
     /// part's vertices once, then its triangles from them.
-    pub corners: Vec<[u8; 3]>,
+    pub(crate) corners: Vec<[u8; 3]>,
     /// Per triangle and edge (a->b, b->c, c->a): the triangle across it, or `NONE` at a border, a
     /// non-manifold edge, or a neighbour wound the other way.
-    pub neighbours: Vec<[u32; 3]>,
+    pub(crate) neighbours: Vec<[u32; 3]>,
 }
 
 impl Bvh {

@@ -134,22 +134,35 @@ impl Mesh {
         m
     }
 
-    /// Checks the invariants stated on [`Mesh`]; returns a description of the first violation.
-    pub fn validate(&self) -> Result<(), String> {
+    /// Checks the invariants stated on [`Mesh`]; returns the first violation.
+    pub fn validate(&self) -> Result<(), MeshDefect> {
         if self.normals.len() != self.positions.len() {
-            return Err(format!("{} normals for {} vertices", self.normals.len(), self.positions.len()));
+            return Err(MeshDefect::Normals { normals: self.normals.len(), vertices: self.positions.len() });
         }
         if !self.indices.len().is_multiple_of(3) {
-            return Err(format!("{} indices is not a multiple of 3", self.indices.len()));
+            return Err(MeshDefect::Indices(self.indices.len()));
         }
-        if let Some(i) = self.indices.iter().find(|&&i| i as usize >= self.positions.len()) {
-            return Err(format!("index {i} out of range ({} vertices)", self.positions.len()));
+        if let Some(&index) = self.indices.iter().find(|&&i| i as usize >= self.positions.len()) {
+            return Err(MeshDefect::IndexOutOfRange { index, vertices: self.positions.len() });
         }
         if self.positions.iter().chain(&self.normals).flatten().any(|v| !v.is_finite()) {
-            return Err("non-finite coordinate".into());
+            return Err(MeshDefect::NonFinite);
         }
         Ok(())
     }
+}
+
+/// A broken invariant of a [`Mesh`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum MeshDefect {
+    #[error("{normals} normals for {vertices} vertices")]
+    Normals { normals: usize, vertices: usize },
+    #[error("{0} indices is not a multiple of 3")]
+    Indices(usize),
+    #[error("index {index} out of range ({vertices} vertices)")]
+    IndexOutOfRange { index: u32, vertices: usize },
+    #[error("non-finite coordinate")]
+    NonFinite,
 }
 
 /// Vertices welded by position (-0 and +0 alike): per vertex, its welded index (numbered in order

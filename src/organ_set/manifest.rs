@@ -111,31 +111,59 @@ impl Manifest {
 
 impl OrganEntry {
     /// Checks one organ's fields (not its mesh file); returns the first problem.
-    pub fn validate(&self) -> Result<(), String> {
+    pub fn validate(&self) -> Result<(), EntryProblem> {
         let id_ok = !self.id.is_empty() && self.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+        let id = || self.id.clone();
         if !id_ok {
-            return Err(format!("organ id \"{}\" must be non-empty letters, digits, _ or -", self.id));
+            return Err(EntryProblem::Id(id()));
         }
         if !(0.0..=1.0).contains(&self.opacity) {
-            return Err(format!("organ \"{}\": opacity {} outside 0..1", self.id, self.opacity));
+            return Err(EntryProblem::Opacity(id(), self.opacity));
         }
         if parse_colour(&self.colour).is_none() {
-            return Err(format!("organ \"{}\": colour \"{}\" is not #rrggbb", self.id, self.colour));
+            return Err(EntryProblem::Colour(id(), self.colour.clone()));
         }
-        mesh_path_ok(&self.mesh).map_err(|e| format!("organ \"{}\": mesh \"{}\" {e}", self.id, self.mesh))?;
+        let path = |what, p: &str| {
+            mesh_path_ok(p).map_err(|problem| EntryProblem::Path { id: id(), what, path: p.to_string(), problem })
+        };
+        path("mesh", &self.mesh)?;
         match &self.occluder {
-            Some(p) => mesh_path_ok(p).map_err(|e| format!("organ \"{}\": occluder \"{p}\" {e}", self.id)),
+            Some(p) => path("occluder", p),
             None => Ok(()),
         }
     }
 }
 
+/// What is wrong with one organ's entry in a manifest.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EntryProblem {
+    #[error("organ id \"{0}\" must be non-empty letters, digits, _ or -")]
+    Id(String),
+    #[error("organ \"{0}\": opacity {1} outside 0..1")]
+    Opacity(String, f32),
+    #[error("organ \"{0}\": colour \"{1}\" is not #rrggbb")]
+    Colour(String, String),
+    #[error("organ \"{id}\": {what} \"{path}\" {problem}")]
+    Path { id: String, what: &'static str, path: String, problem: PathProblem },
+}
+
+/// Why a mesh path is refused.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum PathProblem {
+    #[error("is empty")]
+    Empty,
+    #[error("escapes the set's folder")]
+    Escapes,
+    #[error("must be a relative path inside the set's folder")]
+    Absolute,
+}
+
 /// A mesh path must be relative and must not climb out of the set's folder.
-fn mesh_path_ok(p: &str) -> Result<(), &'static str> {
+fn mesh_path_ok(p: &str) -> Result<(), PathProblem> {
     use std::path::Component;
     let path = std::path::Path::new(p);
     if p.is_empty() {
-        return Err("is empty");
+        return Err(PathProblem::Empty);
     }
     let mut depth = 0i32;
     for c in path.components() {
@@ -145,10 +173,10 @@ fn mesh_path_ok(p: &str) -> Result<(), &'static str> {
             Component::ParentDir => {
                 depth -= 1;
                 if depth < 0 {
-                    return Err("escapes the set's folder");
+                    return Err(PathProblem::Escapes);
                 }
             }
-            Component::RootDir | Component::Prefix(_) => return Err("must be a relative path inside the set's folder"),
+            Component::RootDir | Component::Prefix(_) => return Err(PathProblem::Absolute),
         }
     }
     Ok(())

@@ -30,25 +30,30 @@ pub struct Organ {
     pub opacity: f32,
     pub visible: bool,
     pub info: String,
-    /// Triangles in the order of `bvh`'s leaves.
-    pub mesh: Mesh,
-    pub bvh: Bvh,
+    /// Triangles in the order of `bvh`'s leaves (changed only with the hierarchy, by
+    /// [`Organ::set_mesh`]).
+    pub(crate) mesh: Mesh,
+    pub(crate) bvh: Bvh,
     /// A mesh with fewer triangles on or inside this organ's surface (organ space) that stands in
     /// for it as an occluder, e.g. the original of a subdivided set.
-    pub stand_in: Option<StandIn>,
+    pub(crate) stand_in: Option<StandIn>,
 }
 
 /// An occluder stand-in: its mesh (in the order of its own hierarchy's leaves) and hierarchy.
 #[derive(Clone, Debug, Default)]
 pub struct StandIn {
-    pub mesh: Mesh,
-    pub bvh: Bvh,
+    pub(crate) mesh: Mesh,
+    pub(crate) bvh: Bvh,
 }
 
 impl StandIn {
     pub fn new(mut mesh: Mesh) -> StandIn {
         let bvh = Bvh::build(&mut mesh);
         StandIn { mesh, bvh }
+    }
+
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
     }
 }
 
@@ -68,6 +73,26 @@ impl Organ {
             bvh,
             stand_in: None,
         }
+    }
+
+    /// The mesh, in organ space, its triangles in the order of the hierarchy's leaves.
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+
+    /// The bounding-volume hierarchy over the mesh.
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// The occluder stand-in, if it has one.
+    pub fn stand_in(&self) -> Option<&StandIn> {
+        self.stand_in.as_ref()
+    }
+
+    /// Gives it an occluder stand-in (or none); the caller vouches that it lies inside.
+    pub fn set_stand_in(&mut self, stand_in: Option<StandIn>) {
+        self.stand_in = stand_in;
     }
 
     /// Replaces the mesh, rebuilding the hierarchy; the occluder stand-in is dropped (it may no
@@ -242,7 +267,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
 }
 
 fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {
-    entry.validate().map_err(|m| Error::parse(manifest_path, None, m))?;
+    entry.validate().map_err(|m| Error::parse(manifest_path, None, m.to_string()))?;
     let file = obj::read(&dir.join(&entry.mesh))?;
     let mut mesh = Mesh::default();
     for o in &file.objects {

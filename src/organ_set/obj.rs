@@ -83,7 +83,7 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
         } else {
             mesh.compute_normals();
         }
-        mesh.validate().map_err(|e| Error::parse(path, None, e))?;
+        mesh.validate().map_err(|e| Error::parse(path, None, e.to_string()))?;
         let name =
             if model.name.is_empty() || model.name == "unnamed_object" { default_name.to_string() } else { model.name };
         // tobj splits an object at each `usemtl`; pieces of one name are one organ again.
@@ -196,28 +196,43 @@ fn floats(args: &[&str], line: usize, path: &Path) -> Result<Vec<f32>> {
         .collect()
 }
 
+/// What is wrong with a face reference.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+enum FaceRefError {
+    #[error("more than three indices")]
+    TooMany,
+    #[error("missing vertex index")]
+    NoVertex,
+    #[error("{0} index is not an integer")]
+    NotInteger(&'static str),
+    #[error("{0} index 0 (OBJ indices start at 1)")]
+    Zero(&'static str),
+    #[error("{what} index {index} out of range ({defined} defined so far)")]
+    OutOfRange { what: &'static str, index: i64, defined: i64 },
+}
+
 /// Checks one face reference `v`, `v/vt`, `v//vn` or `v/vt/vn` against the counts so far.
-fn face_ref(r: &str, counts: &[usize; 3]) -> std::result::Result<(), String> {
+fn face_ref(r: &str, counts: &[usize; 3]) -> std::result::Result<(), FaceRefError> {
     let parts: Vec<&str> = r.split('/').collect();
     if parts.len() > 3 {
-        return Err("more than three indices".into());
+        return Err(FaceRefError::TooMany);
     }
     for (k, p) in parts.iter().enumerate() {
         if p.is_empty() {
             if k == 0 {
-                return Err("missing vertex index".into());
+                return Err(FaceRefError::NoVertex);
             }
             continue;
         }
         let what = ["vertex", "texture", "normal"][k];
-        let i: i64 = p.parse().map_err(|_| format!("{what} index is not an integer"))?;
+        let i: i64 = p.parse().map_err(|_| FaceRefError::NotInteger(what))?;
         let n = counts[k] as i64;
         let ok = if i > 0 { i <= n } else { i < 0 && -i <= n };
         if !ok {
             return Err(if i == 0 {
-                format!("{what} index 0 (OBJ indices start at 1)")
+                FaceRefError::Zero(what)
             } else {
-                format!("{what} index {i} out of range ({n} defined so far)")
+                FaceRefError::OutOfRange { what, index: i, defined: n }
             });
         }
     }

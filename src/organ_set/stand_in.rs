@@ -36,12 +36,21 @@ pub struct Inner {
     pub dropped: usize,
 }
 
+/// Why an organ gets no stand-in.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum StandInError {
+    #[error("not a closed surface ({0} edges with no matching edge the other way)")]
+    NotClosed(usize),
+    #[error("cannot simplify: {0}")]
+    Simplify(String),
+}
+
 /// Builds a verified inner stand-in for a closed surface (`bvh` built over `mesh`).
-pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inner, String> {
+pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inner, StandInError> {
     let (positions, indices) = welded(mesh);
     let open = open_edges(&indices);
     if open > 0 || indices.is_empty() {
-        return Err(format!("not a closed surface ({open} edges with no matching edge the other way)"));
+        return Err(StandInError::NotClosed(open));
     }
     let surface = Surface { mesh, bvh, margin: 1e-4 * mesh.bounds().size().max_element() };
     // Outward is where the triangles wind counter-clockwise.
@@ -65,7 +74,7 @@ pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inne
         })
         .collect();
     let bytes: &[u8] = bytemuck::cast_slice(&inner);
-    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).map_err(|e| e.to_string())?;
+    let adapter = meshopt::VertexDataAdapter::new(bytes, 12, 0).map_err(|e| StandInError::Simplify(e.to_string()))?;
     let simplified = meshopt::simplify(
         &indices,
         &adapter,
@@ -313,6 +322,6 @@ mod tests {
         mesh.indices.truncate(mesh.indices.len() - 3);
         let bvh = Bvh::build(&mut mesh);
         let err = build_inner(&mesh, &bvh, InnerOptions { triangles: 8, offset: 0.1 }).unwrap_err();
-        assert!(err.contains("not a closed surface"), "{err}");
+        assert!(matches!(err, StandInError::NotClosed(n) if n > 0), "{err}");
     }
 }

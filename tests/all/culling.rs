@@ -161,7 +161,7 @@ fn depth_complex_scene_culling_changes_no_pixel() {
 fn occluder_stand_ins_change_no_pixel() {
     // Subdivided 2 x 2: every organ keeps its original mesh as occluder stand-in, on its surface.
     let set = organ_set::scale::scale_set(&depth_complex_scene(), 2, &mut |_, _, _| {});
-    assert!(set.organs.iter().all(|o| o.stand_in.is_some()));
+    assert!(set.organs.iter().all(|o| o.stand_in().is_some()));
     let share = identical_images(&set, None, 40, 0x57a1d, false);
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
 }

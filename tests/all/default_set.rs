@@ -60,12 +60,12 @@ fn size_and_names() {
         let o = &set.organs[set.find(id).unwrap_or_else(|| panic!("no organ {id}"))];
         assert!(o.info.len() > 150, "{id}: info text too short");
         assert!(!o.group.is_empty(), "{id}: no group");
-        assert!(o.mesh.triangle_count() >= 50, "{id}: {} triangles", o.mesh.triangle_count());
+        assert!(o.mesh().triangle_count() >= 50, "{id}: {} triangles", o.mesh().triangle_count());
     }
     assert!(!set.sources.is_empty() && set.sources.iter().all(|s| !s.licence.is_empty() && !s.attribution.is_empty()));
     // RAS: the left hemisphere is at negative x, the frontal lobe anterior of the occipital lobe,
     // the cerebellum below the parietal lobe.
-    let c = |id: &str| set.organs[set.find(id).unwrap()].mesh.bounds().center();
+    let c = |id: &str| set.organs[set.find(id).unwrap()].mesh().bounds().center();
     assert!(c("frontal_l").x < -10.0 && c("frontal_r").x > 10.0);
     assert!(c("frontal_l").y > c("occipital_l").y + 40.0);
     assert!(c("cerebellum_l").z < c("parietal_l").z - 40.0);
@@ -74,7 +74,7 @@ fn size_and_names() {
 #[test]
 fn one_space_cortex_in_skull_in_scalp() {
     let set = default_set();
-    let mesh = |id: &str| &set.organs[set.find(id).unwrap()].mesh;
+    let mesh = |id: &str| set.organs[set.find(id).unwrap()].mesh();
     let (skull, scalp) = (mesh("skull"), mesh("scalp"));
     let mut checked = 0;
     for id in [
@@ -110,7 +110,7 @@ fn inside(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
 #[test]
 fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
     let set = default_set();
-    let with: Vec<_> = set.organs.iter().filter_map(|o| o.stand_in.as_ref().map(|s| (o, s))).collect();
+    let with: Vec<_> = set.organs.iter().filter_map(|o| o.stand_in().map(|s| (o, s))).collect();
     for id in ["skull", "white_matter_l", "white_matter_r", "frontal_l", "frontal_r"] {
         assert!(
             with.iter().any(|(o, _)| o.id == id),
@@ -119,10 +119,10 @@ fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
     }
     let dir = Vec3::new(0.31, 0.52, 0.79).normalize();
     for (organ, stand_in) in with {
-        let (n, m) = (stand_in.mesh.triangle_count(), organ.mesh.triangle_count());
+        let (n, m) = (stand_in.mesh().triangle_count(), organ.mesh().triangle_count());
         assert!(n > 0 && 2 * n <= m, "{}: stand-in of {n} triangles for {m}", organ.id);
-        for p in stand_in.mesh.positions.iter().step_by(32) {
-            assert!(inside(&organ.mesh, Vec3::from(*p), dir), "{}: stand-in vertex {p:?} outside", organ.id);
+        for p in stand_in.mesh().positions.iter().step_by(32) {
+            assert!(inside(organ.mesh(), Vec3::from(*p), dir), "{}: stand-in vertex {p:?} outside", organ.id);
         }
     }
 }

@@ -202,8 +202,8 @@ fn saved_sets_load_back_identically() {
     set.save(&out).unwrap();
     let back = organ_set::open(&out).unwrap();
     assert!(back.errors.is_empty());
-    assert_eq!(back.set.organs[0].mesh.indices, set.organs[0].mesh.indices);
-    assert_eq!(back.set.organs[0].mesh.positions, set.organs[0].mesh.positions);
+    assert_eq!(back.set.organs[0].mesh().indices, set.organs[0].mesh().indices);
+    assert_eq!(back.set.organs[0].mesh().positions, set.organs[0].mesh().positions);
     assert_eq!(
         back.set.organs[0].colour.map(|c| (c * 255.0).round()),
         set.organs[0].colour.map(|c| (c * 255.0).round())
@@ -270,20 +270,20 @@ fn occluder_stand_ins_round_trip_and_a_broken_one_is_only_a_warning() {
     write(dir.path(), "tet.obj", tet);
     write(dir.path(), "organset.json", &manifest(&organ("tet", "tet.obj", "")));
     let set = organ_set::open(dir.path()).unwrap().set;
-    assert!(set.organs[0].stand_in.is_none());
+    assert!(set.organs[0].stand_in().is_none());
     let scaled = organ_set::scale::scale_set(&set, 3, &mut |_, _, _| {});
     let out = dir.path().join("scaled");
     scaled.save(&out).unwrap();
     let loaded = organ_set::open(&out).unwrap();
     assert!(loaded.warnings.is_empty() && loaded.errors.is_empty(), "{:?} {:?}", loaded.warnings, loaded.errors);
     let o = &loaded.set.organs[0];
-    assert_eq!(o.mesh.triangle_count(), 4 * 9);
-    assert_eq!(o.stand_in.as_ref().map(|s| s.mesh.triangle_count()), Some(4));
+    assert_eq!(o.mesh().triangle_count(), 4 * 9);
+    assert_eq!(o.stand_in().map(|s| s.mesh().triangle_count()), Some(4));
     // A broken stand-in: the organ loads without it, and a warning names the file and line.
     write(&out, "meshes/tet.occluder.vbo", "v 0 0 0\nf 1 2 3\n");
     let loaded = organ_set::open(&out).unwrap();
     assert_eq!(loaded.set.organs.len(), 1);
-    assert!(loaded.set.organs[0].stand_in.is_none());
+    assert!(loaded.set.organs[0].stand_in().is_none());
     assert!(
         loaded.warnings.iter().any(|w| w.contains("tet.occluder.vbo") && w.contains("stand-in")),
         "{:?}",
