@@ -19,18 +19,18 @@
 
 mod cut;
 pub mod database;
-pub mod depth_bound;
+pub(crate) mod depth_bound;
 mod draw_list;
 mod jobs;
 mod occluders;
-pub mod opacity_map;
+pub(crate) mod opacity_map;
 pub(crate) mod project;
-pub mod raster;
-pub mod rect;
+pub(crate) mod raster;
+mod rect;
 pub mod selection;
 mod settings;
 mod share;
-pub mod sparse_depth;
+pub(crate) mod sparse_depth;
 mod traversal;
 mod witness;
 

@@ -33,6 +33,7 @@ impl SparseDepth {
     }
 
     /// The farthest depth in row `y`, columns `x0..=x1`, visiting only the peaks in between.
+    #[cfg(test)]
     pub fn row_max(&self, depth: &[f32], y: usize, x0: usize, x1: usize) -> f32 {
         let row = y * self.width;
         let mut best = f32::NEG_INFINITY;

@@ -300,6 +300,7 @@ impl OccluderRaster {
     }
 
     /// Coverage and depth of every pixel, patch by patch, on the calling thread alone.
+    #[cfg(test)]
     pub fn finish(self) -> OccluderMaps {
         self.finish_on(&Phase::default())
     }
