@@ -58,6 +58,12 @@ pub struct OrganEntry {
     /// Group path in the organ tree, `/`-separated, e.g. `Cerebrum/Left hemisphere/Frontal lobe`.
     #[serde(default)]
     pub group: String,
+    /// Terminologia Anatomica's Latin name, where there is one (e.g. `Gyrus precentralis`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub latin: Option<String>,
+    /// Other names a student may search for: abbreviations, eponyms, functional names.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub synonyms: Vec<String>,
     /// A short text for students.
     #[serde(default)]
     pub info: String,

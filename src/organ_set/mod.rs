@@ -7,6 +7,7 @@
 
 pub mod import;
 pub mod manifest;
+pub mod names;
 pub mod obj;
 pub mod scale;
 pub mod stand_in;
@@ -29,6 +30,10 @@ pub struct Organ {
     pub colour: [f32; 3],
     pub opacity: f32,
     pub visible: bool,
+    /// Terminologia Anatomica's Latin name, where there is one.
+    pub latin: Option<String>,
+    /// Other names a student may search for ([`names::matches`]).
+    pub synonyms: Vec<String>,
     pub info: String,
     /// Triangles in the order of `bvh`'s leaves (changed only with the hierarchy, by
     /// [`Organ::set_mesh`]).
@@ -68,6 +73,8 @@ impl Organ {
             colour,
             opacity: 1.0,
             visible: true,
+            latin: None,
+            synonyms: Vec::new(),
             info: String::new(),
             mesh,
             bvh,
@@ -157,6 +164,8 @@ impl OrganSet {
                     opacity: o.opacity,
                     visible: o.visible,
                     group: o.group.clone(),
+                    latin: o.latin.clone(),
+                    synonyms: o.synonyms.clone(),
                     info: o.info.clone(),
                 })
                 .collect(),
@@ -293,6 +302,8 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
         group: entry.group.clone(),
         opacity: entry.opacity,
         visible: entry.visible,
+        latin: entry.latin.clone(),
+        synonyms: entry.synonyms.clone(),
         info: entry.info.clone(),
         ..Organ::new(entry.id.clone(), entry.name.clone(), colour, mesh)
     };

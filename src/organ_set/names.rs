@@ -1,0 +1,66 @@
+//! Finding organs by any of their names: the English name, the id, Terminologia Anatomica's Latin
+//! name and the synonyms, compared case- and accent-insensitively ("Broca", "gyrus precentralis",
+//! "Heschl" all find their organs).
+
+use super::Organ;
+use unicode_normalization::UnicodeNormalization;
+
+/// `s` in the form names are compared in: decomposed, without combining marks, lower case, runs of
+/// whitespace, `-` and `_` as one space, an apostrophe dropped ("Broca's" and "brocas" alike).
+pub fn fold(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.nfd().filter(|c| !unicode_normalization::char::is_combining_mark(*c)) {
+        match c {
+            '\'' | '\u{2019}' => {}
+            c if c.is_whitespace() || c == '-' || c == '_' => {
+                if !out.is_empty() && !out.ends_with(' ') {
+                    out.push(' ');
+                }
+            }
+            c => out.extend(c.to_lowercase()),
+        }
+    }
+    let trimmed = out.trim_end().len();
+    out.truncate(trimmed);
+    out
+}
+
+/// Every name of an organ: its name, id, Latin name and synonyms.
+pub fn names(organ: &Organ) -> impl Iterator<Item = &str> {
+    [organ.name.as_str(), organ.id.as_str()]
+        .into_iter()
+        .chain(organ.latin.as_deref())
+        .chain(organ.synonyms.iter().map(String::as_str))
+}
+
+/// Does any name of `organ` contain `query` (folded)? An empty query matches every organ.
+pub fn matches(organ: &Organ, query: &str) -> bool {
+    let q = fold(query);
+    q.is_empty() || names(organ).any(|n| fold(n).contains(&q))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+
+    fn organ() -> Organ {
+        let mut o = Organ::new("precentral_l".into(), "Left precentral gyrus".into(), [1.0; 3], Mesh::octahedron());
+        o.latin = Some("Gyrus precentralis".into());
+        o.synonyms = vec!["M1".into(), "primary motor cortex".into(), "Broca's area".into()];
+        o
+    }
+
+    #[test]
+    fn any_name_matches_whatever_its_case_and_accents() {
+        let o = organ();
+        for q in ["precentral", "PRECENTRAL", "gyrus précentralis", "m1", "Brocas", "broca’s area", "precentral_l", ""]
+        {
+            assert!(matches(&o, q), "{q}");
+        }
+        for q in ["postcentral", "M2", "gyrus postcentralis"] {
+            assert!(!matches(&o, q), "{q}");
+        }
+        assert_eq!(fold("  Heschl's  gyrus-Ü "), "heschls gyrus u");
+    }
+}
