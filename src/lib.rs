@@ -26,6 +26,7 @@ pub mod bvh;
 pub mod camera;
 pub mod city;
 pub mod cull;
+pub mod edit;
 pub mod error;
 pub mod layout;
 pub mod mesh;
