@@ -8,8 +8,9 @@ use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use std::path::Path;
-use vbrain_ui::settings::ExportSize;
-use vbrain_ui::{viewport, App, AppOptions};
+use vbrain_ui::viewer::settings::ExportSize;
+use vbrain_ui::viewer::viewport;
+use vbrain_ui::{App, AppOptions};
 
 fn brain() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")

@@ -139,12 +139,12 @@ fn colour(mode: CullMode) -> (u8, u8, u8) {
 /// Two panels over the frames: culled percent (top) and frame time (bottom), one line per mode.
 fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Result<()> {
     type Value = fn(&FrameRecord) -> f64;
-    let panel = |title: &str, value: Value| crate::plot::Panel {
+    let panel = |title: &str, value: Value| super::plot::Panel {
         title: title.into(),
         x_label: "frame".into(),
         series: modes
             .iter()
-            .map(|&m| crate::plot::Series {
+            .map(|&m| super::plot::Series {
                 name: m.name().into(),
                 colour: colour(m),
                 points: records.iter().filter(|r| r.mode == m).map(|r| (r.frame as f64, value(r))).collect(),
@@ -152,5 +152,5 @@ fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Resul
             .collect(),
     };
     let panels = [panel("culled triangles (%)", |r| r.culled_percent), panel("frame time (ms)", |r| r.frame_ms)];
-    crate::plot::write(path, 1000, 360, &panels)
+    super::plot::write(path, 1000, 360, &panels)
 }

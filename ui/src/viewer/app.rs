@@ -1,10 +1,10 @@
 //! The viewer's state and its frame: menus, keyboard shortcuts, panels, viewport, dialogs, status
 //! bar and notifications. Organ state lives in the core's [`Layout`] (world space, millimetres RAS).
 
-use crate::files::Dialogs;
-use crate::jobs::Job;
-use crate::settings::Settings;
-use crate::viewport::Viewport;
+use super::files::Dialogs;
+use super::jobs::Job;
+use super::settings::Settings;
+use super::viewport::Viewport;
 use anyhow::{anyhow, Result};
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
 use std::path::{Path, PathBuf};
@@ -381,24 +381,24 @@ impl App {
                     ];
                     for (selection, label) in choices {
                         let r = ui.radio_value(&mut c.selection, selection, label);
-                        crate::accessible(&r, format!("Occluders: {}", selection.name()));
+                        crate::viewer::accessible(&r, format!("Occluders: {}", selection.name()));
                     }
                     if !has_db {
                         ui.weak("This set has no occluder database (vbrain occluders PATH).");
                     }
                     ui.separator();
                     let r = ui.add(egui::Slider::new(&mut c.width, 32..=512).text("culling raster (pixels)"));
-                    crate::accessible(&r, "Culling raster size");
+                    crate::viewer::accessible(&r, "Culling raster size");
                     c.height = c.width;
                     let r = ui.add(
                         egui::Slider::new(&mut c.occluder_triangles, 128..=131_072)
                             .logarithmic(true)
                             .text("occluder triangles"),
                     );
-                    crate::accessible(&r, "Occluder triangle budget");
+                    crate::viewer::accessible(&r, "Occluder triangle budget");
                     let r = ui
                         .add(egui::Slider::new(&mut c.adaptive_ratio, 0.0..=1.0).text("adaptive stop below coverage"));
-                    crate::accessible(&r, "Adaptive stop ratio");
+                    crate::viewer::accessible(&r, "Adaptive stop ratio");
                     let mut approximate = c.hole_tolerance.is_some();
                     if ui.checkbox(&mut approximate, "approximate overlap test (not exact)").changed() {
                         c.hole_tolerance = approximate.then_some(0.05);
@@ -430,9 +430,9 @@ impl App {
                         });
                     }
                     let r = ui.add(egui::Slider::new(&mut t.region_px, 4..=128).text("region (pixels)"));
-                    crate::accessible(&r, "Mask region size");
+                    crate::viewer::accessible(&r, "Mask region size");
                     let r = ui.add(egui::Slider::new(&mut t.k, 1..=16).text("K nearest organs compensated"));
-                    crate::accessible(&r, "Neighbourhood error compensation K");
+                    crate::viewer::accessible(&r, "Neighbourhood error compensation K");
                     if ui.button("Defaults").clicked() {
                         *t = vbrain::transparency::TransparencySettings::default();
                     }
@@ -443,7 +443,7 @@ impl App {
                 ui.horizontal(|ui| {
                     ui.label("Background");
                     let r = ui.color_edit_button_rgb(&mut self.settings.background);
-                    crate::accessible(&r, "Background colour");
+                    crate::viewer::accessible(&r, "Background colour");
                 });
             });
             ui.menu_button("Organs", |ui| {
@@ -556,7 +556,7 @@ impl App {
         if dropped.is_empty() {
             return;
         }
-        let volume = dropped.iter().find(|p| crate::files::is_volume(p));
+        let volume = dropped.iter().find(|p| super::files::is_volume(p));
         if let Some(v) = volume {
             self.dialogs.import.volume = v.display().to_string();
             self.dialogs.import.open = true;
@@ -593,15 +593,15 @@ impl eframe::App for App {
         self.handle_keys(&ctx);
         Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
         Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
-        Panel::left("organs").default_size(330.0).resizable(true).show(ui, |ui| crate::panels::organ_panel(self, ui));
+        Panel::left("organs").default_size(330.0).resizable(true).show(ui, |ui| super::panels::organ_panel(self, ui));
         if self.settings.show_inspector && self.selected.is_some() {
             Panel::right("inspector")
                 .default_size(300.0)
                 .resizable(true)
-                .show(ui, |ui| crate::panels::inspector(self, ui));
+                .show(ui, |ui| super::panels::inspector(self, ui));
         }
-        CentralPanel::no_frame().show(ui, |ui| crate::viewport::show(self, ui));
-        crate::files::windows(self, &ctx);
+        CentralPanel::no_frame().show(ui, |ui| super::viewport::show(self, ui));
+        super::files::windows(self, &ctx);
         self.notifications(&ctx);
         if self.is_loading() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));

@@ -3,7 +3,7 @@
 //! (click selects, double-click frames) and organ moves (Ctrl+drag move, Shift+drag rotate,
 //! Ctrl+wheel resize). Input is in egui points; the target is in physical pixels.
 
-use crate::app::App;
+use super::app::App;
 use eframe::egui::{self, Key, PointerButton, Pos2, Rect, Sense};
 use glam::{Quat, Vec2, Vec3};
 use std::collections::VecDeque;
@@ -101,7 +101,7 @@ pub fn pick(app: &App, at: Pos2) -> Option<usize> {
 
 pub fn show(app: &mut App, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-    crate::accessible(&response, "Viewport");
+    crate::viewer::accessible(&response, "Viewport");
     app.viewport.rect = rect;
     handle_input(app, ui, &response);
     draw(app, ui, rect);
@@ -178,7 +178,7 @@ fn handle_input(app: &mut App, ui: &egui::Ui, response: &egui::Response) {
 
 /// Moves (Ctrl), rotates (Shift) or resizes (Ctrl+Shift) an organ by a drag, in view space.
 fn manipulate(
-    scene: &mut crate::app::Scene,
+    scene: &mut super::app::Scene,
     organ: usize,
     camera: &Camera,
     delta: Vec2,

@@ -112,19 +112,19 @@ pub fn experiment(set: &OrganSet, layout: &Layout, opts: &Options) -> Result<()>
         Ok(())
     })?;
     let plot = opts.out.join("occluders.png");
-    let panel = crate::plot::Panel {
+    let panel = super::plot::Panel {
         title: format!("culled triangles (%) against occluders allowed, mean of {} viewpoints", cameras.len()),
         x_label: "occluders".into(),
         series: methods
             .iter()
-            .map(|(name, curve, colour)| crate::plot::Series {
+            .map(|(name, curve, colour)| super::plot::Series {
                 name: name.to_uppercase(),
                 colour: *colour,
                 points: curve.curve.iter().map(|&(n, c)| (n as f64, c)).collect(),
             })
             .collect(),
     };
-    crate::plot::write(&plot, 900, 420, &[panel])?;
+    super::plot::write(&plot, 900, 420, &[panel])?;
     if opts.json {
         let mut out = serde_json::Map::new();
         for (name, curve, _) in &methods {

@@ -55,7 +55,7 @@ pub fn export(
     renderer.render(device, queue, &target, &FrameInput { moving: false, ..*frame })?;
     let image = target.read_color(device, queue)?;
     let path = unused_path(path);
-    crate::cli::write_png(&path, &image, false)?;
+    vbrain::atomic::write_png(&path, &image, false)?;
     Ok(path)
 }
 

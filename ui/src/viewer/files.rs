@@ -3,10 +3,10 @@
 //! Wayland without a portal); "Browse..." asks the system dialog (rfd) on a worker thread and fills
 //! the field if it answers.
 
-use crate::app::App;
-use crate::export;
-use crate::jobs::Job;
-use crate::settings::ExportSize;
+use super::app::App;
+use super::export;
+use super::jobs::Job;
+use super::settings::ExportSize;
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
@@ -47,9 +47,9 @@ impl PathField {
         ui.horizontal(|ui| {
             ui.label(label);
             let r = ui.add(egui::TextEdit::singleline(&mut self.text).desired_width(380.0));
-            crate::accessible(&r, label.trim_end_matches(':'));
+            crate::viewer::accessible(&r, label.trim_end_matches(':'));
             let browse = ui.add_enabled(self.pending.is_none(), egui::Button::new("Browse..."));
-            crate::accessible(&browse, format!("Browse {}", label.trim_end_matches(':')));
+            crate::viewer::accessible(&browse, format!("Browse {}", label.trim_end_matches(':')));
             if browse.clicked() {
                 let (tx, rx) = mpsc::channel();
                 let filters: Vec<(String, Vec<String>)> =
@@ -192,7 +192,7 @@ fn import_window(app: &mut App, ctx: &egui::Context) {
         ui.horizontal(|ui| {
             ui.label("Triangle budget:");
             let r = ui.add(egui::DragValue::new(&mut w.triangles).range(1000..=5_000_000).speed(1000));
-            crate::accessible(&r, "Triangle budget");
+            crate::viewer::accessible(&r, "Triangle budget");
         });
         start = ui.add_enabled(app.importing.is_none(), egui::Button::new("Import")).clicked();
     });
@@ -248,10 +248,10 @@ fn export_window(app: &mut App, ctx: &egui::Context) {
         ui.add_enabled_ui(settings.size == ExportSize::Custom, |ui| {
             ui.horizontal(|ui| {
                 let r = ui.add(egui::DragValue::new(&mut settings.custom[0]).range(1..=export::MAX_SIDE));
-                crate::accessible(&r, "Custom width");
+                crate::viewer::accessible(&r, "Custom width");
                 ui.label("x");
                 let r = ui.add(egui::DragValue::new(&mut settings.custom[1]).range(1..=export::MAX_SIDE));
-                crate::accessible(&r, "Custom height");
+                crate::viewer::accessible(&r, "Custom height");
             });
         });
         ui.checkbox(&mut settings.transparent, "Transparent background");
@@ -291,7 +291,7 @@ fn export_window(app: &mut App, ctx: &egui::Context) {
 pub fn export_now(app: &App, size: [u32; 2]) -> anyhow::Result<PathBuf> {
     let scene = app.scene.as_ref().ok_or_else(|| anyhow::anyhow!("no organ set"))?;
     let rs = app.gpu.as_ref().ok_or_else(|| anyhow::anyhow!("no GPU"))?;
-    let camera = crate::viewport::camera(app).ok_or_else(|| anyhow::anyhow!("no camera"))?;
+    let camera = super::viewport::camera(app).ok_or_else(|| anyhow::anyhow!("no camera"))?;
     let mut path = PathBuf::from(app.dialogs.export.path.text.trim());
     if path.as_os_str().is_empty() {
         anyhow::bail!("no file name");

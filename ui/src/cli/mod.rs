@@ -297,7 +297,7 @@ fn run_command(command: Command) -> Result<bool> {
             let (set, ok) = open_reporting(&path)?;
             let mut layout = Layout::new(&set);
             apply_overrides(&set, &mut layout, &show, &hide, &[])?;
-            let opts = crate::occluders::Options {
+            let opts = crate::lab::occluders::Options {
                 grid,
                 params: vbrain::mos::Params { size: raster, limit, ..Default::default() },
                 views: parse_route(&views)?,
@@ -306,9 +306,9 @@ fn run_command(command: Command) -> Result<bool> {
                 json,
             };
             if experiment {
-                crate::occluders::experiment(&set, &layout, &opts)?;
+                crate::lab::occluders::experiment(&set, &layout, &opts)?;
             } else {
-                crate::occluders::preprocess(&path, &set, &layout, &opts)?;
+                crate::lab::occluders::preprocess(&path, &set, &layout, &opts)?;
             }
             Ok(ok)
         }
@@ -322,13 +322,13 @@ fn run_command(command: Command) -> Result<bool> {
             if !(1..=256).contains(&region) {
                 bail!("--region {region} outside 1..256 pixels");
             }
-            crate::transparency_bench::run(&set, parse_size(&size)?, region, &out, json)?;
+            crate::lab::transparency_bench::run(&set, parse_size(&size)?, region, &out, json)?;
             Ok(ok)
         }
         Command::Masks { mask, objects, trials, alpha, k, seed, out, json } => {
-            let n = crate::masks::parse_mask(&mask)?;
+            let n = crate::lab::masks::parse_mask(&mask)?;
             let experiment = vbrain::transparency::experiment::Experiment { n, objects, trials, alpha, k, seed };
-            crate::masks::run(&crate::masks::MasksOptions { experiment, out: &out, json })?;
+            crate::lab::masks::run(&crate::lab::masks::MasksOptions { experiment, out: &out, json })?;
             Ok(true)
         }
         Command::Bench {
@@ -361,7 +361,7 @@ fn run_command(command: Command) -> Result<bool> {
                 selection,
                 ..Default::default()
             };
-            let opts = crate::bench::BenchOptions {
+            let opts = crate::lab::bench::BenchOptions {
                 frames,
                 size: parse_size(&size)?,
                 modes: &cull,
@@ -370,7 +370,7 @@ fn run_command(command: Command) -> Result<bool> {
                 out: &out,
                 settings,
             };
-            crate::bench::run(&set, &layout, &opts)?;
+            crate::lab::bench::run(&set, &layout, &opts)?;
             Ok(ok)
         }
     }
@@ -512,7 +512,7 @@ fn render(args: &RenderArgs) -> Result<bool> {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
     let image = target.read_color(&gpu.device, &gpu.queue)?;
-    write_png(&args.out, &image, true)?;
+    vbrain::atomic::write_png(&args.out, &image, true)?;
     if args.json {
         let out = json!({
             "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
@@ -557,19 +557,6 @@ pub fn shuffled(n: usize, seed: u64) -> Vec<usize> {
     let mut order: Vec<usize> = (0..n).collect();
     vbrain::rng::XorShift::seeded(seed).shuffle(&mut order);
     order
-}
-
-/// Encodes a PNG and writes it atomically; `replace` false refuses to overwrite an existing file.
-pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
-    let mut bytes = Vec::new();
-    image.write_to(&mut std::io::Cursor::new(&mut bytes), image::ImageFormat::Png)?;
-    let fill = |w: &mut dyn std::io::Write| w.write_all(&bytes);
-    if replace {
-        vbrain::atomic::write(path, fill)?
-    } else {
-        vbrain::atomic::write_new(path, fill)?
-    }
-    Ok(())
 }
 
 fn progress_bar(len: u64) -> indicatif::ProgressBar {

@@ -59,13 +59,13 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
         Ok(())
     })?;
     let plot = opts.out.join("masks.png");
-    let panel = |title: &str, pick: fn(&experiment::LevelStats) -> &Vec<f64>| crate::plot::Panel {
+    let panel = |title: &str, pick: fn(&experiment::LevelStats) -> &Vec<f64>| super::plot::Panel {
         title: title.into(),
         x_label: "stacking level (1 = nearest)".into(),
         series: outcome
             .methods
             .iter()
-            .map(|(m, s)| crate::plot::Series {
+            .map(|(m, s)| super::plot::Series {
                 name: m.name().into(),
                 colour: colour(*m),
                 points: pick(s).iter().enumerate().map(|(l, &v)| ((l + 1) as f64, v)).collect(),
@@ -74,7 +74,7 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
     };
     let side = (e.n as f64).sqrt();
     let what = format!("{side}x{side} masks, {} objects, {} trials", e.objects, e.trials);
-    crate::plot::write(
+    super::plot::write(
         &plot,
         1000,
         340,
