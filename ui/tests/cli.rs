@@ -342,5 +342,6 @@ fn city_then_occluders_then_the_selection_experiment() {
     }
     assert!(out.join("occluders.csv").is_file() && out.join("occluders.png").is_file());
     let bad = vbrain(&["occluders", c, "--experiment", "--views", "sideways"]);
-    assert!(!bad.status.success() && String::from_utf8_lossy(&bad.stderr).contains("unknown route"));
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(!bad.status.success() && err.contains("sideways") && err.contains("orbit, best, average, worst"), "{err}");
 }

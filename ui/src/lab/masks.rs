@@ -1,6 +1,7 @@
-//! `vbrain masks`: the mask experiment of thesis Figures 19 and 20 for white-noise, pixel-tree,
-//! tabular and compensated tabular masks: faulty pixels per stacking level (min/mean/max over the
-//! trials), printed, as CSV and as a PNG plot, and with `--json` as one object.
+//! The mask experiment behind `vbrain masks` (thesis Figures 19 and 20) for white-noise,
+//! pixel-tree, tabular and compensated tabular masks: faulty pixels per stacking level
+//! (min/mean/max over the trials), printed, as CSV and as a PNG plot, and with `--json` as one
+//! object.
 
 use anyhow::{bail, Result};
 use serde_json::json;
@@ -125,10 +126,4 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
         println!("wrote {} and {}", csv.display(), plot.display());
     }
     Ok(())
-}
-
-/// Parses a mask size "WxH" (e.g. 16x16) into its sub-sample count.
-pub fn parse_mask(s: &str) -> Result<usize> {
-    let (w, h) = crate::cli::parse_size(s)?;
-    Ok(w as usize * h as usize)
 }

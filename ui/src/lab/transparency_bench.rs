@@ -1,8 +1,9 @@
-//! `vbrain bench-transparency`: every transparency mode against the exact reference on views of
-//! the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and 99th-percentile
-//! per-pixel error (8-bit sRGB units, the largest of the three channels), frame time, all in one
-//! run; CSV, a PNG plot and a contact sheet (one row per view, one column per mode in the order
-//! printed). It also times mask regeneration at 1920x1080 with every organ at 50 % opacity.
+//! Behind `vbrain bench-transparency`: every transparency mode against the exact reference on
+//! views of the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and
+//! 99th-percentile per-pixel error (8-bit sRGB units, the largest of the three channels), frame
+//! time, all in one run; CSV, a PNG plot and a contact sheet (one row per view, one column per
+//! mode in the order printed). It also times mask regeneration at 1920x1080 with every organ at
+//! 50 % opacity.
 
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;

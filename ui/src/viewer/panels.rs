@@ -2,8 +2,8 @@
 //! transparency toggle, opacity, colour, isolate) and the inspector of the selected organ (name,
 //! info, triangles, opacity, colour, and its transform in world millimetres and degrees).
 
-use crate::viewer::accessible;
 use super::app::{App, Scene};
+use crate::viewer::accessible;
 use eframe::egui::{self, RichText};
 
 /// A node of the group tree: its organs (indices) and sub-groups, in the set's order.
