@@ -1,18 +1,30 @@
-//! The viewer's state and its frame: menus, keyboard shortcuts, panels, viewport, dialogs, status
-//! bar and notifications. Organ state lives in the core's [`Layout`] (world space, millimetres RAS).
+//! The viewer's app: its state, the frame, and [`App::perform`], the one place where the
+//! components' [`Action`]s are carried out (scene edits through [`Scene::apply`], and the
+//! commands: open, import, export, camera, selection, windows, notifications).
+//!
+//! A frame: finished jobs, dropped files, keyboard shortcuts, menu bar, status bar, organ panel,
+//! inspector, viewport, windows, notifications; each component's actions are performed before the
+//! next component draws, so every component shows what the ones before it changed.
 
-use super::files::Dialogs;
+use super::action::{Action, Window};
+use super::export::{self, ExportWindow};
+use super::files::{self, ImportWindow, OpenWindow};
+use super::inspector::inspector;
 use super::jobs::Job;
+use super::menus::{self, MenuState};
+use super::panels::OrganPanel;
+use super::scene::Scene;
 use super::settings::Settings;
-use super::viewport::Viewport;
-use anyhow::{anyhow, Result};
-use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
+use super::shortcuts::{self, Command};
+use super::status::{self, Notification, Status};
+use super::viewport::{self, Viewport};
+use anyhow::{anyhow, Context as _, Result};
+use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
-use vbrain::layout::{Layout, Transform};
-use vbrain::mesh::Bounds;
-use vbrain::organ_set::{self, Loaded, OrganSet};
-use vbrain::render::Renderer;
+use vbrain::edit::{Edit, Organs};
+use vbrain::organ_set::{self, Loaded};
+use vbrain::render::{FrameInput, Renderer};
 
 /// How the viewer starts.
 #[derive(Clone, Debug, Default)]
@@ -44,101 +56,30 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
         .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
 
-/// A loaded set with its GPU resources and the user's changes.
-pub struct Scene {
-    pub set: OrganSet,
-    /// Where it was opened from (a folder, a file, or several files joined by the title).
-    pub source: Vec<PathBuf>,
-    pub layout: Layout,
-    pub renderer: Renderer,
-    /// What the camera frames on reset: the organs shown when the set was opened (world space).
-    pub home: Bounds,
-    /// Per organ, the opacity the transparency toggle returns to.
-    pub last_translucent: Vec<f32>,
-    /// Culls frame after frame, keeping where each organ's last traversal stopped.
-    pub culler: vbrain::cull::Culler,
+/// The viewer's windows.
+#[derive(Default)]
+pub struct Dialogs {
+    pub open_set: OpenWindow,
+    pub open_meshes: OpenWindow,
+    pub import: ImportWindow,
+    pub export: ExportWindow,
 }
 
-impl Scene {
-    /// Sets an organ's opacity, remembering translucent values for the toggle.
-    pub fn set_opacity(&mut self, organ: usize, opacity: f32) {
-        let opacity = opacity.clamp(0.0, 1.0);
-        self.layout.organs[organ].opacity = opacity;
-        if opacity < 1.0 && opacity > 0.0 {
-            self.last_translucent[organ] = opacity;
-        }
-    }
-
-    /// Opaque <-> the organ's last translucent opacity.
-    pub fn toggle_transparency(&mut self, organ: usize) {
-        let s = &self.layout.organs[organ];
-        let next = if s.opacity >= 1.0 { self.last_translucent[organ] } else { 1.0 };
-        self.set_opacity(organ, next);
-    }
-
-    /// Shows only these organs.
-    pub fn isolate(&mut self, organs: &[usize]) {
-        for (i, s) in self.layout.organs.iter_mut().enumerate() {
-            s.visible = organs.contains(&i);
-        }
-    }
-
-    pub fn show_all(&mut self) {
-        self.layout.organs.iter_mut().for_each(|s| s.visible = true);
-    }
-
-    /// Back to the set's defaults: visibility, opacity, colour, no transforms.
-    pub fn reset_layout(&mut self) {
-        self.layout = Layout::new(&self.set);
-    }
-
-    pub fn reset_transform(&mut self, organ: usize) {
-        let t = &mut self.layout.organs[organ].transform;
-        *t = Transform::identity(t.pivot);
-    }
-
-    /// World bounds of one organ as placed now.
-    pub fn organ_bounds(&self, organ: usize) -> Bounds {
-        self.set.organs[organ].mesh.bounds().transformed(&self.layout.organs[organ].transform.matrix())
-    }
-}
-
-/// A message for the user; errors name the file that failed.
-pub struct Notification {
-    pub text: String,
-    pub error: bool,
-}
-
-type LoadResult = Result<(Loaded, Vec<PathBuf>), String>;
+/// A set read off the UI thread, with the paths it came from.
+type Opened = (Loaded, Vec<PathBuf>);
 
 pub struct App {
     /// The device eframe renders with; the scene draws with it too.
-    pub gpu: Option<egui_wgpu::RenderState>,
-    pub scene: Option<Scene>,
-    pub selected: Option<usize>,
-    pub settings: Settings,
-    pub notifications: Vec<Notification>,
-    pub viewport: Viewport,
-    pub dialogs: Dialogs,
-    pub(crate) filter: String,
-    loading: Option<Job<LoadResult>>,
-    pub(crate) importing: Option<Job<Result<PathBuf, String>>>,
-}
-
-/// Keyboard shortcuts, also shown in the menus.
-pub mod keys {
-    use super::*;
-    pub const EXPORT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-    pub const OPEN: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::O);
-    pub const RESET_LAYOUT: KeyboardShortcut = KeyboardShortcut::new(Modifiers::COMMAND, Key::R);
-    pub const VIEWS: [(Key, View); 6] = [
-        (Key::Num1, View::Anterior),
-        (Key::Num2, View::Posterior),
-        (Key::Num3, View::Left),
-        (Key::Num4, View::Right),
-        (Key::Num5, View::Superior),
-        (Key::Num6, View::Inferior),
-    ];
+    gpu: Option<egui_wgpu::RenderState>,
+    scene: Option<Scene>,
+    selected: Option<usize>,
+    settings: Settings,
+    notifications: Vec<Notification>,
+    viewport: Viewport,
+    organ_panel: OrganPanel,
+    dialogs: Dialogs,
+    loading: Option<Job<Result<Opened>>>,
+    importing: Option<Job<Result<PathBuf>>>,
 }
 
 impl App {
@@ -150,8 +91,8 @@ impl App {
             selected: None,
             notifications: Vec::new(),
             viewport: Viewport::default(),
+            organ_panel: OrganPanel::default(),
             dialogs: Dialogs::default(),
-            filter: String::new(),
             loading: None,
             importing: None,
             settings,
@@ -167,6 +108,59 @@ impl App {
         app
     }
 
+    /// The loaded set, its layout and renderer.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    pub fn selected(&self) -> Option<usize> {
+        self.selected
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    pub fn notifications(&self) -> &[Notification] {
+        &self.notifications
+    }
+
+    pub fn viewport(&self) -> &Viewport {
+        &self.viewport
+    }
+
+    pub fn dialogs(&self) -> &Dialogs {
+        &self.dialogs
+    }
+
+    pub fn dialogs_mut(&mut self) -> &mut Dialogs {
+        &mut self.dialogs
+    }
+
+    /// What the viewport reads.
+    fn viewport_input(&self) -> viewport::Input<'_> {
+        viewport::Input {
+            scene: self.scene.as_ref(),
+            gpu: self.gpu.as_ref(),
+            settings: &self.settings,
+            selected: self.selected,
+        }
+    }
+
+    /// The organ-ID buffer of the current view (see [`Viewport::read_ids`]).
+    pub fn read_ids(&self) -> Option<(Vec<u32>, [u32; 2])> {
+        self.viewport.read_ids(&self.viewport_input())
+    }
+
+    /// The image the viewport shows now.
+    pub fn read_image(&self) -> Option<image::RgbaImage> {
+        self.viewport.read_image(self.gpu.as_ref()?)
+    }
+
     /// Loads a set (one folder or file) or several mesh files, off the UI thread.
     pub fn open(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
         let title = match paths.as_slice() {
@@ -180,7 +174,7 @@ impl App {
                 many => organ_set::open_files(many, "Mesh files"),
             };
             progress.set(1, 1, "uploading");
-            result.map(|l| (l, paths)).map_err(|e| e.to_string())
+            Ok((result?, paths))
         }));
     }
 
@@ -189,17 +183,73 @@ impl App {
     }
 
     /// The running job: title, progress (if known) and message.
-    pub fn loading_job(&self) -> Option<(String, Option<f32>, String)> {
+    fn job(&self) -> Option<menus::Job> {
         let (title, p) = match (&self.loading, &self.importing) {
             (Some(j), _) => (&j.title, &j.progress),
             (None, Some(j)) => (&j.title, &j.progress),
             _ => return None,
         };
-        Some((title.clone(), p.fraction(), p.message()))
+        Some(menus::Job { title: title.clone(), fraction: p.fraction(), message: p.message() })
     }
 
     pub fn notify(&mut self, text: impl Into<String>, error: bool) {
         self.notifications.push(Notification { text: text.into(), error });
+    }
+
+    /// Carries out the components' actions, in order.
+    pub fn perform(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
+        for action in actions {
+            if matches!(action, Action::Edit(_) | Action::Select(_)) {
+                // Components drawn earlier in this frame showed the state before it.
+                ctx.request_repaint();
+            }
+            match action {
+                Action::Edit(edit) => {
+                    if let Some(scene) = &mut self.scene {
+                        scene.apply(&edit);
+                    }
+                }
+                Action::Select(organ) => self.selected = organ,
+                Action::Open(paths) => self.open(ctx, paths),
+                Action::Show(window) => match window {
+                    Window::OpenSet => self.dialogs.open_set.open = true,
+                    Window::OpenMeshes => self.dialogs.open_meshes.open = true,
+                    Window::Import => self.dialogs.import.open = true,
+                    Window::Export => self.dialogs.export.open = true,
+                },
+                Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
+                Action::Import(request) => {
+                    let title = format!("import {}", request.volume.display());
+                    self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
+                }
+                Action::Export { path, size } => self.export(&path, size),
+                Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
+                Action::ResetCamera => {
+                    if let Some(s) = &self.scene {
+                        self.viewport.reset_camera(&s.home());
+                    }
+                }
+                Action::ToggleFly => self.viewport.toggle_fly(),
+                Action::Frame(organ) => {
+                    if let Some(s) = &self.scene {
+                        self.viewport.frame(&s.organ_bounds(organ));
+                    }
+                }
+                Action::Notify { text, error } => self.notify(text, error),
+                Action::NotifyOnce(text) => {
+                    if !self.notifications.iter().any(|n| n.text == text) {
+                        self.notify(text, true);
+                    }
+                }
+                Action::Dismiss(None) => self.notifications.clear(),
+                Action::Dismiss(Some(i)) => {
+                    if i < self.notifications.len() {
+                        self.notifications.remove(i);
+                    }
+                }
+                Action::Quit => ctx.send_viewport_cmd(egui::ViewportCommand::Close),
+            }
+        }
     }
 
     fn poll_jobs(&mut self, ctx: &egui::Context) {
@@ -210,14 +260,14 @@ impl App {
                     self.notify(format!("imported into {}", dir.display()), false);
                     self.open(ctx, vec![dir]);
                 }
-                Err(e) => self.notify(e, true),
+                Err(e) => self.notify(e.to_string(), true),
             }
         }
         let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
         self.loading = None;
         match result {
             Ok((loaded, paths)) => self.install(loaded, paths),
-            Err(e) => self.notify(e, true),
+            Err(e) => self.notify(e.to_string(), true),
         }
     }
 
@@ -239,336 +289,87 @@ impl App {
         };
         match Renderer::new(&rs.device, &loaded.set) {
             Ok(renderer) => {
-                let set = loaded.set;
-                let layout = Layout::new(&set);
-                let home = layout.bounds(&set);
-                let last_translucent =
-                    set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
                 if let [one] = paths.as_slice() {
                     self.settings.remember(one);
                 }
-                self.viewport.reset_camera(&home);
+                let scene = Scene::new(loaded.set, paths, renderer);
+                self.viewport.new_set(&scene.home());
                 self.selected = None;
-                self.scene = Some(Scene {
-                    set,
-                    source: paths,
-                    layout,
-                    renderer,
-                    home,
-                    last_translucent,
-                    culler: Default::default(),
-                });
+                self.scene = Some(scene);
             }
             Err(e) => self.notify(e.to_string(), true),
         }
     }
 
-    /// Keyboard shortcuts that act when no text field has the keyboard.
-    fn handle_keys(&mut self, ctx: &egui::Context) {
-        if ctx.input_mut(|i| i.consume_shortcut(&keys::EXPORT)) {
-            self.dialogs.export.open = true;
-        }
-        if ctx.input_mut(|i| i.consume_shortcut(&keys::OPEN)) {
-            self.dialogs.open_set.open = true;
-        }
-        if ctx.egui_wants_keyboard_input() {
-            return;
-        }
-        if ctx.input_mut(|i| i.consume_shortcut(&keys::RESET_LAYOUT)) {
-            if let Some(s) = &mut self.scene {
-                s.reset_layout();
+    /// The keyboard shortcuts pressed this frame, as actions.
+    fn key_actions(&self, ctx: &egui::Context) -> Vec<Action> {
+        let mut out = Vec::new();
+        // Esc before an organ's shortcut in the same frame leaves that shortcut no organ.
+        let mut selected = self.selected;
+        for (command, key) in shortcuts::pressed(ctx) {
+            let organ = self.scene.as_ref().zip(selected);
+            match command {
+                Command::Views => out.extend(View::ALL.get(key).map(|&v| Action::View(v))),
+                Command::ResetCamera => out.push(Action::ResetCamera),
+                Command::ToggleFly => out.push(Action::ToggleFly),
+                Command::Deselect => {
+                    selected = None;
+                    out.push(Action::Select(None));
+                }
+                Command::Open => out.push(Action::Show(Window::OpenSet)),
+                Command::Export => out.push(Action::Show(Window::Export)),
+                Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
+                Command::ToggleTransparency => {
+                    out.extend(organ.map(|(s, sel)| Action::Edit(s.toggle_transparency(sel))));
+                }
+                Command::ToggleVisible => out.extend(organ.map(|(s, sel)| Action::Edit(s.toggle_visible(sel)))),
+                Command::Isolate => {
+                    out.extend(organ.map(|(_, sel)| Action::Edit(Edit::Isolate { organs: Organs::One(sel) })));
+                }
+                Command::Frame => out.extend(organ.map(|(_, sel)| Action::Frame(sel))),
             }
         }
-        let pressed = |key| ctx.input(|i| i.key_pressed(key) && i.modifiers.is_none());
-        for (key, view) in keys::VIEWS {
-            if pressed(key) {
-                self.viewport.set_view(view, self.scene.as_ref().map(|s| s.home));
-            }
-        }
-        if pressed(Key::Home) || pressed(Key::R) {
-            if let Some(s) = &self.scene {
-                self.viewport.reset_camera(&s.home);
-            }
-        }
-        if pressed(Key::G) {
-            self.viewport.fly = !self.viewport.fly;
-        }
-        if pressed(Key::Escape) {
-            self.selected = None;
-        }
-        let (Some(scene), Some(sel)) = (&mut self.scene, self.selected) else { return };
-        if pressed(Key::T) {
-            scene.toggle_transparency(sel);
-        }
-        if pressed(Key::H) {
-            scene.layout.organs[sel].visible = !scene.layout.organs[sel].visible;
-        }
-        if pressed(Key::I) {
-            scene.isolate(&[sel]);
-        }
-        if pressed(Key::F) {
-            let b = scene.organ_bounds(sel);
-            self.viewport.nav.frame(&b);
-        }
+        out
     }
 
-    fn menu_bar(&mut self, ui: &mut egui::Ui) {
-        egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui
-                    .add(egui::Button::new("Open organ set...").shortcut_text(ui.ctx().format_shortcut(&keys::OPEN)))
-                    .clicked()
-                {
-                    self.dialogs.open_set.open = true;
-                }
-                if ui.button("Open mesh files...").clicked() {
-                    self.dialogs.open_meshes.open = true;
-                }
-                if ui.button("Import label volume...").clicked() {
-                    self.dialogs.import.open = true;
-                }
-                ui.menu_button("Recent sets", |ui| {
-                    if self.settings.recent.is_empty() {
-                        ui.label("none yet");
-                    }
-                    for p in self.settings.recent.clone() {
-                        if ui.button(p.display().to_string()).clicked() {
-                            self.open(ui.ctx(), vec![p]);
-                        }
-                    }
-                });
-                ui.separator();
-                let export =
-                    egui::Button::new("Export screenshot...").shortcut_text(ui.ctx().format_shortcut(&keys::EXPORT));
-                if ui.add_enabled(self.scene.is_some(), export).clicked() {
-                    self.dialogs.export.open = true;
-                }
-                ui.separator();
-                if ui.button("Quit").clicked() {
-                    ui.ctx().send_viewport_cmd(egui::ViewportCommand::Close);
-                }
-            });
-            ui.menu_button("View", |ui| {
-                for (key, view) in keys::VIEWS {
-                    let label = format!("{}{}", view.name()[..1].to_uppercase(), &view.name()[1..]);
-                    if ui
-                        .add(egui::Button::new(label).shortcut_text(format!("{key:?}").trim_start_matches("Num")))
-                        .clicked()
-                    {
-                        self.viewport.set_view(view, self.scene.as_ref().map(|s| s.home));
-                    }
-                }
-                ui.separator();
-                if ui.add(egui::Button::new("Reset camera").shortcut_text("R")).clicked() {
-                    if let Some(s) = &self.scene {
-                        self.viewport.reset_camera(&s.home);
-                    }
-                }
-                ui.checkbox(&mut self.viewport.fly, "Walk-through camera (G)");
-                ui.separator();
-                ui.menu_button("Culling of hidden tissue", |ui| {
-                    let c = &mut self.settings.cull;
-                    for mode in vbrain::cull::CullMode::ALL {
-                        ui.radio_value(&mut c.mode, mode, mode.name());
-                    }
-                    ui.separator();
-                    ui.label("Occluders");
-                    let has_db = self.scene.as_ref().is_some_and(|s| s.set.occluders.is_some());
-                    let choices = [
-                        (vbrain::cull::Selection::Auto, "automatic: pre-computed while nothing moved"),
-                        (vbrain::cull::Selection::ProjectedSize, "projected size (every frame)"),
-                        (vbrain::cull::Selection::Mos, "pre-computed minimum occluder sets"),
-                    ];
-                    for (selection, label) in choices {
-                        let r = ui.radio_value(&mut c.selection, selection, label);
-                        crate::viewer::accessible(&r, format!("Occluders: {}", selection.name()));
-                    }
-                    if !has_db {
-                        ui.weak("This set has no occluder database (vbrain occluders PATH).");
-                    }
-                    ui.separator();
-                    let r = ui.add(egui::Slider::new(&mut c.width, 32..=512).text("culling raster (pixels)"));
-                    crate::viewer::accessible(&r, "Culling raster size");
-                    c.height = c.width;
-                    let r = ui.add(
-                        egui::Slider::new(&mut c.occluder_triangles, 128..=131_072)
-                            .logarithmic(true)
-                            .text("occluder triangles"),
-                    );
-                    crate::viewer::accessible(&r, "Occluder triangle budget");
-                    let r = ui
-                        .add(egui::Slider::new(&mut c.adaptive_ratio, 0.0..=1.0).text("adaptive stop below coverage"));
-                    crate::viewer::accessible(&r, "Adaptive stop ratio");
-                    let mut approximate = c.hole_tolerance.is_some();
-                    if ui.checkbox(&mut approximate, "approximate overlap test (not exact)").changed() {
-                        c.hole_tolerance = approximate.then_some(0.05);
-                    }
-                    if let Some(t) = &mut c.hole_tolerance {
-                        ui.add(egui::Slider::new(t, 0.0..=0.5).text("hole tolerance"));
-                    }
-                    if ui.button("Defaults").clicked() {
-                        *c = vbrain::cull::CullSettings::default();
-                    }
-                    ui.separator();
-                    ui.checkbox(&mut self.settings.cull_debug, "Debug view: culled triangles in colour");
-                });
-                ui.menu_button("Transparency of faded organs", |ui| {
-                    let t = &mut self.settings.transparency;
-                    for mode in vbrain::transparency::TransparencyMode::ALL {
-                        ui.radio_value(&mut t.mode, mode, mode.name());
-                    }
-                    ui.separator();
-                    ui.label("Screen-door masks");
-                    for (label, value) in [
-                        ("sub-samples, still", &mut t.subsamples),
-                        ("sub-samples, moving", &mut t.interactive_subsamples),
-                    ] {
-                        egui::ComboBox::from_label(label).selected_text(value.to_string()).show_ui(ui, |ui| {
-                            for n in vbrain::transparency::SUBSAMPLE_CHOICES {
-                                ui.selectable_value(value, n, n.to_string());
-                            }
-                        });
-                    }
-                    let r = ui.add(egui::Slider::new(&mut t.region_px, 4..=128).text("region (pixels)"));
-                    crate::viewer::accessible(&r, "Mask region size");
-                    let r = ui.add(egui::Slider::new(&mut t.k, 1..=16).text("K nearest organs compensated"));
-                    crate::viewer::accessible(&r, "Neighbourhood error compensation K");
-                    if ui.button("Defaults").clicked() {
-                        *t = vbrain::transparency::TransparencySettings::default();
-                    }
-                });
-                ui.separator();
-                ui.checkbox(&mut self.settings.show_inspector, "Inspector");
-                ui.checkbox(&mut self.settings.show_stats, "Statistics (fps, culling and mask overlay)");
-                ui.horizontal(|ui| {
-                    ui.label("Background");
-                    let r = ui.color_edit_button_rgb(&mut self.settings.background);
-                    crate::viewer::accessible(&r, "Background colour");
-                });
-            });
-            ui.menu_button("Organs", |ui| {
-                let has = self.scene.is_some();
-                if ui.add_enabled(has, egui::Button::new("Show all")).clicked() {
-                    if let Some(s) = &mut self.scene {
-                        s.show_all();
-                    }
-                }
-                let reset = egui::Button::new("Reset organ layout")
-                    .shortcut_text(ui.ctx().format_shortcut(&keys::RESET_LAYOUT));
-                if ui.add_enabled(has, reset).clicked() {
-                    if let Some(s) = &mut self.scene {
-                        s.reset_layout();
-                    }
-                }
-                ui.add(
-                    egui::Slider::new(&mut self.settings.pick_min_opacity, 0.0..=1.0)
-                        .text("click through below opacity"),
-                );
-            });
-            ui.menu_button("Help", |ui| {
-                ui.label(CONTROLS);
-            });
-            if let Some((title, fraction, message)) = self.loading_job() {
-                ui.separator();
-                ui.label(format!("loading {title}"));
-                match fraction {
-                    Some(f) => {
-                        ui.add(egui::ProgressBar::new(f).desired_width(160.0).text(message));
-                    }
-                    None => {
-                        ui.spinner();
-                    }
-                }
+    /// Renders the current view at `size` into the file typed as `path`.
+    fn export(&mut self, path: &str, size: [u32; 2]) {
+        let (message, saved) = match self.export_view(path, size) {
+            Ok(path) => {
+                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                (format!("saved {} ({}x{})", path.display(), size[0], size[1]), true)
             }
-        });
+            Err(e) => (format!("screenshot not saved: {e:#}"), false),
+        };
+        self.dialogs.export.finished(message.clone(), saved);
+        self.notify(message, !saved);
     }
 
-    fn status_bar(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            let Some(scene) = &self.scene else {
-                ui.label(if self.is_loading() { "loading..." } else { "no organ set: File > Open organ set..." });
-                return;
-            };
-            let stats = self.viewport.stats;
-            if self.settings.show_stats {
-                ui.label(format!("{:.0} fps", self.viewport.fps()));
-                ui.separator();
-            }
-            ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set.triangle_count()));
-            ui.separator();
-            ui.label(format!("{} organs drawn", stats.organs_drawn));
-            ui.separator();
-            ui.label(if self.viewport.fly { "walk-through camera" } else { "orbit camera" });
-            ui.separator();
-            ui.label(format!("transparency: {}", self.settings.transparency.mode.name()));
-            ui.separator();
-            let occluders = match self.viewport.cull.source {
-                Some(vbrain::cull::OccluderSource::Mos) => ", pre-computed occluders",
-                Some(vbrain::cull::OccluderSource::ProjectedSize) => ", occluders by projected size",
-                None => "",
-            };
-            ui.label(format!("culling: {}{occluders}", self.settings.cull.mode.name()));
-            if let Some(sel) = self.selected {
-                ui.separator();
-                ui.label(format!("selected: {}", scene.set.organs[sel].name));
-            }
-        });
+    fn export_view(&self, path: &str, size: [u32; 2]) -> Result<PathBuf> {
+        let scene = self.scene.as_ref().context("no organ set")?;
+        let rs = self.gpu.as_ref().context("no GPU")?;
+        let camera = self.viewport.camera(scene);
+        let path = export::file_path(path)?;
+        let frame = FrameInput {
+            background: self.settings.background_linear(self.settings.export.transparent),
+            transparency: self.settings.transparency,
+            ..FrameInput::new(scene.set(), &camera, scene.layout())
+        };
+        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path)
     }
 
-    fn notifications(&mut self, ctx: &egui::Context) {
-        if self.notifications.is_empty() {
-            return;
-        }
-        let mut dismiss = None;
-        egui::Area::new(egui::Id::unique("notifications")).anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -36.0]).show(
-            ctx,
-            |ui| {
-                egui::Frame::popup(ui.style()).show(ui, |ui| {
-                    ui.set_max_width(520.0);
-                    for (i, n) in self.notifications.iter().enumerate().rev().take(8) {
-                        ui.horizontal(|ui| {
-                            let colour = if n.error { egui::Color32::LIGHT_RED } else { ui.visuals().text_color() };
-                            if ui.small_button("x").on_hover_text("Dismiss").clicked() {
-                                dismiss = Some(i);
-                            }
-                            ui.add(egui::Label::new(egui::RichText::new(&n.text).color(colour)).wrap());
-                        });
-                    }
-                    if self.notifications.len() > 1 && ui.button("Dismiss all").clicked() {
-                        dismiss = Some(usize::MAX);
-                    }
-                });
-            },
-        );
-        match dismiss {
-            Some(usize::MAX) => self.notifications.clear(),
-            Some(i) => {
-                self.notifications.remove(i);
-            }
-            None => {}
-        }
-    }
-
-    fn dropped_files(&mut self, ctx: &egui::Context) {
-        let dropped: Vec<PathBuf> = ctx.input(|i| {
-            i.raw.dropped_files.iter().map(|f| f.path().to_path_buf()).filter(|p| !p.as_os_str().is_empty()).collect()
-        });
-        if dropped.is_empty() {
-            return;
-        }
-        let volume = dropped.iter().find(|p| super::files::is_volume(p));
-        if let Some(v) = volume {
-            self.dialogs.import.volume = v.display().to_string();
-            self.dialogs.import.open = true;
-        } else if dropped.len() == 1 {
-            self.open(ctx, dropped);
-        } else {
-            let meshes: Vec<PathBuf> = dropped.into_iter().filter(|p| organ_set::is_mesh_file(p)).collect();
-            if meshes.is_empty() {
-                self.notify("dropped files are neither organ sets, meshes nor label volumes", true);
-            } else {
-                self.open(ctx, meshes);
-            }
+    /// The windows, each one's actions performed before the next draws.
+    fn windows(&mut self, ctx: &egui::Context) {
+        let actions = self.dialogs.open_set.show_set(ctx, &self.settings.recent);
+        self.perform(ctx, actions);
+        let actions = self.dialogs.open_meshes.show_meshes(ctx);
+        self.perform(ctx, actions);
+        let actions = self.dialogs.import.show(ctx, self.importing.is_some());
+        self.perform(ctx, actions);
+        if let Some(scene) = &self.scene {
+            let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
+            let actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
+            self.perform(ctx, actions);
         }
     }
 }
@@ -577,32 +378,66 @@ fn paths_label(paths: &[PathBuf]) -> String {
     paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
 }
 
-pub const CONTROLS: &str = "Mouse: drag to orbit, right or middle drag to pan, wheel to zoom toward the cursor, \
-click to select an organ, double-click to frame it.\n\
-With an organ selected: Ctrl+drag moves it, Shift+drag rotates it, Ctrl+wheel resizes it.\n\
-Keys: 1-6 anterior, posterior, left, right, superior, inferior view; R or Home reset camera; \
-G walk-through camera (W/A/S/D/Q/E move, drag to look); F frame selected; T toggle its transparency; \
-H hide or show it; I isolate it; Esc deselect; Ctrl+R reset organ layout; Ctrl+O open; Ctrl+S export screenshot.";
-
 impl eframe::App for App {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         use egui::{CentralPanel, Panel};
         let ctx = ui.ctx().clone();
         self.poll_jobs(&ctx);
-        self.dropped_files(&ctx);
-        self.handle_keys(&ctx);
-        Panel::top("menu").show(ui, |ui| self.menu_bar(ui));
-        Panel::bottom("status").show(ui, |ui| self.status_bar(ui));
-        Panel::left("organs").default_size(330.0).resizable(true).show(ui, |ui| super::panels::organ_panel(self, ui));
+        self.perform(&ctx, files::dropped(&ctx));
+        let keys = self.key_actions(&ctx);
+        self.perform(&ctx, keys);
+        let state = MenuState { scene: self.scene.as_ref(), fly: self.viewport.fly(), job: self.job() };
+        let actions = Panel::top("menu").show(ui, |ui| menus::menu_bar(ui, &state, &mut self.settings)).inner;
+        self.perform(&ctx, actions);
+        let status = Status {
+            scene: self.scene.as_ref(),
+            loading: self.is_loading(),
+            viewport: &self.viewport,
+            settings: &self.settings,
+            selected: self.selected,
+        };
+        Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
+        let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
+        let actions = Panel::left("organs")
+            .default_size(330.0)
+            .resizable(true)
+            .show(ui, |ui| panel.show(ui, scene, selected))
+            .inner;
+        self.perform(&ctx, actions);
         if self.settings.show_inspector && self.selected.is_some() {
-            Panel::right("inspector")
+            let (scene, selected) = (self.scene.as_ref(), self.selected);
+            let actions = Panel::right("inspector")
                 .default_size(300.0)
                 .resizable(true)
-                .show(ui, |ui| super::panels::inspector(self, ui));
+                .show(ui, |ui| match scene.zip(selected) {
+                    Some((scene, sel)) => inspector(ui, scene, sel),
+                    None => Vec::new(),
+                })
+                .inner;
+            self.perform(&ctx, actions);
         }
-        CentralPanel::no_frame().show(ui, |ui| super::viewport::show(self, ui));
-        super::files::windows(self, &ctx);
-        self.notifications(&ctx);
+        CentralPanel::no_frame().show(ui, |ui| {
+            let (rect, response) = self.viewport.allocate(ui);
+            let input = viewport::Input {
+                scene: self.scene.as_ref(),
+                gpu: self.gpu.as_ref(),
+                settings: &self.settings,
+                selected: self.selected,
+            };
+            let actions = self.viewport.input(ui, &response, &input);
+            self.perform(&ctx, actions);
+            let input = viewport::Input {
+                scene: self.scene.as_ref(),
+                gpu: self.gpu.as_ref(),
+                settings: &self.settings,
+                selected: self.selected,
+            };
+            let actions = self.viewport.draw(ui, rect, &input);
+            self.perform(&ctx, actions);
+        });
+        self.windows(&ctx);
+        let actions = status::notifications(&ctx, &self.notifications);
+        self.perform(&ctx, actions);
         if self.is_loading() {
             ctx.request_repaint_after(std::time::Duration::from_millis(100));
         }

@@ -1,8 +1,13 @@
 //! Screenshot export: the current view rendered offscreen at the asked size through the same
-//! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over an
-//! existing file.
+//! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over
+//! an existing file; and the export window, which asks for the size and the file and returns an
+//! [`Action::Export`].
 
+use super::action::Action;
+use super::settings::{ExportSettings, ExportSize};
+use super::widgets::{accessible, PathField, Pick};
 use anyhow::{bail, Result};
+use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::render::{FrameInput, Renderer, Target};
 
@@ -57,6 +62,96 @@ pub fn export(
     let path = unused_path(path);
     vbrain::atomic::write_png(&path, &image, false)?;
     Ok(path)
+}
+
+/// The file to write for the path typed: `.png` added if it has no extension.
+pub fn file_path(typed: &str) -> Result<PathBuf> {
+    let mut path = PathBuf::from(typed.trim());
+    if path.as_os_str().is_empty() {
+        bail!("no file name");
+    }
+    if path.extension().is_none() {
+        path.set_extension("png");
+    }
+    Ok(path)
+}
+
+/// The "Export screenshot" window.
+#[derive(Default)]
+pub struct ExportWindow {
+    pub open: bool,
+    pub path: PathField,
+    /// The last export's result, shown in the window.
+    pub last: Option<String>,
+}
+
+impl ExportWindow {
+    /// The window for a set titled `title` in a viewport of `viewport` pixels; the size and
+    /// background choices are the export settings, kept between sessions.
+    pub fn show(
+        &mut self,
+        ctx: &egui::Context,
+        title: &str,
+        viewport: [u32; 2],
+        settings: &mut ExportSettings,
+    ) -> Vec<Action> {
+        if self.open && self.path.text.is_empty() {
+            let name = default_file_name(title, std::time::SystemTime::now());
+            let folder = settings.folder.clone().unwrap_or_default();
+            self.path.text = folder.join(name).display().to_string();
+        }
+        let mut open = self.open;
+        let mut save = false;
+        egui::Window::new("Export screenshot").open(&mut open).collapsible(false).show(ctx, |ui| {
+            let [vw, vh] = viewport;
+            let choices = [
+                (ExportSize::Viewport, format!("Viewport ({vw}x{vh})")),
+                (ExportSize::Double, format!("2x ({}x{})", vw * 2, vh * 2)),
+                (ExportSize::Quadruple, format!("4x ({}x{})", vw * 4, vh * 4)),
+                (ExportSize::Custom, "Custom".to_string()),
+            ];
+            for (size, label) in choices {
+                ui.radio_value(&mut settings.size, size, label);
+            }
+            ui.add_enabled_ui(settings.size == ExportSize::Custom, |ui| {
+                ui.horizontal(|ui| {
+                    let r = ui.add(egui::DragValue::new(&mut settings.custom[0]).range(1..=MAX_SIDE));
+                    accessible(&r, "Custom width");
+                    ui.label("x");
+                    let r = ui.add(egui::DragValue::new(&mut settings.custom[1]).range(1..=MAX_SIDE));
+                    accessible(&r, "Custom height");
+                });
+            });
+            ui.checkbox(&mut settings.transparent, "Transparent background");
+            self.path.ui(ui, "File:", Pick::Save, &[("PNG image", &["png"])]);
+            save = ui.button("Save").clicked();
+            if let Some(last) = &self.last {
+                ui.label(last);
+            }
+        });
+        self.open = open;
+        if !save {
+            return Vec::new();
+        }
+        let [vw, vh] = viewport;
+        let size = match settings.size {
+            ExportSize::Viewport => [vw, vh],
+            ExportSize::Double => [vw * 2, vh * 2],
+            ExportSize::Quadruple => [vw * 4, vh * 4],
+            ExportSize::Custom => settings.custom,
+        };
+        vec![Action::Export { path: self.path.text.clone(), size }]
+    }
+
+    /// After an export: its message shown in the window; on success the window closes and the
+    /// next one proposes a new name.
+    pub fn finished(&mut self, message: String, saved: bool) {
+        if saved {
+            self.path.text.clear();
+            self.open = false;
+        }
+        self.last = Some(message);
+    }
 }
 
 #[cfg(test)]
