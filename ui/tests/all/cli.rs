@@ -1,8 +1,6 @@
 //! The `vbrain` binary's headless commands, run as a user would: summaries, JSON, exit codes and
 //! error messages that name the broken file.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
-
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 

@@ -2,8 +2,6 @@
 //! brain, hide an organ and see it gone, change an opacity, select an organ by clicking the
 //! viewport, export a screenshot and check it, and one snapshot of the whole window.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // tests may panic
-
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
