@@ -24,9 +24,8 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     }
     let (mut set, ok) = open_reporting(path)?;
     let bar = progress_bar(set.organs.len() as u64);
-    // Per organ tried: id, triangles, and the stand-in's triangles and those left out, or why none.
-    type Row = (String, usize, std::result::Result<(usize, usize), String>);
-    let mut rows: Vec<Row> = Vec::new();
+    // Per organ tried: id, triangles, and what became of its stand-in.
+    let mut rows: Vec<(String, usize, Outcome)> = Vec::new();
     for organ in &mut set.organs {
         bar.set_message(organ.id.clone());
         bar.inc(1);
@@ -35,15 +34,19 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
             continue;
         }
         let options = stand_in::InnerOptions { triangles: (triangles as f64 * ratio) as usize, offset };
-        let result = stand_in::build_inner(&organ.mesh, &organ.bvh, options).and_then(|built| {
-            let n = built.stand_in.mesh.triangle_count();
-            if 2 * n > triangles {
-                return Err(format!("{n} triangles, not under half"));
+        let outcome = match stand_in::build_inner(&organ.mesh, &organ.bvh, options) {
+            Ok(built) if 2 * built.stand_in.mesh.triangle_count() > triangles => {
+                Outcome::Skipped(format!("{} triangles, not under half", built.stand_in.mesh.triangle_count()))
             }
-            organ.stand_in = Some(built.stand_in);
-            Ok((n, built.dropped))
-        });
-        rows.push((organ.id.clone(), triangles, result));
+            Ok(built) => {
+                let outcome =
+                    Outcome::Built { triangles: built.stand_in.mesh.triangle_count(), left_out: built.dropped };
+                organ.stand_in = Some(built.stand_in);
+                outcome
+            }
+            Err(why) => Outcome::Skipped(why),
+        };
+        rows.push((organ.id.clone(), triangles, outcome));
     }
     bar.finish_and_clear();
     let out = match out {
@@ -59,20 +62,32 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     if json {
         let organs: Vec<_> = rows
             .iter()
-            .map(|(id, triangles, r)| match r {
-                Ok((n, dropped)) => json!({"id": id, "triangles": triangles, "stand_in": n, "left_out": dropped}),
-                Err(why) => json!({"id": id, "triangles": triangles, "skipped": why}),
+            .map(|(id, triangles, outcome)| match outcome {
+                Outcome::Built { triangles: n, left_out } => {
+                    json!({"id": id, "triangles": triangles, "stand_in": n, "left_out": left_out})
+                }
+                Outcome::Skipped(why) => json!({"id": id, "triangles": triangles, "skipped": why}),
             })
             .collect();
         println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs}))?);
     } else {
-        for (id, triangles, r) in &rows {
-            match r {
-                Ok((n, dropped)) => println!("{id:<24} {triangles:>8} triangles -> {n:>6} (left out {dropped})"),
-                Err(why) => println!("{id:<24} {triangles:>8} triangles: none ({why})"),
+        for (id, triangles, outcome) in &rows {
+            match outcome {
+                Outcome::Built { triangles: n, left_out } => {
+                    println!("{id:<24} {triangles:>8} triangles -> {n:>6} (left out {left_out})")
+                }
+                Outcome::Skipped(why) => println!("{id:<24} {triangles:>8} triangles: none ({why})"),
             }
         }
         println!("stand-ins: wrote {}", out.display());
     }
     Ok(ok)
+}
+
+/// What became of one organ's stand-in.
+enum Outcome {
+    /// Kept: its triangles, and the simplified triangles that failed verification (left out).
+    Built { triangles: usize, left_out: usize },
+    /// None, and why.
+    Skipped(String),
 }
