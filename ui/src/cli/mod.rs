@@ -130,7 +130,7 @@ pub struct RenderArgs {
     #[arg(long, default_value_t = TransparencySettings::default().region_px, value_parser = region())]
     pub region: u32,
     /// Nearest organs that the masks' error compensation favours
-    #[arg(long, default_value_t = 6, value_parser = at_least_one())]
+    #[arg(long, default_value_t = 6, value_parser = at_least_one)]
     pub k: usize,
     /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
     #[arg(long)]
@@ -324,8 +324,12 @@ fn region() -> clap::builder::RangedU64ValueParser<u32> {
     clap::builder::RangedU64ValueParser::new().range(1..=256)
 }
 
-fn at_least_one() -> clap::builder::RangedU64ValueParser<usize> {
-    clap::builder::RangedU64ValueParser::new().range(1..)
+fn at_least_one(s: &str) -> anyhow::Result<usize> {
+    match s.parse::<usize>() {
+        Ok(0) => anyhow::bail!("must be at least 1"),
+        Ok(n) => Ok(n),
+        Err(e) => Err(anyhow::anyhow!("{e}")),
+    }
 }
 
 /// Runs one command and gives the exit status.

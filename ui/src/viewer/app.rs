@@ -199,8 +199,10 @@ impl App {
     /// Carries out the components' actions, in order.
     pub fn perform(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
         for action in actions {
-            if matches!(action, Action::Edit(_) | Action::Select(_)) {
-                // Components drawn earlier in this frame showed the state before it.
+            log::debug!("{action:?}");
+            if matches!(action, Action::Edit(_)) {
+                // Widgets drawn earlier in this frame (rows above the one edited) showed the layout
+                // before the edit: draw once more.
                 ctx.request_repaint();
             }
             match action {

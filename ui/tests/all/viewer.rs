@@ -54,6 +54,14 @@ fn point_on(h: &Harness<'static, App>, organ: usize) -> Pos2 {
     Pos2::new(rect.min.x + ((i % w as usize) as f32 + 0.5) / ppp, rect.min.y + ((i / w as usize) as f32 + 0.5) / ppp)
 }
 
+/// A left click at a point of the window.
+fn click(h: &Harness<'static, App>, at: Pos2) {
+    h.event(Event::PointerMoved(at));
+    for pressed in [true, false] {
+        h.event(Event::PointerButton { pos: at, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE });
+    }
+}
+
 #[test]
 fn hide_fade_select_and_export() {
     let mut h = harness();
@@ -86,20 +94,7 @@ fn hide_fade_select_and_export() {
     assert_eq!(h.state().scene().unwrap().layout().organs[frontal].opacity, 1.0);
 
     // Select it by clicking the viewport: the inspector shows it.
-    let at = point_on(&h, frontal);
-    h.event(Event::PointerMoved(at));
-    h.event(Event::PointerButton {
-        pos: at,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    h.event(Event::PointerButton {
-        pos: at,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
+    click(&h, point_on(&h, frontal));
     h.run_steps(3);
     assert_eq!(h.state().selected(), Some(frontal));
     assert!(h.query_by_label("Inspector opacity of Left frontal lobe").is_some());
@@ -141,4 +136,38 @@ fn snapshot_of_the_viewer() {
         "viewer_default_brain",
         &egui_kittest::SnapshotOptions::new().threshold(1.0).max_failed_pixels(4000),
     );
+}
+
+#[test]
+fn shortcuts_act_on_the_selected_organ() {
+    let mut h = harness();
+    let frontal = organ(&h, "frontal_l");
+    let state = |h: &Harness<'static, App>| h.state().scene().unwrap().layout().organs[frontal];
+    click(&h, point_on(&h, frontal));
+    h.run_steps(3);
+    assert_eq!(h.state().selected(), Some(frontal));
+    h.key_press(Key::T);
+    h.run_steps(2);
+    let faded = state(&h).opacity;
+    assert!(faded > 0.0 && faded < 1.0, "T fades it: {faded}");
+    h.key_press(Key::T);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, 1.0, "T again makes it opaque");
+    h.key_press(Key::T);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, faded, "and again back to the same translucent opacity");
+    h.key_press(Key::H);
+    h.run_steps(2);
+    assert!(!state(&h).visible, "H hides it");
+    h.key_press(Key::I);
+    h.run_steps(2);
+    let layout = h.state().scene().unwrap().layout().clone();
+    assert!(layout.organs.iter().enumerate().all(|(i, s)| s.visible == (i == frontal)), "I isolates it");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::R);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, 1.0, "Ctrl+R resets the layout");
+    assert!(h.state().scene().unwrap().layout().organs.iter().filter(|s| s.visible).count() > 30);
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert_eq!(h.state().selected(), None, "Esc deselects");
 }
