@@ -24,6 +24,7 @@ pub mod atomic;
 pub mod bvh;
 pub mod camera;
 pub mod cull;
+pub mod edit;
 pub mod error;
 pub mod lab;
 pub mod layout;

@@ -2,14 +2,12 @@
 //! brain, hide an organ and see it gone, change an opacity, select an organ by clicking the
 //! viewport, export a screenshot and check it, and one snapshot of the whole window.
 
-#![allow(clippy::unwrap_used, clippy::expect_used)] // tests may panic
-
 use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use std::path::Path;
-use vbrain_ui::settings::ExportSize;
-use vbrain_ui::{viewport, App, AppOptions};
+use vbrain_ui::viewer::settings::ExportSize;
+use vbrain_ui::{App, AppOptions};
 
 fn brain() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
@@ -23,96 +21,93 @@ fn harness() -> Harness<'static, App> {
         .build_eframe(|cc| App::new(cc, AppOptions { path: Some(brain()) }));
     for _ in 0..600 {
         h.step();
-        if h.state().scene.is_some() {
+        if h.state().scene().is_some() {
             break;
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    assert!(h.state().scene.is_some(), "the default brain did not load: {:?}", messages(&h));
+    assert!(h.state().scene().is_some(), "the default brain did not load: {:?}", messages(&h));
     h.run_steps(3);
     h
 }
 
 fn messages(h: &Harness<'static, App>) -> Vec<String> {
-    h.state().notifications.iter().map(|n| n.text.clone()).collect()
+    h.state().notifications().iter().map(|n| n.text.clone()).collect()
 }
 
 fn organ(h: &Harness<'static, App>, id: &str) -> usize {
-    h.state().scene.as_ref().unwrap().set.find(id).unwrap()
+    h.state().scene().unwrap().set().find(id).unwrap()
 }
 
 fn pixels_of(h: &Harness<'static, App>, organ: usize) -> usize {
-    let (ids, _) = viewport::read_ids(h.state()).unwrap();
+    let (ids, _) = h.state().read_ids().unwrap();
     ids.iter().filter(|&&i| i == organ as u32 + 1).count()
 }
 
 /// Points of the viewport where `organ` is drawn, near the middle of its pixels.
 fn point_on(h: &Harness<'static, App>, organ: usize) -> Pos2 {
-    let (ids, [w, _]) = viewport::read_ids(h.state()).unwrap();
+    let (ids, [w, _]) = h.state().read_ids().unwrap();
     let hits: Vec<usize> = (0..ids.len()).filter(|&i| ids[i] == organ as u32 + 1).collect();
     let i = hits[hits.len() / 2];
-    let rect = h.state().viewport.rect;
+    let rect = h.state().viewport().rect();
     let ppp = h.ctx.pixels_per_point();
     Pos2::new(rect.min.x + ((i % w as usize) as f32 + 0.5) / ppp, rect.min.y + ((i / w as usize) as f32 + 0.5) / ppp)
+}
+
+/// A left click at a point of the window.
+fn click(h: &Harness<'static, App>, at: Pos2) {
+    h.event(Event::PointerMoved(at));
+    for pressed in [true, false] {
+        h.event(Event::PointerButton { pos: at, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE });
+    }
 }
 
 #[test]
 fn hide_fade_select_and_export() {
     let mut h = harness();
     let frontal = organ(&h, "frontal_l");
-    let total = h.state().scene.as_ref().unwrap().set.triangle_count();
-    assert!(h.state().viewport.stats.triangles_drawn > 100_000 && h.state().viewport.stats.triangles_drawn < total);
-    let before = viewport::read_image(h.state()).unwrap();
+    let total = h.state().scene().unwrap().set().triangle_count();
+    assert!(
+        h.state().viewport().stats().triangles_drawn > 100_000 && h.state().viewport().stats().triangles_drawn < total
+    );
+    let before = h.state().read_image().unwrap();
     assert!(pixels_of(&h, frontal) > 1000);
 
     // Hide it with its eye toggle: gone from the viewport.
     h.get_by_label("Show Left frontal lobe").click();
     h.run_steps(2);
-    assert!(!h.state().scene.as_ref().unwrap().layout.organs[frontal].visible);
+    assert!(!h.state().scene().unwrap().layout().organs[frontal].visible);
     assert_eq!(pixels_of(&h, frontal), 0);
-    assert_ne!(viewport::read_image(h.state()).unwrap(), before);
+    assert_ne!(h.state().read_image().unwrap(), before);
     h.get_by_label("Show Left frontal lobe").click();
     h.run_steps(2);
-    assert_eq!(viewport::read_image(h.state()).unwrap(), before, "showing it again restores the image");
+    assert_eq!(h.state().read_image().unwrap(), before, "showing it again restores the image");
 
     // Fade it with its transparency toggle: still drawn, now translucent, and the image changes.
     h.get_by_label("Transparency of Left frontal lobe").click();
     h.run_steps(2);
-    let opacity = h.state().scene.as_ref().unwrap().layout.organs[frontal].opacity;
+    let opacity = h.state().scene().unwrap().layout().organs[frontal].opacity;
     assert!(opacity > 0.0 && opacity < 1.0, "{opacity}");
-    assert_ne!(viewport::read_image(h.state()).unwrap(), before);
+    assert_ne!(h.state().read_image().unwrap(), before);
     h.get_by_label("Transparency of Left frontal lobe").click();
     h.run_steps(2);
-    assert_eq!(h.state().scene.as_ref().unwrap().layout.organs[frontal].opacity, 1.0);
+    assert_eq!(h.state().scene().unwrap().layout().organs[frontal].opacity, 1.0);
 
     // Select it by clicking the viewport: the inspector shows it.
-    let at = point_on(&h, frontal);
-    h.event(Event::PointerMoved(at));
-    h.event(Event::PointerButton {
-        pos: at,
-        button: PointerButton::Primary,
-        pressed: true,
-        modifiers: Modifiers::NONE,
-    });
-    h.event(Event::PointerButton {
-        pos: at,
-        button: PointerButton::Primary,
-        pressed: false,
-        modifiers: Modifiers::NONE,
-    });
+    click(&h, point_on(&h, frontal));
     h.run_steps(3);
-    assert_eq!(h.state().selected, Some(frontal));
+    assert_eq!(h.state().selected(), Some(frontal));
     assert!(h.query_by_label("Inspector opacity of Left frontal lobe").is_some());
 
     // Export at the viewport's size: the PNG is exactly what the viewport shows.
     let dir = tempfile::tempdir().unwrap();
-    let shown = viewport::read_image(h.state()).unwrap();
+    let shown = h.state().read_image().unwrap();
     h.key_press_modifiers(Modifiers::COMMAND, Key::S);
     h.run_steps(2);
-    assert!(h.state().dialogs.export.open, "Ctrl+S opens the export window");
+    assert!(h.state().dialogs().export.open, "Ctrl+S opens the export window");
     let file = dir.path().join("view.png");
-    h.state_mut().dialogs.export.path.text = file.display().to_string();
-    h.state_mut().settings.export.size = ExportSize::Viewport;
+    h.state_mut().dialogs_mut().export.path.text = file.display().to_string();
+    h.state_mut().settings_mut().export.size = ExportSize::Viewport;
     h.get_by_label("Save").click();
     h.run_steps(2);
     let png = image::open(&file).unwrap_or_else(|e| panic!("{e}: {:?}", messages(&h))).to_rgba8();
@@ -122,8 +117,8 @@ fn hide_fade_select_and_export() {
     // Twice the size, into the same name: a new file, never an overwrite.
     h.key_press_modifiers(Modifiers::COMMAND, Key::S);
     h.run_steps(2);
-    h.state_mut().dialogs.export.path.text = file.display().to_string();
-    h.state_mut().settings.export.size = ExportSize::Double;
+    h.state_mut().dialogs_mut().export.path.text = file.display().to_string();
+    h.state_mut().settings_mut().export.size = ExportSize::Double;
     h.get_by_label("Save").click();
     h.run_steps(2);
     let second = image::open(dir.path().join("view-2.png")).unwrap();
@@ -135,10 +130,44 @@ fn hide_fade_select_and_export() {
 fn snapshot_of_the_viewer() {
     let mut h = harness();
     // Timings change from run to run; the snapshot shows everything else.
-    h.state_mut().settings.show_stats = false;
+    h.state_mut().settings_mut().show_stats = false;
     h.run_steps(2);
     h.snapshot_options(
         "viewer_default_brain",
         &egui_kittest::SnapshotOptions::new().threshold(1.0).max_failed_pixels(4000),
     );
+}
+
+#[test]
+fn shortcuts_act_on_the_selected_organ() {
+    let mut h = harness();
+    let frontal = organ(&h, "frontal_l");
+    let state = |h: &Harness<'static, App>| h.state().scene().unwrap().layout().organs[frontal];
+    click(&h, point_on(&h, frontal));
+    h.run_steps(3);
+    assert_eq!(h.state().selected(), Some(frontal));
+    h.key_press(Key::T);
+    h.run_steps(2);
+    let faded = state(&h).opacity;
+    assert!(faded > 0.0 && faded < 1.0, "T fades it: {faded}");
+    h.key_press(Key::T);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, 1.0, "T again makes it opaque");
+    h.key_press(Key::T);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, faded, "and again back to the same translucent opacity");
+    h.key_press(Key::H);
+    h.run_steps(2);
+    assert!(!state(&h).visible, "H hides it");
+    h.key_press(Key::I);
+    h.run_steps(2);
+    let layout = h.state().scene().unwrap().layout().clone();
+    assert!(layout.organs.iter().enumerate().all(|(i, s)| s.visible == (i == frontal)), "I isolates it");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::R);
+    h.run_steps(2);
+    assert_eq!(state(&h).opacity, 1.0, "Ctrl+R resets the layout");
+    assert!(h.state().scene().unwrap().layout().organs.iter().filter(|s| s.visible).count() > 30);
+    h.key_press(Key::Escape);
+    h.run_steps(2);
+    assert_eq!(h.state().selected(), None, "Esc deselects");
 }

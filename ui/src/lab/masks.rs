@@ -1,6 +1,7 @@
-//! `vbrain masks`: the mask experiment of thesis Figures 19 and 20 for white-noise, pixel-tree,
-//! tabular and compensated tabular masks: faulty pixels per stacking level (min/mean/max over the
-//! trials), printed, as CSV and as a PNG plot, and with `--json` as one object.
+//! The mask experiment behind `vbrain masks` (thesis Figures 19 and 20) for white-noise,
+//! pixel-tree, tabular and compensated tabular masks: faulty pixels per stacking level
+//! (min/mean/max over the trials), printed, as CSV and as a PNG plot, and with `--json` as one
+//! object.
 
 use anyhow::{bail, Result};
 use serde_json::json;
@@ -59,13 +60,13 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
         Ok(())
     })?;
     let plot = opts.out.join("masks.png");
-    let panel = |title: &str, pick: fn(&experiment::LevelStats) -> &Vec<f64>| crate::plot::Panel {
+    let panel = |title: &str, pick: fn(&experiment::LevelStats) -> &Vec<f64>| super::plot::Panel {
         title: title.into(),
         x_label: "stacking level (1 = nearest)".into(),
         series: outcome
             .methods
             .iter()
-            .map(|(m, s)| crate::plot::Series {
+            .map(|(m, s)| super::plot::Series {
                 name: m.name().into(),
                 colour: colour(*m),
                 points: pick(s).iter().enumerate().map(|(l, &v)| ((l + 1) as f64, v)).collect(),
@@ -74,7 +75,7 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
     };
     let side = (e.n as f64).sqrt();
     let what = format!("{side}x{side} masks, {} objects, {} trials", e.objects, e.trials);
-    crate::plot::write(
+    super::plot::write(
         &plot,
         1000,
         340,
@@ -125,10 +126,4 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
         println!("wrote {} and {}", csv.display(), plot.display());
     }
     Ok(())
-}
-
-/// Parses a mask size "WxH" (e.g. 16x16) into its sub-sample count.
-pub fn parse_mask(s: &str) -> Result<usize> {
-    let (w, h) = crate::cli::parse_size(s)?;
-    Ok(w as usize * h as usize)
 }

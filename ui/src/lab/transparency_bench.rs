@@ -1,8 +1,9 @@
-//! `vbrain bench-transparency`: every transparency mode against the exact reference on views of
-//! the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and 99th-percentile
-//! per-pixel error (8-bit sRGB units, the largest of the three channels), frame time, all in one
-//! run; CSV, a PNG plot and a contact sheet (one row per view, one column per mode in the order
-//! printed). It also times mask regeneration at 1920x1080 with every organ at 50 % opacity.
+//! Behind `vbrain bench-transparency`: every transparency mode against the exact reference on
+//! views of the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and
+//! 99th-percentile per-pixel error (8-bit sRGB units, the largest of the three channels), frame
+//! time, all in one run; CSV, a PNG plot and a contact sheet (one row per view, one column per
+//! mode in the order printed). It also times mask regeneration at 1920x1080 with every organ at
+//! 50 % opacity.
 
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -188,24 +189,24 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     let series = |value: fn(&Row) -> f64| {
         MODES
             .iter()
-            .map(|&m| crate::plot::Series {
+            .map(|&m| super::plot::Series {
                 name: m.name().into(),
                 colour: colour(m),
                 points: rows.iter().filter(|r| r.mode == m).map(|r| (r.transparent as f64, value(r))).collect(),
             })
             .collect()
     };
-    crate::plot::write(
+    super::plot::write(
         &plot,
         1000,
         340,
         &[
-            crate::plot::Panel {
+            super::plot::Panel {
                 title: "mean absolute error against exact (8-bit units)".into(),
                 x_label: "transparent organs in the view".into(),
                 series: series(|r| r.mae),
             },
-            crate::plot::Panel {
+            super::plot::Panel {
                 title: "frame time (ms)".into(),
                 x_label: "transparent organs in the view".into(),
                 series: series(|r| r.frame_ms),
@@ -297,7 +298,7 @@ fn write_sheet(path: &Path, rows: &[Vec<image::RgbaImage>], size: (u32, u32)) ->
             image::imageops::overlay(&mut sheet, img, x.into(), y.into());
         }
     }
-    crate::cli::write_png(path, &sheet, true)
+    Ok(vbrain::atomic::write_png(path, &sheet, true)?)
 }
 
 /// Mask regeneration at 1920x1080 with every shown organ at 50 %: over 24 orbit frames, after

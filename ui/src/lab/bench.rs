@@ -1,6 +1,7 @@
-//! `vbrain bench`: the thesis's Virtual Brain run (camera orbiting the set) over the listed culling
-//! modes, with a summary, a CSV of every frame, a PNG plot like thesis Figure 22 (culled % and frame
-//! time per frame) and, with `--json`, a machine-readable summary keyed by mode.
+//! The culling benchmark behind `vbrain bench`: the thesis's Virtual Brain run (camera orbiting
+//! the set) over the listed culling modes, with a summary, a CSV of every frame, a PNG plot like
+//! thesis Figure 22 (culled % and frame time per frame) and, with `--json`, a machine-readable
+//! summary keyed by mode.
 
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -11,28 +12,18 @@ use vbrain::cull::{CullMode, CullSettings};
 pub struct BenchOptions<'a> {
     pub frames: usize,
     pub size: (u32, u32),
-    pub modes: &'a str,
+    pub modes: &'a [CullMode],
     pub route: vbrain::bench::Route,
     pub json: bool,
     pub out: &'a Path,
     pub settings: CullSettings,
 }
 
-pub fn parse_modes(list: &str) -> Result<Vec<CullMode>> {
-    let modes: Vec<CullMode> = list
-        .split(',')
-        .map(|m| {
-            CullMode::parse(m.trim()).ok_or_else(|| anyhow!("unknown culling mode \"{m}\" (none, frustum, occlusion)"))
-        })
-        .collect::<Result<_>>()?;
+pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, opts: &BenchOptions) -> Result<()> {
+    let modes = opts.modes;
     if modes.is_empty() {
         bail!("no culling mode given");
     }
-    Ok(modes)
-}
-
-pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, opts: &BenchOptions) -> Result<()> {
-    let modes = parse_modes(opts.modes)?;
     if opts.frames == 0 {
         bail!("--frames must be at least 1");
     }
@@ -44,7 +35,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         layout,
         [opts.size.0, opts.size.1],
         opts.frames,
-        &modes,
+        modes,
         &opts.settings,
         opts.route,
         &mut |d, _| bar.set_position(d as u64),
@@ -54,12 +45,12 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
     let csv = opts.out.join("bench.csv");
     vbrain::atomic::write(&csv, |w| write_csv(&records, w))?;
     let plot = opts.out.join("bench.png");
-    write_plot(&records, &modes, &plot)?;
+    write_plot(&records, modes, &plot)?;
     let triangles = set.triangle_count();
     let drawn_triangles = records.first().map(|r| r.triangles).unwrap_or(0);
     if opts.json {
         let mut out = serde_json::Map::new();
-        for &m in &modes {
+        for &m in modes {
             out.insert(m.name().into(), serde_json::to_value(bench::summarise(&records, m))?);
         }
         out.insert("triangles".into(), json!(triangles));
@@ -84,7 +75,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
             "{:<10} {:>14} {:>13} {:>12} {:>11} {:>15}",
             "mode", "median frame", "median cull", "mean culled", "max culled", "hidden culled"
         );
-        for &m in &modes {
+        for &m in modes {
             let s = bench::summarise(&records, m);
             println!(
                 "{:<10} {:>11.2} ms {:>10.3} ms {:>10.1} % {:>9.1} % {:>13.1} %",
@@ -139,12 +130,12 @@ fn colour(mode: CullMode) -> (u8, u8, u8) {
 /// Two panels over the frames: culled percent (top) and frame time (bottom), one line per mode.
 fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Result<()> {
     type Value = fn(&FrameRecord) -> f64;
-    let panel = |title: &str, value: Value| crate::plot::Panel {
+    let panel = |title: &str, value: Value| super::plot::Panel {
         title: title.into(),
         x_label: "frame".into(),
         series: modes
             .iter()
-            .map(|&m| crate::plot::Series {
+            .map(|&m| super::plot::Series {
                 name: m.name().into(),
                 colour: colour(m),
                 points: records.iter().filter(|r| r.mode == m).map(|r| (r.frame as f64, value(r))).collect(),
@@ -152,5 +143,5 @@ fn write_plot(records: &[FrameRecord], modes: &[CullMode], path: &Path) -> Resul
             .collect(),
     };
     let panels = [panel("culled triangles (%)", |r| r.culled_percent), panel("frame time (ms)", |r| r.frame_ms)];
-    crate::plot::write(path, 1000, 360, &panels)
+    super::plot::write(path, 1000, 360, &panels)
 }

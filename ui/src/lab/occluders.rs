@@ -1,7 +1,7 @@
-//! `vbrain occluders`: the minimum occluder set pre-processing (writes `occluders.json` beside the
-//! set, with a progress bar and the time taken) and, with `--experiment`, the occluder-selection
-//! experiment of thesis Figure 14 (printed, CSV, PNG plot, and with `--json` one object keyed
-//! `ps`, `fh`, `mos`).
+//! Behind `vbrain occluders`: the minimum occluder set pre-processing (writes `occluders.json`
+//! beside the set, with a progress bar and the time taken) and, with `--experiment`, the
+//! occluder-selection experiment of thesis Figure 14 (printed, CSV, PNG plot, and with `--json`
+//! one object keyed `ps`, `fh`, `mos`).
 
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -112,19 +112,19 @@ pub fn experiment(set: &OrganSet, layout: &Layout, opts: &Options) -> Result<()>
         Ok(())
     })?;
     let plot = opts.out.join("occluders.png");
-    let panel = crate::plot::Panel {
+    let panel = super::plot::Panel {
         title: format!("culled triangles (%) against occluders allowed, mean of {} viewpoints", cameras.len()),
         x_label: "occluders".into(),
         series: methods
             .iter()
-            .map(|(name, curve, colour)| crate::plot::Series {
+            .map(|(name, curve, colour)| super::plot::Series {
                 name: name.to_uppercase(),
                 colour: *colour,
                 points: curve.curve.iter().map(|&(n, c)| (n as f64, c)).collect(),
             })
             .collect(),
     };
-    crate::plot::write(&plot, 900, 420, &[panel])?;
+    super::plot::write(&plot, 900, 420, &[panel])?;
     if opts.json {
         let mut out = serde_json::Map::new();
         for (name, curve, _) in &methods {

@@ -1,0 +1,31 @@
+//! `vbrain bench`: culling modes compared over the same camera path (see [`crate::lab::bench`]).
+
+use super::common::{layout, open_reporting};
+use super::BenchArgs;
+use crate::lab::bench::{self, BenchOptions};
+use anyhow::Result;
+use vbrain::cull::CullSettings;
+
+pub fn run(args: &BenchArgs) -> Result<bool> {
+    let (set, ok) = open_reporting(&args.path)?;
+    let layout = layout(&set, &args.layout)?;
+    let settings = CullSettings {
+        width: args.raster.width as usize,
+        height: args.raster.height as usize,
+        occluder_triangles: args.occluder_triangles,
+        occluder_leaves: args.occluders,
+        selection: args.selection,
+        ..Default::default()
+    };
+    let opts = BenchOptions {
+        frames: args.frames,
+        size: (args.size.width, args.size.height),
+        modes: &args.cull,
+        route: args.route,
+        json: args.json,
+        out: &args.out,
+        settings,
+    };
+    bench::run(&set, &layout, &opts)?;
+    Ok(ok)
+}

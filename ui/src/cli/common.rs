@@ -1,0 +1,80 @@
+//! What the commands share: opening a set with its problems reported on stderr, applying
+//! `--show`/`--hide`/`--opacity` by organ id, the summary of a written set, and progress bars.
+
+use super::LayoutArgs;
+use anyhow::{anyhow, bail, Result};
+use serde_json::json;
+use std::path::Path;
+use vbrain::layout::Layout;
+use vbrain::organ_set::{self, Loaded, OrganSet};
+
+/// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
+pub fn open_reporting(path: &Path) -> Result<(OrganSet, bool)> {
+    let Loaded { set, errors, warnings } = organ_set::open(path).map_err(|e| anyhow!(e))?;
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    for e in &errors {
+        eprintln!("error: {e}");
+    }
+    if set.organs.is_empty() {
+        bail!("{}: no organ could be loaded", path.display());
+    }
+    Ok((set, errors.is_empty()))
+}
+
+/// The set's default layout with `--show`, `--hide` and `--opacity` applied, in that order.
+pub fn layout(set: &OrganSet, args: &LayoutArgs) -> Result<Layout> {
+    let mut layout = Layout::new(set);
+    apply_visibility(set, &mut layout, &args.show, &args.hide)?;
+    for o in &args.opacity {
+        if o.id == "all" {
+            layout.organs.iter_mut().for_each(|s| s.opacity = o.opacity);
+        } else {
+            layout.organs[index(set, &o.id)?].opacity = o.opacity;
+        }
+    }
+    Ok(layout)
+}
+
+/// Applies `--show` then `--hide` to a layout.
+pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hide: &[String]) -> Result<()> {
+    for id in show {
+        layout.organs[index(set, id)?].visible = true;
+    }
+    for id in hide {
+        layout.organs[index(set, id)?].visible = false;
+    }
+    Ok(())
+}
+
+fn index(set: &OrganSet, id: &str) -> Result<usize> {
+    set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"))
+}
+
+/// Prints what a command wrote: organs and triangles (with `json`, as one object).
+pub fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
+    if json {
+        let organs: Vec<_> = set
+            .organs
+            .iter()
+            .map(|o| json!({"id": o.id, "name": o.name, "triangles": o.mesh.triangle_count()}))
+            .collect();
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&json!({"out": out, "organs": organs, "triangles": set.triangle_count()}))?
+        );
+    } else {
+        println!("{what}: wrote {} organs, {} triangles to {}", set.organs.len(), set.triangle_count(), out.display());
+    }
+    Ok(true)
+}
+
+/// A progress bar on stderr: `{bar} {pos}/{len} {msg}`.
+pub fn progress_bar(len: u64) -> indicatif::ProgressBar {
+    let bar = indicatif::ProgressBar::new(len);
+    if let Ok(style) = indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} {msg}") {
+        bar.set_style(style);
+    }
+    bar
+}

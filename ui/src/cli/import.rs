@@ -1,0 +1,28 @@
+//! `vbrain import`: a label volume (NIfTI) and its label table become an organ set.
+
+use super::common::{progress_bar, summary};
+use super::ImportArgs;
+use anyhow::Result;
+use vbrain::organ_set::import;
+
+pub fn run(args: &ImportArgs) -> Result<bool> {
+    let table = import::read_label_table(&args.labels)?;
+    let vol = import::read_volume(&args.volume)?;
+    let title = args.title.clone().unwrap_or_else(|| {
+        let name = args.volume.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+        name.trim_end_matches(".gz").trim_end_matches(".nii").to_string()
+    });
+    let opts = import::ImportOptions { triangles: args.triangles, smoothing: args.smooth, title };
+    let bar = progress_bar(1);
+    let (set, warnings) = import::import(&vol, &table, &opts, &mut |done, total, what| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+        bar.set_message(what.to_string());
+    })?;
+    bar.finish_and_clear();
+    for w in &warnings {
+        eprintln!("warning: {w}");
+    }
+    set.save(&args.out)?;
+    summary(args.json, "import", &set, &args.out)
+}

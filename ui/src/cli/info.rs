@@ -1,0 +1,32 @@
+//! `vbrain info`: the organs of a set, their triangles and bounds.
+
+use super::common::open_reporting;
+use super::InfoArgs;
+use anyhow::Result;
+use serde_json::json;
+
+pub fn run(args: &InfoArgs) -> Result<bool> {
+    let (set, ok) = open_reporting(&args.path)?;
+    let bounds = set.bounds();
+    if args.json {
+        let organs: Vec<_> = set
+            .organs
+            .iter()
+            .map(|o| {
+                json!({
+                    "id": o.id, "name": o.name, "group": o.group, "triangles": o.mesh.triangle_count(),
+                    "vertices": o.mesh.positions.len(), "bounds": o.mesh.bounds(),
+                })
+            })
+            .collect();
+        let out = json!({ "title": set.title, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
+        println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
+        for o in &set.organs {
+            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh.triangle_count(), o.name);
+        }
+    }
+    Ok(ok)
+}

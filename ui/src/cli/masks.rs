@@ -1,0 +1,14 @@
+//! `vbrain masks`: the mask experiment of thesis Figures 19/20 (see [`crate::lab::masks`]).
+
+use super::MasksArgs;
+use crate::lab::masks::{self, MasksOptions};
+use anyhow::Result;
+use vbrain::transparency::experiment::Experiment;
+
+pub fn run(args: &MasksArgs) -> Result<bool> {
+    let n = args.mask.width as usize * args.mask.height as usize;
+    let experiment =
+        Experiment { n, objects: args.objects, trials: args.trials, alpha: args.alpha, k: args.k, seed: args.seed };
+    masks::run(&MasksOptions { experiment, out: &args.out, json: args.json })?;
+    Ok(true)
+}

@@ -1,0 +1,361 @@
+//! The headless commands of `vbrain`: their clap definitions here, one file per command with its
+//! `run`. Each prints a human summary, or with `--json` one JSON object on stdout; errors go to
+//! stderr and make the exit status non-zero (2 for arguments clap refuses, 1 for the rest).
+//!
+//! Values are checked while parsing ([`values`]); what needs the organ set (organ ids) is
+//! checked once it is open ([`common`]).
+
+mod bench;
+mod bench_transparency;
+mod city;
+pub mod common;
+mod import;
+mod info;
+mod masks;
+mod occluders;
+mod render;
+mod scale;
+mod stand_ins;
+pub mod values;
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use values::{Orbit, OrganOpacity, RouteFrame, Size};
+use vbrain::bench::Route;
+use vbrain::camera::View;
+use vbrain::cull::{CullMode, CullSettings, Selection};
+use vbrain::transparency::{TransparencyMode, TransparencySettings};
+
+#[derive(Parser)]
+#[command(name = "vbrain", version, about = "Explore the brain as a set of organs: viewer and headless tools")]
+pub struct Args {
+    /// Organ set folder, .obj/.vbo file or folder of them to open in the viewer (default: organs/brain)
+    pub path: Option<PathBuf>,
+    #[command(subcommand)]
+    pub command: Option<Command>,
+}
+
+#[derive(Subcommand)]
+pub enum Command {
+    /// List the organs of a set: triangles per organ and bounds
+    Info(InfoArgs),
+    /// Render a set to a PNG through the viewer's renderer
+    Render(RenderArgs),
+    /// Turn a label volume (NIfTI) and its label table into an organ set
+    Import(ImportArgs),
+    /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
+    Bench(BenchArgs),
+    /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
+    Masks(MasksArgs),
+    /// Compare the transparency modes against the exact reference on views with 4 to 39
+    /// transparent organs; also time mask regeneration at 1920x1080
+    BenchTransparency(BenchTransparencyArgs),
+    /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
+    /// layout into occluders.json beside it, or with --experiment compare occluder selections
+    Occluders(OccludersArgs),
+    /// Generate the synthetic city of the occluder experiments (about 300,000 triangles)
+    City(CityArgs),
+    /// Write a denser copy of a set (each triangle subdivided), for benchmarks
+    Scale(ScaleArgs),
+    /// Build occluder stand-ins: for each closed organ, a coarse mesh verified to lie inside it,
+    /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo)
+    StandIns(StandInsArgs),
+}
+
+#[derive(clap::Args)]
+pub struct InfoArgs {
+    pub path: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `--show`, `--hide` and `--opacity`: changes to a set's default layout, by organ id.
+#[derive(clap::Args)]
+pub struct LayoutArgs {
+    /// Show organs hidden by default (e.g. skull), by id
+    #[arg(long, num_args = 1..)]
+    pub show: Vec<String>,
+    /// Hide organs by id (repeatable)
+    #[arg(long, num_args = 1..)]
+    pub hide: Vec<String>,
+    /// Set opacity, ID=A or all=A with A in 0..1 (repeatable)
+    #[arg(long, num_args = 1.., value_parser = values::organ_opacity)]
+    pub opacity: Vec<OrganOpacity>,
+}
+
+#[derive(clap::Args)]
+#[group(id = "camera", multiple = false)]
+pub struct CameraArgs {
+    /// Standard view (any case)
+    #[arg(long, ignore_case = true, value_parser = values::view())]
+    pub view: Option<View>,
+    /// Orbit AZ,EL in degrees from the anterior view (azimuth toward the right, elevation upward)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::orbit)]
+    pub orbit: Option<Orbit>,
+    /// Camera of a bench route instead, ROUTE:FRAME of 120 (e.g. best:0; routes: orbit, best,
+    /// average, worst)
+    #[arg(long, value_parser = values::route_frame)]
+    pub route: Option<RouteFrame>,
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    pub path: PathBuf,
+    /// Output PNG file
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH
+    #[arg(long, default_value = "1024x1024", value_parser = values::size)]
+    pub size: Size,
+    #[command(flatten)]
+    pub camera: CameraArgs,
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+    /// Transparent background instead of the viewer's dark grey
+    #[arg(long)]
+    pub transparent: bool,
+    /// Culling (the image is the same; only the work differs)
+    #[arg(long, default_value = "occlusion", value_parser = values::cull_mode())]
+    pub cull: CullMode,
+    /// Show what culling removed in colour through a translucent grey model (thesis Figure 21)
+    #[arg(long)]
+    pub debug_culled: bool,
+    /// Transparency: how faded organs are drawn
+    #[arg(long, default_value = "screendoor", value_parser = values::transparency_mode())]
+    pub transparency: TransparencyMode,
+    /// Screen-door sub-samples per pixel: 4, 8, 16, 32 or 64
+    #[arg(long, default_value_t = 64, value_parser = values::subsamples)]
+    pub subsamples: usize,
+    /// Screen-door mask region side in pixels
+    #[arg(long, default_value_t = TransparencySettings::default().region_px, value_parser = region())]
+    pub region: u32,
+    /// Nearest organs that the masks' error compensation favours
+    #[arg(long, default_value_t = 6, value_parser = at_least_one)]
+    pub k: usize,
+    /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
+    #[arg(long)]
+    pub draw_order_seed: Option<u64>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct ImportArgs {
+    /// Label volume, .nii or .nii.gz
+    pub volume: PathBuf,
+    /// Label table: CSV `index,name` or a FreeSurfer colour look-up table
+    #[arg(long)]
+    pub labels: PathBuf,
+    /// Output folder for the organ set
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Triangle budget for the whole set
+    #[arg(long, default_value_t = 200_000)]
+    pub triangles: usize,
+    /// Smoothing iterations (Taubin)
+    #[arg(long, default_value_t = 10)]
+    pub smooth: usize,
+    /// Title of the new set (default: the volume's file name)
+    #[arg(long)]
+    pub title: Option<String>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    pub path: PathBuf,
+    /// Frames of the orbit (the thesis: 475)
+    #[arg(long, default_value_t = 475)]
+    pub frames: usize,
+    /// Image size, WxH
+    #[arg(long, default_value = "512x512", value_parser = values::size)]
+    pub size: Size,
+    /// Culling modes to compare, comma-separated
+    #[arg(long, default_value = "none,frustum,occlusion", value_delimiter = ',', action = clap::ArgAction::Set,
+          value_parser = values::cull_mode_in_list())]
+    pub cull: Vec<CullMode>,
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+    /// Occluder triangle budget per frame (triangles facing the eye)
+    #[arg(long, default_value_t = CullSettings::default().occluder_triangles)]
+    pub occluder_triangles: usize,
+    /// Culling raster size, WxH
+    #[arg(long, default_value = "128x128", value_parser = values::size)]
+    pub raster: Size,
+    /// Camera path: orbit (the Virtual Brain run) or a city walkthrough route: best, average, worst
+    #[arg(long, default_value = "orbit", value_parser = values::route())]
+    pub route: Route,
+    /// Occluder selection: auto (pre-computed sets while the layout is unchanged), projected-size
+    /// (or ps) or mos
+    #[arg(long, default_value = "auto", value_parser = values::selection())]
+    pub selection: Selection,
+    /// Most occluder leaves per frame (the thesis's city runs: 64)
+    #[arg(long)]
+    pub occluders: Option<usize>,
+    /// Folder for bench.csv and bench.png
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct MasksArgs {
+    /// Mask size, WxH sub-samples (the thesis: 16x16 and 32x32)
+    #[arg(long, default_value = "16x16", value_parser = values::size)]
+    pub mask: Size,
+    /// Transparent objects stacked per trial
+    #[arg(long, default_value_t = 16)]
+    pub objects: usize,
+    #[arg(long, default_value_t = 1000)]
+    pub trials: usize,
+    /// One opacity for every object (default: random per object)
+    #[arg(long)]
+    pub alpha: Option<f32>,
+    /// Objects that neighbourhood error compensation favours
+    #[arg(long, default_value_t = 6)]
+    pub k: usize,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Folder for masks.csv and masks.png
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct BenchTransparencyArgs {
+    pub path: PathBuf,
+    /// Image size, WxH
+    #[arg(long, default_value = "384x384", value_parser = values::size)]
+    pub size: Size,
+    /// Screen-door mask region side in pixels
+    #[arg(long, default_value_t = TransparencySettings::default().region_px, value_parser = region())]
+    pub region: u32,
+    /// Folder for transparency.csv, transparency.png and transparency-sheet.png
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct OccludersArgs {
+    pub path: PathBuf,
+    /// Directions of the viewpoint grid on a sphere around the set (each at two distances)
+    #[arg(long, default_value_t = 32)]
+    pub grid: usize,
+    /// Most occluders kept per viewpoint
+    #[arg(long, default_value_t = 128)]
+    pub limit: usize,
+    /// Culling raster side, pixels
+    #[arg(long, default_value_t = 128)]
+    pub raster: usize,
+    /// Show organs hidden by default (e.g. skull), by id
+    #[arg(long, num_args = 1..)]
+    pub show: Vec<String>,
+    /// Hide organs by id
+    #[arg(long, num_args = 1..)]
+    pub hide: Vec<String>,
+    /// Run the occluder-selection experiment (thesis Figure 14) instead: culled % against the
+    /// number of occluders for projected size, first hit and minimum occluder sets
+    #[arg(long)]
+    pub experiment: bool,
+    /// Experiment viewpoints: orbit (four views around the set) or frames of a city route (best,
+    /// average, worst)
+    #[arg(long, default_value = "orbit", value_parser = values::route())]
+    pub views: Route,
+    /// Experiment ID-render size (square), for first hit and projected size
+    #[arg(long, default_value_t = 512)]
+    pub image: usize,
+    /// Folder for occluders.csv and occluders.png (experiment)
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct CityArgs {
+    /// Output folder for the organ set
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct ScaleArgs {
+    pub set: PathBuf,
+    /// Density factor K: each triangle becomes n*n with n = round(sqrt(K))
+    #[arg(long)]
+    pub factor: f64,
+    #[arg(long)]
+    pub out: PathBuf,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
+pub struct StandInsArgs {
+    pub path: PathBuf,
+    /// Stand-in triangles as a share of the organ's
+    #[arg(long, default_value_t = 0.0625)]
+    pub ratio: f64,
+    /// Most inward offset of the stand-in from the surface, millimetres
+    #[arg(long, default_value_t = 2.0)]
+    pub offset: f32,
+    /// Organs with fewer triangles get none
+    #[arg(long, default_value_t = 2048)]
+    pub min_triangles: usize,
+    /// Output folder (default: the set's own folder)
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// A screen-door mask region side, 1..=256 pixels.
+fn region() -> clap::builder::RangedU64ValueParser<u32> {
+    clap::builder::RangedU64ValueParser::new().range(1..=256)
+}
+
+fn at_least_one(s: &str) -> anyhow::Result<usize> {
+    match s.parse::<usize>() {
+        Ok(0) => anyhow::bail!("must be at least 1"),
+        Ok(n) => Ok(n),
+        Err(e) => Err(anyhow::anyhow!("{e}")),
+    }
+}
+
+/// Runs one command and gives the exit status.
+pub fn run(command: Command) -> std::process::ExitCode {
+    match run_command(command) {
+        Ok(true) => std::process::ExitCode::SUCCESS,
+        Ok(false) => std::process::ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs one command; `Ok(false)` means it finished but reported errors (e.g. broken organs).
+fn run_command(command: Command) -> anyhow::Result<bool> {
+    match command {
+        Command::Info(args) => info::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::Import(args) => import::run(&args),
+        Command::Bench(args) => bench::run(&args),
+        Command::Masks(args) => masks::run(&args),
+        Command::BenchTransparency(args) => bench_transparency::run(&args),
+        Command::Occluders(args) => occluders::run(&args),
+        Command::City(args) => city::run(&args),
+        Command::Scale(args) => scale::run(&args),
+        Command::StandIns(args) => stand_ins::run(&args),
+    }
+}

@@ -1,0 +1,28 @@
+//! `vbrain occluders`: minimum occluder sets pre-computed beside a set, or with `--experiment`
+//! the occluder-selection experiment (see [`crate::lab::occluders`]).
+
+use super::common::{apply_visibility, open_reporting};
+use super::OccludersArgs;
+use crate::lab::occluders::{self, Options};
+use anyhow::Result;
+use vbrain::layout::Layout;
+
+pub fn run(args: &OccludersArgs) -> Result<bool> {
+    let (set, ok) = open_reporting(&args.path)?;
+    let mut layout = Layout::new(&set);
+    apply_visibility(&set, &mut layout, &args.show, &args.hide)?;
+    let opts = Options {
+        grid: args.grid,
+        params: vbrain::mos::Params { size: args.raster, limit: args.limit, ..Default::default() },
+        views: args.views,
+        image: args.image,
+        out: &args.out,
+        json: args.json,
+    };
+    if args.experiment {
+        occluders::experiment(&set, &layout, &opts)?;
+    } else {
+        occluders::preprocess(&args.path, &set, &layout, &opts)?;
+    }
+    Ok(ok)
+}

@@ -1,0 +1,93 @@
+//! `vbrain stand-ins`: occluder stand-ins for a set's closed organs. Each is a coarse mesh inside
+//! its organ (offset inward, simplified, each triangle verified inside) that occlusion culling
+//! rasterises in the organ's place; kept only with at most half the organ's triangles.
+
+use super::common::{open_reporting, progress_bar};
+use super::StandInsArgs;
+use anyhow::{bail, Result};
+use serde_json::json;
+use vbrain::organ_set::{self, stand_in};
+
+/// Builds an inner stand-in for every closed organ of at least `--min-triangles`, keeps those with at
+/// most half the organ's triangles, and saves them (in place: only the stand-ins and the manifest).
+pub fn run(args: &StandInsArgs) -> Result<bool> {
+    let (path, ratio, offset, min_triangles) = (args.path.as_path(), args.ratio, args.offset, args.min_triangles);
+    let (out, json) = (args.out.as_deref(), args.json);
+    if !(ratio > 0.0 && ratio <= 0.5) {
+        bail!("--ratio {ratio} outside (0, 0.5]");
+    }
+    if !(offset > 0.0 && offset.is_finite()) {
+        bail!("--offset {offset} must be a positive number of millimetres");
+    }
+    if out.is_none() && !path.join(organ_set::MANIFEST_FILE).is_file() {
+        bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);
+    }
+    let (mut set, ok) = open_reporting(path)?;
+    let bar = progress_bar(set.organs.len() as u64);
+    // Per organ tried: id, triangles, and what became of its stand-in.
+    let mut rows: Vec<(String, usize, Outcome)> = Vec::new();
+    for organ in &mut set.organs {
+        bar.set_message(organ.id.clone());
+        bar.inc(1);
+        let triangles = organ.mesh.triangle_count();
+        if triangles < min_triangles {
+            continue;
+        }
+        let options = stand_in::InnerOptions { triangles: (triangles as f64 * ratio) as usize, offset };
+        let outcome = match stand_in::build_inner(&organ.mesh, &organ.bvh, options) {
+            Ok(built) if 2 * built.stand_in.mesh.triangle_count() > triangles => {
+                Outcome::Skipped(format!("{} triangles, not under half", built.stand_in.mesh.triangle_count()))
+            }
+            Ok(built) => {
+                let outcome =
+                    Outcome::Built { triangles: built.stand_in.mesh.triangle_count(), left_out: built.dropped };
+                organ.stand_in = Some(built.stand_in);
+                outcome
+            }
+            Err(why) => Outcome::Skipped(why),
+        };
+        rows.push((organ.id.clone(), triangles, outcome));
+    }
+    bar.finish_and_clear();
+    let out = match out {
+        Some(out) => {
+            set.save(out)?;
+            out
+        }
+        None => {
+            set.save_stand_ins(path)?;
+            path
+        }
+    };
+    if json {
+        let organs: Vec<_> = rows
+            .iter()
+            .map(|(id, triangles, outcome)| match outcome {
+                Outcome::Built { triangles: n, left_out } => {
+                    json!({"id": id, "triangles": triangles, "stand_in": n, "left_out": left_out})
+                }
+                Outcome::Skipped(why) => json!({"id": id, "triangles": triangles, "skipped": why}),
+            })
+            .collect();
+        println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs}))?);
+    } else {
+        for (id, triangles, outcome) in &rows {
+            match outcome {
+                Outcome::Built { triangles: n, left_out } => {
+                    println!("{id:<24} {triangles:>8} triangles -> {n:>6} (left out {left_out})")
+                }
+                Outcome::Skipped(why) => println!("{id:<24} {triangles:>8} triangles: none ({why})"),
+            }
+        }
+        println!("stand-ins: wrote {}", out.display());
+    }
+    Ok(ok)
+}
+
+/// What became of one organ's stand-in.
+enum Outcome {
+    /// Kept: its triangles, and the simplified triangles that failed verification (left out).
+    Built { triangles: usize, left_out: usize },
+    /// None, and why.
+    Skipped(String),
+}

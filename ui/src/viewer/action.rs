@@ -1,0 +1,62 @@
+//! What the viewer's components ask for. A component reads the scene and returns actions: scene
+//! changes as [`Edit`]s, everything else (open, import, export, camera, selection, windows,
+//! notifications) as commands. [`crate::viewer::App::perform`] carries them out in order, in one
+//! place.
+
+use std::path::PathBuf;
+use vbrain::camera::View;
+use vbrain::edit::Edit;
+
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action {
+    /// Change the layout.
+    Edit(Edit),
+    Select(Option<usize>),
+    /// Open a set (one folder or file) or several mesh files, off the UI thread.
+    Open(Vec<PathBuf>),
+    /// Open a window.
+    Show(Window),
+    /// Open the import window on this label volume.
+    ImportVolume(PathBuf),
+    /// Import a label volume into an organ set, off the UI thread, then open it.
+    Import(ImportRequest),
+    /// Render the current view at `size` into the file `path` (as typed: `.png` added if missing).
+    Export {
+        path: String,
+        size: [u32; 2],
+    },
+    /// Camera to a standard view of the set.
+    View(View),
+    ResetCamera,
+    /// Walk-through camera on or off.
+    ToggleFly,
+    /// Camera framing one organ.
+    Frame(usize),
+    Notify {
+        text: String,
+        error: bool,
+    },
+    /// An error notification, unless the same text is shown already (for problems that repeat
+    /// every frame).
+    NotifyOnce(String),
+    /// Dismiss one notification, or all with `None`.
+    Dismiss(Option<usize>),
+    Quit,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Window {
+    OpenSet,
+    OpenMeshes,
+    Import,
+    Export,
+}
+
+/// A label volume to import, with its label table, output folder and triangle budget.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ImportRequest {
+    pub volume: PathBuf,
+    pub labels: PathBuf,
+    pub out: PathBuf,
+    pub triangles: usize,
+}

@@ -1,0 +1,451 @@
+//! The viewer's app: its state, the frame, and [`App::perform`], the one place where the
+//! components' [`Action`]s are carried out (scene edits through [`Scene::apply`], and the
+//! commands: open, import, export, camera, selection, windows, notifications).
+//!
+//! A frame: finished jobs, dropped files, keyboard shortcuts, menu bar, status bar, organ panel,
+//! inspector, viewport, windows, notifications; each component's actions are performed before the
+//! next component draws, so every component shows what the ones before it changed.
+
+use super::action::{Action, Window};
+use super::export::{self, ExportWindow};
+use super::files::{self, ImportWindow, OpenWindow};
+use super::inspector::inspector;
+use super::jobs::Job;
+use super::menus::{self, MenuState};
+use super::panels::OrganPanel;
+use super::scene::Scene;
+use super::settings::Settings;
+use super::shortcuts::{self, Command};
+use super::status::{self, Notification, Status};
+use super::viewport::{self, Viewport};
+use anyhow::{anyhow, Context as _, Result};
+use eframe::egui;
+use std::path::{Path, PathBuf};
+use vbrain::camera::View;
+use vbrain::edit::{Edit, Organs};
+use vbrain::organ_set::{self, Loaded};
+use vbrain::render::{FrameInput, Renderer};
+
+/// How the viewer starts.
+#[derive(Clone, Debug, Default)]
+pub struct AppOptions {
+    /// What to open; `None` opens the default brain (or the last set, if the settings say so).
+    pub path: Option<PathBuf>,
+}
+
+/// The default organ set: `organs/brain` under the working directory, else beside the sources.
+pub fn default_set_path() -> PathBuf {
+    let here = PathBuf::from("organs/brain");
+    if here.is_dir() {
+        return here;
+    }
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
+}
+
+/// Opens the viewer window.
+pub fn run(path: Option<PathBuf>) -> Result<()> {
+    let options = eframe::NativeOptions {
+        renderer: eframe::Renderer::Wgpu,
+        viewport: egui::ViewportBuilder::default()
+            .with_title("vbrain")
+            .with_inner_size([1280.0, 820.0])
+            .with_drag_and_drop(true),
+        ..Default::default()
+    };
+    eframe::run_native("vbrain", options, Box::new(move |cc| Ok(Box::new(App::new(cc, AppOptions { path })))))
+        .map_err(|e| anyhow!("could not open the viewer window: {e}"))
+}
+
+/// The viewer's windows.
+#[derive(Default)]
+pub struct Dialogs {
+    pub open_set: OpenWindow,
+    pub open_meshes: OpenWindow,
+    pub import: ImportWindow,
+    pub export: ExportWindow,
+}
+
+/// A set read off the UI thread, with the paths it came from.
+type Opened = (Loaded, Vec<PathBuf>);
+
+pub struct App {
+    /// The device eframe renders with; the scene draws with it too.
+    gpu: Option<egui_wgpu::RenderState>,
+    scene: Option<Scene>,
+    selected: Option<usize>,
+    settings: Settings,
+    notifications: Vec<Notification>,
+    viewport: Viewport,
+    organ_panel: OrganPanel,
+    dialogs: Dialogs,
+    loading: Option<Job<Result<Opened>>>,
+    importing: Option<Job<Result<PathBuf>>>,
+}
+
+impl App {
+    pub fn new(cc: &eframe::CreationContext, options: AppOptions) -> App {
+        let settings = Settings::load(cc.storage);
+        let mut app = App {
+            gpu: cc.wgpu_render_state.clone(),
+            scene: None,
+            selected: None,
+            notifications: Vec::new(),
+            viewport: Viewport::default(),
+            organ_panel: OrganPanel::default(),
+            dialogs: Dialogs::default(),
+            loading: None,
+            importing: None,
+            settings,
+        };
+        let path = match options.path {
+            Some(p) => p,
+            None => match &app.settings.last_set {
+                Some(last) if app.settings.reopen_last && last.exists() => last.clone(),
+                _ => default_set_path(),
+            },
+        };
+        app.open(&cc.egui_ctx, vec![path]);
+        app
+    }
+
+    /// The loaded set, its layout and renderer.
+    pub fn scene(&self) -> Option<&Scene> {
+        self.scene.as_ref()
+    }
+
+    pub fn selected(&self) -> Option<usize> {
+        self.selected
+    }
+
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+
+    pub fn settings_mut(&mut self) -> &mut Settings {
+        &mut self.settings
+    }
+
+    pub fn notifications(&self) -> &[Notification] {
+        &self.notifications
+    }
+
+    pub fn viewport(&self) -> &Viewport {
+        &self.viewport
+    }
+
+    pub fn dialogs(&self) -> &Dialogs {
+        &self.dialogs
+    }
+
+    pub fn dialogs_mut(&mut self) -> &mut Dialogs {
+        &mut self.dialogs
+    }
+
+    /// What the viewport reads.
+    fn viewport_input(&self) -> viewport::Input<'_> {
+        viewport::Input {
+            scene: self.scene.as_ref(),
+            gpu: self.gpu.as_ref(),
+            settings: &self.settings,
+            selected: self.selected,
+        }
+    }
+
+    /// The organ-ID buffer of the current view (see [`Viewport::read_ids`]).
+    pub fn read_ids(&self) -> Option<(Vec<u32>, [u32; 2])> {
+        self.viewport.read_ids(&self.viewport_input())
+    }
+
+    /// The image the viewport shows now.
+    pub fn read_image(&self) -> Option<image::RgbaImage> {
+        self.viewport.read_image(self.gpu.as_ref()?)
+    }
+
+    /// Loads a set (one folder or file) or several mesh files, off the UI thread.
+    pub fn open(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        let title = match paths.as_slice() {
+            [one] => one.display().to_string(),
+            many => format!("{} files", many.len()),
+        };
+        self.loading = Some(Job::spawn(title, ctx, move |progress| {
+            progress.set(0, 1, "reading meshes");
+            let result = match paths.as_slice() {
+                [one] => organ_set::open(one),
+                many => organ_set::open_files(many, "Mesh files"),
+            };
+            progress.set(1, 1, "uploading");
+            Ok((result?, paths))
+        }));
+    }
+
+    pub fn is_loading(&self) -> bool {
+        self.loading.is_some() || self.importing.is_some()
+    }
+
+    /// The running job: title, progress (if known) and message.
+    fn job(&self) -> Option<menus::Job> {
+        let (title, p) = match (&self.loading, &self.importing) {
+            (Some(j), _) => (&j.title, &j.progress),
+            (None, Some(j)) => (&j.title, &j.progress),
+            _ => return None,
+        };
+        Some(menus::Job { title: title.clone(), fraction: p.fraction(), message: p.message() })
+    }
+
+    pub fn notify(&mut self, text: impl Into<String>, error: bool) {
+        self.notifications.push(Notification { text: text.into(), error });
+    }
+
+    /// Carries out the components' actions, in order.
+    pub fn perform(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
+        for action in actions {
+            log::debug!("{action:?}");
+            if matches!(action, Action::Edit(_)) {
+                // Widgets drawn earlier in this frame (rows above the one edited) showed the layout
+                // before the edit: draw once more.
+                ctx.request_repaint();
+            }
+            match action {
+                Action::Edit(edit) => {
+                    if let Some(scene) = &mut self.scene {
+                        scene.apply(&edit);
+                    }
+                }
+                Action::Select(organ) => self.selected = organ,
+                Action::Open(paths) => self.open(ctx, paths),
+                Action::Show(window) => match window {
+                    Window::OpenSet => self.dialogs.open_set.open = true,
+                    Window::OpenMeshes => self.dialogs.open_meshes.open = true,
+                    Window::Import => self.dialogs.import.open = true,
+                    Window::Export => self.dialogs.export.open = true,
+                },
+                Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
+                Action::Import(request) => {
+                    let title = format!("import {}", request.volume.display());
+                    self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
+                }
+                Action::Export { path, size } => self.export(&path, size),
+                Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
+                Action::ResetCamera => {
+                    if let Some(s) = &self.scene {
+                        self.viewport.reset_camera(&s.home());
+                    }
+                }
+                Action::ToggleFly => self.viewport.toggle_fly(),
+                Action::Frame(organ) => {
+                    if let Some(s) = &self.scene {
+                        self.viewport.frame(&s.organ_bounds(organ));
+                    }
+                }
+                Action::Notify { text, error } => self.notify(text, error),
+                Action::NotifyOnce(text) => {
+                    if !self.notifications.iter().any(|n| n.text == text) {
+                        self.notify(text, true);
+                    }
+                }
+                Action::Dismiss(None) => self.notifications.clear(),
+                Action::Dismiss(Some(i)) => {
+                    if i < self.notifications.len() {
+                        self.notifications.remove(i);
+                    }
+                }
+                Action::Quit => ctx.send_viewport_cmd(egui::ViewportCommand::Close),
+            }
+        }
+    }
+
+    fn poll_jobs(&mut self, ctx: &egui::Context) {
+        if let Some(result) = self.importing.as_ref().and_then(|j| j.poll()) {
+            self.importing = None;
+            match result {
+                Ok(dir) => {
+                    self.notify(format!("imported into {}", dir.display()), false);
+                    self.open(ctx, vec![dir]);
+                }
+                Err(e) => self.notify(e.to_string(), true),
+            }
+        }
+        let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
+        self.loading = None;
+        match result {
+            Ok((loaded, paths)) => self.install(loaded, paths),
+            Err(e) => self.notify(e.to_string(), true),
+        }
+    }
+
+    /// Makes a loaded set the scene (the previous one stays if this one has no organs).
+    fn install(&mut self, loaded: Loaded, paths: Vec<PathBuf>) {
+        for w in loaded.warnings {
+            self.notify(w, false);
+        }
+        for e in loaded.errors {
+            self.notify(e.to_string(), true);
+        }
+        if loaded.set.organs.is_empty() {
+            self.notify(format!("{}: no organ could be loaded", paths_label(&paths)), true);
+            return;
+        }
+        let Some(rs) = &self.gpu else {
+            self.notify("the viewer needs the wgpu renderer", true);
+            return;
+        };
+        match Renderer::new(&rs.device, &loaded.set) {
+            Ok(renderer) => {
+                if let [one] = paths.as_slice() {
+                    self.settings.remember(one);
+                }
+                let scene = Scene::new(loaded.set, paths, renderer);
+                self.viewport.new_set(&scene.home());
+                self.selected = None;
+                self.scene = Some(scene);
+            }
+            Err(e) => self.notify(e.to_string(), true),
+        }
+    }
+
+    /// The keyboard shortcuts pressed this frame, as actions.
+    fn key_actions(&self, ctx: &egui::Context) -> Vec<Action> {
+        let mut out = Vec::new();
+        // Esc before an organ's shortcut in the same frame leaves that shortcut no organ.
+        let mut selected = self.selected;
+        for (command, key) in shortcuts::pressed(ctx) {
+            let organ = self.scene.as_ref().zip(selected);
+            match command {
+                Command::Views => out.extend(View::ALL.get(key).map(|&v| Action::View(v))),
+                Command::ResetCamera => out.push(Action::ResetCamera),
+                Command::ToggleFly => out.push(Action::ToggleFly),
+                Command::Deselect => {
+                    selected = None;
+                    out.push(Action::Select(None));
+                }
+                Command::Open => out.push(Action::Show(Window::OpenSet)),
+                Command::Export => out.push(Action::Show(Window::Export)),
+                Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
+                Command::ToggleTransparency => {
+                    out.extend(organ.map(|(s, sel)| Action::Edit(s.toggle_transparency(sel))));
+                }
+                Command::ToggleVisible => out.extend(organ.map(|(s, sel)| Action::Edit(s.toggle_visible(sel)))),
+                Command::Isolate => {
+                    out.extend(organ.map(|(_, sel)| Action::Edit(Edit::Isolate { organs: Organs::One(sel) })));
+                }
+                Command::Frame => out.extend(organ.map(|(_, sel)| Action::Frame(sel))),
+            }
+        }
+        out
+    }
+
+    /// Renders the current view at `size` into the file typed as `path`.
+    fn export(&mut self, path: &str, size: [u32; 2]) {
+        let (message, saved) = match self.export_view(path, size) {
+            Ok(path) => {
+                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                (format!("saved {} ({}x{})", path.display(), size[0], size[1]), true)
+            }
+            Err(e) => (format!("screenshot not saved: {e:#}"), false),
+        };
+        self.dialogs.export.finished(message.clone(), saved);
+        self.notify(message, !saved);
+    }
+
+    fn export_view(&self, path: &str, size: [u32; 2]) -> Result<PathBuf> {
+        let scene = self.scene.as_ref().context("no organ set")?;
+        let rs = self.gpu.as_ref().context("no GPU")?;
+        let camera = self.viewport.camera(scene);
+        let path = export::file_path(path)?;
+        let frame = FrameInput {
+            background: self.settings.background_linear(self.settings.export.transparent),
+            transparency: self.settings.transparency,
+            ..FrameInput::new(scene.set(), &camera, scene.layout())
+        };
+        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path)
+    }
+
+    /// The windows, each one's actions performed before the next draws.
+    fn windows(&mut self, ctx: &egui::Context) {
+        let actions = self.dialogs.open_set.show_set(ctx, &self.settings.recent);
+        self.perform(ctx, actions);
+        let actions = self.dialogs.open_meshes.show_meshes(ctx);
+        self.perform(ctx, actions);
+        let actions = self.dialogs.import.show(ctx, self.importing.is_some());
+        self.perform(ctx, actions);
+        if let Some(scene) = &self.scene {
+            let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
+            let actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
+            self.perform(ctx, actions);
+        }
+    }
+}
+
+fn paths_label(paths: &[PathBuf]) -> String {
+    paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
+}
+
+impl eframe::App for App {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        use egui::{CentralPanel, Panel};
+        let ctx = ui.ctx().clone();
+        self.poll_jobs(&ctx);
+        self.perform(&ctx, files::dropped(&ctx));
+        let keys = self.key_actions(&ctx);
+        self.perform(&ctx, keys);
+        let state = MenuState { scene: self.scene.as_ref(), fly: self.viewport.fly(), job: self.job() };
+        let actions = Panel::top("menu").show(ui, |ui| menus::menu_bar(ui, &state, &mut self.settings)).inner;
+        self.perform(&ctx, actions);
+        let status = Status {
+            scene: self.scene.as_ref(),
+            loading: self.is_loading(),
+            viewport: &self.viewport,
+            settings: &self.settings,
+            selected: self.selected,
+        };
+        Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
+        let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
+        let actions = Panel::left("organs")
+            .default_size(330.0)
+            .resizable(true)
+            .show(ui, |ui| panel.show(ui, scene, selected))
+            .inner;
+        self.perform(&ctx, actions);
+        if self.settings.show_inspector && self.selected.is_some() {
+            let (scene, selected) = (self.scene.as_ref(), self.selected);
+            let actions = Panel::right("inspector")
+                .default_size(300.0)
+                .resizable(true)
+                .show(ui, |ui| match scene.zip(selected) {
+                    Some((scene, sel)) => inspector(ui, scene, sel),
+                    None => Vec::new(),
+                })
+                .inner;
+            self.perform(&ctx, actions);
+        }
+        CentralPanel::no_frame().show(ui, |ui| {
+            let (rect, response) = self.viewport.allocate(ui);
+            let input = viewport::Input {
+                scene: self.scene.as_ref(),
+                gpu: self.gpu.as_ref(),
+                settings: &self.settings,
+                selected: self.selected,
+            };
+            let actions = self.viewport.input(ui, &response, &input);
+            self.perform(&ctx, actions);
+            let input = viewport::Input {
+                scene: self.scene.as_ref(),
+                gpu: self.gpu.as_ref(),
+                settings: &self.settings,
+                selected: self.selected,
+            };
+            let actions = self.viewport.draw(ui, rect, &input);
+            self.perform(&ctx, actions);
+        });
+        self.windows(&ctx);
+        let actions = status::notifications(&ctx, &self.notifications);
+        self.perform(&ctx, actions);
+        if self.is_loading() {
+            ctx.request_repaint_after(std::time::Duration::from_millis(100));
+        }
+    }
+
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        self.settings.save(storage);
+    }
+}

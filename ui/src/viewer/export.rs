@@ -1,0 +1,173 @@
+//! Screenshot export: the current view rendered offscreen at the asked size through the same
+//! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over
+//! an existing file; and the export window, which asks for the size and the file and returns an
+//! [`Action::Export`].
+
+use super::action::Action;
+use super::settings::{ExportSettings, ExportSize};
+use super::widgets::{accessible, PathField, Pick};
+use anyhow::{bail, Result};
+use eframe::egui;
+use std::path::{Path, PathBuf};
+use vbrain::render::{FrameInput, Renderer, Target};
+
+/// The largest exported side, in pixels.
+pub const MAX_SIDE: u32 = 8192;
+
+/// `<set>-YYYYMMDD-HHMMSS.png` for the set's title and a time (UTC).
+pub fn default_file_name(title: &str, now: std::time::SystemTime) -> String {
+    let secs = now.duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let (days, rem) = ((secs / 86_400) as i64, secs % 86_400);
+    // Civil date from days since 1970-01-01 (H. Hinnant's algorithm).
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    let slug = vbrain::organ_set::slug(title);
+    format!("{slug}-{year:04}{month:02}{day:02}-{:02}{:02}{:02}.png", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+/// `path` if it does not exist, else the first free `name-2.png`, `name-3.png`, ...
+pub fn unused_path(path: &Path) -> PathBuf {
+    if !path.exists() {
+        return path.to_path_buf();
+    }
+    let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
+    let ext = path.extension().map(|e| e.to_string_lossy().into_owned()).unwrap_or_else(|| "png".into());
+    (2..).map(|n| path.with_file_name(format!("{stem}-{n}.{ext}"))).find(|p| !p.exists()).unwrap_or_default()
+}
+
+/// Renders `frame` (a still: full screen-door masks) at `size` and writes a PNG to `path` (or, if
+/// that exists, to the next free name, which is returned).
+pub fn export(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    renderer: &Renderer,
+    frame: &FrameInput,
+    size: [u32; 2],
+    path: &Path,
+) -> Result<PathBuf> {
+    let [w, h] = size;
+    if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        bail!("screenshot size {w}x{h} outside 1..={MAX_SIDE}");
+    }
+    let target = Target::new(device, w, h)?;
+    renderer.render(device, queue, &target, &FrameInput { moving: false, ..*frame })?;
+    let image = target.read_color(device, queue)?;
+    let path = unused_path(path);
+    vbrain::atomic::write_png(&path, &image, false)?;
+    Ok(path)
+}
+
+/// The file to write for the path typed: `.png` added if it has no extension.
+pub fn file_path(typed: &str) -> Result<PathBuf> {
+    let mut path = PathBuf::from(typed.trim());
+    if path.as_os_str().is_empty() {
+        bail!("no file name");
+    }
+    if path.extension().is_none() {
+        path.set_extension("png");
+    }
+    Ok(path)
+}
+
+/// The "Export screenshot" window.
+#[derive(Default)]
+pub struct ExportWindow {
+    pub open: bool,
+    pub path: PathField,
+    /// The last export's result, shown in the window.
+    pub last: Option<String>,
+}
+
+impl ExportWindow {
+    /// The window for a set titled `title` in a viewport of `viewport` pixels; the size and
+    /// background choices are the export settings, kept between sessions.
+    pub fn show(
+        &mut self,
+        ctx: &egui::Context,
+        title: &str,
+        viewport: [u32; 2],
+        settings: &mut ExportSettings,
+    ) -> Vec<Action> {
+        if self.open && self.path.text.is_empty() {
+            let name = default_file_name(title, std::time::SystemTime::now());
+            let folder = settings.folder.clone().unwrap_or_default();
+            self.path.text = folder.join(name).display().to_string();
+        }
+        let mut open = self.open;
+        let mut save = false;
+        egui::Window::new("Export screenshot").open(&mut open).collapsible(false).show(ctx, |ui| {
+            let [vw, vh] = viewport;
+            let choices = [
+                (ExportSize::Viewport, format!("Viewport ({vw}x{vh})")),
+                (ExportSize::Double, format!("2x ({}x{})", vw * 2, vh * 2)),
+                (ExportSize::Quadruple, format!("4x ({}x{})", vw * 4, vh * 4)),
+                (ExportSize::Custom, "Custom".to_string()),
+            ];
+            for (size, label) in choices {
+                ui.radio_value(&mut settings.size, size, label);
+            }
+            ui.add_enabled_ui(settings.size == ExportSize::Custom, |ui| {
+                ui.horizontal(|ui| {
+                    let r = ui.add(egui::DragValue::new(&mut settings.custom[0]).range(1..=MAX_SIDE));
+                    accessible(&r, "Custom width");
+                    ui.label("x");
+                    let r = ui.add(egui::DragValue::new(&mut settings.custom[1]).range(1..=MAX_SIDE));
+                    accessible(&r, "Custom height");
+                });
+            });
+            ui.checkbox(&mut settings.transparent, "Transparent background");
+            self.path.ui(ui, "File:", Pick::Save, &[("PNG image", &["png"])]);
+            save = ui.button("Save").clicked();
+            if let Some(last) = &self.last {
+                ui.label(last);
+            }
+        });
+        self.open = open;
+        if !save {
+            return Vec::new();
+        }
+        let [vw, vh] = viewport;
+        let size = match settings.size {
+            ExportSize::Viewport => [vw, vh],
+            ExportSize::Double => [vw * 2, vh * 2],
+            ExportSize::Quadruple => [vw * 4, vh * 4],
+            ExportSize::Custom => settings.custom,
+        };
+        vec![Action::Export { path: self.path.text.clone(), size }]
+    }
+
+    /// After an export: its message shown in the window; on success the window closes and the
+    /// next one proposes a new name.
+    pub fn finished(&mut self, message: String, saved: bool) {
+        if saved {
+            self.path.text.clear();
+            self.open = false;
+        }
+        self.last = Some(message);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn file_names() {
+        let t = std::time::UNIX_EPOCH + std::time::Duration::from_secs(1_795_305_600 + 3 * 3600 + 4 * 60 + 5);
+        assert_eq!(default_file_name("Human brain (MNI152)", t), "human_brain_mni152-20261122-030405.png");
+        let leap = std::time::UNIX_EPOCH + std::time::Duration::from_secs(951_782_400); // 2000-02-29
+        assert!(default_file_name("x", leap).starts_with("x-20000229-"));
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("a.png");
+        assert_eq!(unused_path(&p), p);
+        std::fs::write(&p, b"x").unwrap();
+        assert_eq!(unused_path(&p), dir.path().join("a-2.png"));
+    }
+}

@@ -1,0 +1,82 @@
+//! The inspector of the selected organ: name, group, info text, triangles, opacity, colour,
+//! visibility and its transform (translate in world millimetres, rotate in degrees, scale), with
+//! Reset transform, Isolate and Frame. It reads the scene and returns [`Action`]s.
+
+use super::action::Action;
+use super::scene::Scene;
+use super::widgets::accessible;
+use eframe::egui::{self, RichText};
+use vbrain::edit::{Edit, Organs};
+
+pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize) -> Vec<Action> {
+    let mut out = Vec::new();
+    let organ = &scene.set().organs[sel];
+    let state = scene.layout().organs[sel];
+    let name = &organ.name;
+    ui.heading(name);
+    if !organ.group.is_empty() {
+        ui.label(RichText::new(&organ.group).weak());
+    }
+    ui.label(format!("{} triangles, id {}", organ.mesh.triangle_count(), organ.id));
+    ui.separator();
+    egui::ScrollArea::vertical().max_height(220.0).show(ui, |ui| {
+        ui.label(if organ.info.is_empty() { "No description." } else { organ.info.as_str() });
+    });
+    ui.separator();
+    let one = || Organs::One(sel);
+    let mut opacity = state.opacity;
+    let r = ui.add(egui::Slider::new(&mut opacity, 0.0..=1.0).text("opacity"));
+    accessible(&r, format!("Inspector opacity of {name}"));
+    if r.changed() {
+        out.push(Action::Edit(Edit::Opacity { organs: one(), opacity }));
+    }
+    ui.horizontal(|ui| {
+        let mut visible = state.visible;
+        let r = ui.checkbox(&mut visible, "visible");
+        accessible(&r, format!("Inspector visibility of {name}"));
+        if r.changed() {
+            out.push(Action::Edit(Edit::Visible { organs: one(), visible }));
+        }
+        let mut colour = state.colour;
+        let r = ui.color_edit_button_rgb(&mut colour);
+        accessible(&r, format!("Inspector colour of {name}"));
+        if r.changed() {
+            out.push(Action::Edit(Edit::Colour { organs: one(), colour }));
+        }
+        ui.label("colour");
+    });
+    ui.separator();
+    ui.label(RichText::new("Transform").strong());
+    let mut t = state.transform;
+    egui::Grid::new("transform").num_columns(4).show(ui, |ui| {
+        let row = |ui: &mut egui::Ui, label: &str, v: &mut glam::Vec3, speed: f32, unit: &str| {
+            ui.label(label);
+            for (axis, c) in ["x", "y", "z"].iter().zip([&mut v.x, &mut v.y, &mut v.z]) {
+                let r = ui.add(egui::DragValue::new(c).speed(speed).suffix(unit));
+                accessible(&r, format!("{label} {axis}"));
+            }
+            ui.end_row();
+        };
+        row(ui, "Translate", &mut t.translation, 0.5, " mm");
+        row(ui, "Rotate", &mut t.rotation_deg, 1.0, "°");
+        ui.label("Scale");
+        let r = ui.add(egui::DragValue::new(&mut t.scale).speed(0.01).range(0.05..=20.0));
+        accessible(&r, "Scale");
+        ui.end_row();
+    });
+    if t != state.transform {
+        out.push(Action::Edit(Edit::Transform { organ: sel, transform: t }));
+    }
+    ui.horizontal(|ui| {
+        if ui.button("Reset transform").clicked() {
+            out.push(Action::Edit(Edit::ResetTransform { organs: one() }));
+        }
+        if ui.button("Isolate").clicked() {
+            out.push(Action::Edit(Edit::Isolate { organs: one() }));
+        }
+        if ui.button("Frame").clicked() {
+            out.push(Action::Frame(sel));
+        }
+    });
+    out
+}

@@ -1,0 +1,203 @@
+//! The menu bar: File, View (camera, culling, transparency, panels, background), Organs and Help,
+//! with the running job's progress at the end. One function per menu; each reads the scene and
+//! pushes [`Action`]s. The viewer's settings (culling, transparency, panels, background) are
+//! edited in place: they are preferences, not part of the scene.
+
+use super::action::{Action, Window};
+use super::scene::Scene;
+use super::settings::Settings;
+use super::shortcuts::{self, Command};
+use super::widgets::accessible;
+use eframe::egui;
+use vbrain::camera::View;
+use vbrain::cull::{CullMode, CullSettings, Selection};
+use vbrain::transparency::{TransparencyMode, TransparencySettings, SUBSAMPLE_CHOICES};
+
+/// A job in the background: title, progress (if known) and message.
+pub struct Job {
+    pub title: String,
+    pub fraction: Option<f32>,
+    pub message: String,
+}
+
+/// What the menus read besides the settings they edit.
+pub struct MenuState<'a> {
+    pub scene: Option<&'a Scene>,
+    pub fly: bool,
+    pub job: Option<Job>,
+}
+
+pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -> Vec<Action> {
+    let mut out = Vec::new();
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| file_menu(ui, state.scene, &settings.recent, &mut out));
+        ui.menu_button("View", |ui| view_menu(ui, state, settings, &mut out));
+        ui.menu_button("Organs", |ui| organs_menu(ui, state.scene, settings, &mut out));
+        ui.menu_button("Help", shortcuts::help);
+        if let Some(job) = &state.job {
+            progress(ui, job);
+        }
+    });
+    out
+}
+
+fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::PathBuf], out: &mut Vec<Action>) {
+    let open = egui::Button::new("Open organ set...").shortcut_text(shortcuts::text(ui.ctx(), Command::Open));
+    if ui.add(open).clicked() {
+        out.push(Action::Show(Window::OpenSet));
+    }
+    if ui.button("Open mesh files...").clicked() {
+        out.push(Action::Show(Window::OpenMeshes));
+    }
+    if ui.button("Import label volume...").clicked() {
+        out.push(Action::Show(Window::Import));
+    }
+    ui.menu_button("Recent sets", |ui| {
+        if recent.is_empty() {
+            ui.label("none yet");
+        }
+        for p in recent {
+            if ui.button(p.display().to_string()).clicked() {
+                out.push(Action::Open(vec![p.clone()]));
+            }
+        }
+    });
+    ui.separator();
+    let export = egui::Button::new("Export screenshot...").shortcut_text(shortcuts::text(ui.ctx(), Command::Export));
+    if ui.add_enabled(scene.is_some(), export).clicked() {
+        out.push(Action::Show(Window::Export));
+    }
+    ui.separator();
+    if ui.button("Quit").clicked() {
+        out.push(Action::Quit);
+    }
+}
+
+fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out: &mut Vec<Action>) {
+    for (i, view) in View::ALL.into_iter().enumerate() {
+        let label = format!("{}{}", view.name()[..1].to_uppercase(), &view.name()[1..]);
+        let key = shortcuts::key_text(ui.ctx(), Command::Views, i);
+        if ui.add(egui::Button::new(label).shortcut_text(key)).clicked() {
+            out.push(Action::View(view));
+        }
+    }
+    ui.separator();
+    if ui
+        .add(egui::Button::new("Reset camera").shortcut_text(shortcuts::text(ui.ctx(), Command::ResetCamera)))
+        .clicked()
+    {
+        out.push(Action::ResetCamera);
+    }
+    let mut fly = state.fly;
+    let label = format!("Walk-through camera ({})", shortcuts::text(ui.ctx(), Command::ToggleFly));
+    if ui.checkbox(&mut fly, label).changed() {
+        out.push(Action::ToggleFly);
+    }
+    ui.separator();
+    let has_db = state.scene.is_some_and(|s| s.set().occluders.is_some());
+    ui.menu_button("Culling of hidden tissue", |ui| culling_menu(ui, has_db, settings));
+    ui.menu_button("Transparency of faded organs", |ui| transparency_menu(ui, &mut settings.transparency));
+    ui.separator();
+    ui.checkbox(&mut settings.show_inspector, "Inspector");
+    ui.checkbox(&mut settings.show_stats, "Statistics (fps, culling and mask overlay)");
+    ui.horizontal(|ui| {
+        ui.label("Background");
+        let r = ui.color_edit_button_rgb(&mut settings.background);
+        accessible(&r, "Background colour");
+    });
+}
+
+/// Culling mode, occluder selection, raster, budgets, the approximate test and the debug view.
+fn culling_menu(ui: &mut egui::Ui, has_db: bool, settings: &mut Settings) {
+    let c = &mut settings.cull;
+    for mode in CullMode::ALL {
+        ui.radio_value(&mut c.mode, mode, mode.name());
+    }
+    ui.separator();
+    ui.label("Occluders");
+    let choices = [
+        (Selection::Auto, "automatic: pre-computed while nothing moved"),
+        (Selection::ProjectedSize, "projected size (every frame)"),
+        (Selection::Mos, "pre-computed minimum occluder sets"),
+    ];
+    for (selection, label) in choices {
+        let r = ui.radio_value(&mut c.selection, selection, label);
+        accessible(&r, format!("Occluders: {}", selection.name()));
+    }
+    if !has_db {
+        ui.weak("This set has no occluder database (vbrain occluders PATH).");
+    }
+    ui.separator();
+    let r = ui.add(egui::Slider::new(&mut c.width, 32..=512).text("culling raster (pixels)"));
+    accessible(&r, "Culling raster size");
+    c.height = c.width;
+    let r = ui
+        .add(egui::Slider::new(&mut c.occluder_triangles, 128..=131_072).logarithmic(true).text("occluder triangles"));
+    accessible(&r, "Occluder triangle budget");
+    let r = ui.add(egui::Slider::new(&mut c.adaptive_ratio, 0.0..=1.0).text("adaptive stop below coverage"));
+    accessible(&r, "Adaptive stop ratio");
+    let mut approximate = c.hole_tolerance.is_some();
+    if ui.checkbox(&mut approximate, "approximate overlap test (not exact)").changed() {
+        c.hole_tolerance = approximate.then_some(0.05);
+    }
+    if let Some(t) = &mut c.hole_tolerance {
+        ui.add(egui::Slider::new(t, 0.0..=0.5).text("hole tolerance"));
+    }
+    if ui.button("Defaults").clicked() {
+        *c = CullSettings::default();
+    }
+    ui.separator();
+    ui.checkbox(&mut settings.cull_debug, "Debug view: culled triangles in colour");
+}
+
+/// Transparency mode and the screen-door masks' sub-samples, region size and K.
+fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
+    for mode in TransparencyMode::ALL {
+        ui.radio_value(&mut t.mode, mode, mode.name());
+    }
+    ui.separator();
+    ui.label("Screen-door masks");
+    for (label, value) in
+        [("sub-samples, still", &mut t.subsamples), ("sub-samples, moving", &mut t.interactive_subsamples)]
+    {
+        egui::ComboBox::from_label(label).selected_text(value.to_string()).show_ui(ui, |ui| {
+            for n in SUBSAMPLE_CHOICES {
+                ui.selectable_value(value, n, n.to_string());
+            }
+        });
+    }
+    let r = ui.add(egui::Slider::new(&mut t.region_px, 4..=128).text("region (pixels)"));
+    accessible(&r, "Mask region size");
+    let r = ui.add(egui::Slider::new(&mut t.k, 1..=16).text("K nearest organs compensated"));
+    accessible(&r, "Neighbourhood error compensation K");
+    if ui.button("Defaults").clicked() {
+        *t = TransparencySettings::default();
+    }
+}
+
+fn organs_menu(ui: &mut egui::Ui, scene: Option<&Scene>, settings: &mut Settings, out: &mut Vec<Action>) {
+    if ui.add_enabled(scene.is_some(), egui::Button::new("Show all")).clicked() {
+        out.push(Action::Edit(vbrain::edit::Edit::show_all()));
+    }
+    let reset = egui::Button::new("Reset organ layout").shortcut_text(shortcuts::text(ui.ctx(), Command::ResetLayout));
+    if ui.add_enabled(scene.is_some(), reset).clicked() {
+        if let Some(s) = scene {
+            out.push(Action::Edit(s.reset_layout()));
+        }
+    }
+    ui.add(egui::Slider::new(&mut settings.pick_min_opacity, 0.0..=1.0).text("click through below opacity"));
+}
+
+/// The running job: "loading TITLE" with a progress bar, or a spinner before its total is known.
+fn progress(ui: &mut egui::Ui, job: &Job) {
+    ui.separator();
+    ui.label(format!("loading {}", job.title));
+    match job.fraction {
+        Some(f) => {
+            ui.add(egui::ProgressBar::new(f).desired_width(160.0).text(job.message.as_str()));
+        }
+        None => {
+            ui.spinner();
+        }
+    }
+}

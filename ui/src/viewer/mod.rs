@@ -1,0 +1,32 @@
+//! The desktop viewer (eframe + wgpu).
+//!
+//! Conventions: the scene ([`scene::Scene`]: set, layout, renderer) is data that changes only by
+//! [`vbrain::edit::Edit`]s. Components (menus, organ panel, inspector, viewport, windows, status)
+//! read it and return [`Action`]s: edits, and commands for the rest (open, import, export, camera,
+//! selection); [`App::perform`] carries them out in one place. Components keep only their own UI
+//! state (a filter, a path field, the camera). Keyboard shortcuts come from one table
+//! ([`shortcuts`]). Input is in egui points, render targets in physical pixels, the scene in world
+//! millimetres (RAS).
+//!
+//! Modules: [`app`] (state, frame, actions), [`menus`], [`panels`] (organ tree), [`inspector`],
+//! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
+//! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
+//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets).
+
+pub mod action;
+pub mod app;
+pub mod export;
+pub mod files;
+pub mod inspector;
+pub mod jobs;
+pub mod menus;
+pub mod panels;
+pub mod scene;
+pub mod settings;
+pub mod shortcuts;
+pub mod status;
+pub mod viewport;
+pub mod widgets;
+
+pub use action::Action;
+pub use app::{run, App, AppOptions};

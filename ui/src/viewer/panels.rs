@@ -1,0 +1,207 @@
+//! The organ panel: the set's group tree with a search filter; per organ and per group: show,
+//! transparency toggle, opacity, colour, isolate. It reads the scene and returns [`Action`]s
+//! (edits, selection); its own state is the filter.
+
+use super::action::Action;
+use super::scene::Scene;
+use super::widgets::accessible;
+use eframe::egui::{self, RichText};
+use vbrain::edit::{Edit, Organs};
+
+/// A node of the group tree: its organs (indices) and sub-groups, in the set's order.
+#[derive(Default)]
+struct Group {
+    /// The last part of the group path (what the tree shows).
+    name: String,
+    /// The whole `/`-separated path (what edits are named after).
+    path: String,
+    organs: Vec<usize>,
+    children: Vec<Group>,
+}
+
+impl Group {
+    fn insert(&mut self, path: &[&str], organ: usize) {
+        match path.split_first() {
+            None => self.organs.push(organ),
+            Some((first, rest)) => {
+                let i = match self.children.iter().position(|c| c.name == *first) {
+                    Some(i) => i,
+                    None => {
+                        let path =
+                            if self.path.is_empty() { first.to_string() } else { format!("{}/{first}", self.path) };
+                        self.children.push(Group { name: first.to_string(), path, ..Default::default() });
+                        self.children.len() - 1
+                    }
+                };
+                self.children[i].insert(rest, organ);
+            }
+        }
+    }
+
+    /// Every organ in this group and below.
+    fn all(&self) -> Vec<usize> {
+        let mut v = self.organs.clone();
+        for c in &self.children {
+            v.extend(c.all());
+        }
+        v
+    }
+
+    fn organs(&self) -> Organs {
+        Organs::Group { name: self.path.clone(), organs: self.all() }
+    }
+}
+
+/// The tree of the organs matching `filter` (case-insensitive, on name, id or group).
+fn tree(scene: &Scene, filter: &str) -> Group {
+    let filter = filter.to_lowercase();
+    let mut root = Group::default();
+    for (i, o) in scene.set().organs.iter().enumerate() {
+        let hay = format!("{} {} {}", o.name, o.id, o.group).to_lowercase();
+        if filter.is_empty() || hay.contains(&filter) {
+            let path: Vec<&str> = o.group.split('/').filter(|s| !s.is_empty()).collect();
+            root.insert(&path, i);
+        }
+    }
+    root
+}
+
+/// The organ panel and its search filter.
+#[derive(Default)]
+pub struct OrganPanel {
+    filter: String,
+}
+
+impl OrganPanel {
+    pub fn show(&mut self, ui: &mut egui::Ui, scene: Option<&Scene>, selected: Option<usize>) -> Vec<Action> {
+        let mut out = Vec::new();
+        let Some(scene) = scene else {
+            ui.label("No organ set loaded.");
+            return out;
+        };
+        ui.heading(&scene.set().title);
+        ui.label(format!("{} organs, {} triangles", scene.set().organs.len(), scene.set().triangle_count()));
+        ui.horizontal(|ui| {
+            let r =
+                ui.add(egui::TextEdit::singleline(&mut self.filter).hint_text("search organs").desired_width(200.0));
+            accessible(&r, "Search organs");
+            if ui.button("Show all").clicked() {
+                out.push(Action::Edit(Edit::show_all()));
+            }
+        });
+        ui.separator();
+        let root = tree(scene, &self.filter);
+        egui::ScrollArea::vertical().auto_shrink([false; 2]).show(ui, |ui| {
+            let mut rows = Rows { scene, selected, out: &mut out };
+            rows.group_contents(ui, &root);
+            if root.organs.is_empty() && root.children.is_empty() {
+                ui.label("No organ matches.");
+            }
+        });
+        out
+    }
+}
+
+/// The tree's rows: what they read and the actions they return.
+struct Rows<'a> {
+    scene: &'a Scene,
+    selected: Option<usize>,
+    out: &'a mut Vec<Action>,
+}
+
+impl Rows<'_> {
+    fn edit(&mut self, edit: Edit) {
+        self.out.push(Action::Edit(edit));
+    }
+
+    fn group_contents(&mut self, ui: &mut egui::Ui, group: &Group) {
+        for child in &group.children {
+            let id = ui.make_persistent_id(("group", &child.name, child.all().first().copied()));
+            egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, true)
+                .show_header(ui, |ui| self.group_header(ui, child))
+                .body(|ui| self.group_contents(ui, child));
+        }
+        for &i in &group.organs {
+            self.organ_row(ui, i);
+        }
+    }
+
+    /// Group row: name, then show/hide, transparency and isolate for all its organs.
+    fn group_header(&mut self, ui: &mut egui::Ui, group: &Group) {
+        let scene = self.scene;
+        let layout = scene.layout();
+        let organs = group.all();
+        let mut visible = organs.iter().all(|&i| layout.organs[i].visible);
+        let r = ui.checkbox(&mut visible, "");
+        accessible(&r, format!("Show group {}", group.name));
+        if r.changed() {
+            self.edit(Edit::Visible { organs: group.organs(), visible });
+        }
+        ui.label(RichText::new(&group.name).strong());
+        let all_opaque = organs.iter().all(|&i| layout.organs[i].opacity >= 1.0);
+        let r = ui.selectable_label(!all_opaque, "T").on_hover_text("Transparency of the whole group");
+        accessible(&r, format!("Transparency of group {}", group.name));
+        if r.clicked() {
+            self.edit(scene.toggle_group_transparency(&group.path, &organs));
+        }
+        let mut opacity = organs.iter().map(|&i| layout.organs[i].opacity).sum::<f32>() / organs.len().max(1) as f32;
+        let r = ui
+            .add(egui::Slider::new(&mut opacity, 0.0..=1.0).show_value(false))
+            .on_hover_text("Opacity of the whole group");
+        accessible(&r, format!("Opacity of group {}", group.name));
+        if r.changed() {
+            self.edit(Edit::Opacity { organs: group.organs(), opacity });
+        }
+        let r = ui.small_button("isolate").on_hover_text("Show only this group");
+        accessible(&r, format!("Isolate group {}", group.name));
+        if r.clicked() {
+            self.edit(Edit::Isolate { organs: group.organs() });
+        }
+    }
+
+    fn organ_row(&mut self, ui: &mut egui::Ui, i: usize) {
+        let scene = self.scene;
+        let name = &scene.set().organs[i].name;
+        let state = scene.layout().organs[i];
+        ui.horizontal(|ui| {
+            let mut visible = state.visible;
+            let r = ui.checkbox(&mut visible, "").on_hover_text("Show or hide");
+            accessible(&r, format!("Show {name}"));
+            if r.changed() {
+                self.edit(Edit::Visible { organs: Organs::One(i), visible });
+            }
+            let r = ui.selectable_label(state.opacity < 1.0, "T").on_hover_text("Toggle transparency (T)");
+            accessible(&r, format!("Transparency of {name}"));
+            if r.clicked() {
+                self.edit(scene.toggle_transparency(i));
+            }
+            let mut colour = state.colour;
+            let r = ui.color_edit_button_rgb(&mut colour);
+            accessible(&r, format!("Colour of {name}"));
+            if r.changed() {
+                self.edit(Edit::Colour { organs: Organs::One(i), colour });
+            }
+            let mut opacity = state.opacity;
+            let r = ui.add(egui::Slider::new(&mut opacity, 0.0..=1.0).show_value(false)).on_hover_text("Opacity");
+            accessible(&r, format!("Opacity of {name}"));
+            if r.changed() {
+                self.edit(Edit::Opacity { organs: Organs::One(i), opacity });
+            }
+            let r = ui.selectable_label(self.selected == Some(i), name);
+            accessible(&r, format!("Select {name}"));
+            if r.clicked() {
+                self.out.push(Action::Select(Some(i)));
+            }
+            r.context_menu(|ui| {
+                if ui.button("Isolate").clicked() {
+                    self.edit(Edit::Isolate { organs: Organs::One(i) });
+                    ui.close();
+                }
+                if ui.button("Reset transform").clicked() {
+                    self.edit(Edit::ResetTransform { organs: Organs::One(i) });
+                    ui.close();
+                }
+            });
+        });
+    }
+}

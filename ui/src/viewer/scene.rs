@@ -1,0 +1,99 @@
+//! The scene: a loaded organ set with its renderer and the user's layout (world space,
+//! millimetres RAS). The layout changes only through [`Scene::apply`], one [`Edit`] at a time;
+//! everything else reads it. The builders (`toggle_*`, `reset_layout`) make the edits that depend
+//! on the current state.
+
+use std::path::PathBuf;
+use vbrain::edit::{Edit, Organs};
+use vbrain::layout::Layout;
+use vbrain::mesh::Bounds;
+use vbrain::organ_set::OrganSet;
+use vbrain::render::Renderer;
+
+pub struct Scene {
+    set: OrganSet,
+    /// Where it was opened from (a folder, a file, or several files joined by the title).
+    source: Vec<PathBuf>,
+    layout: Layout,
+    renderer: Renderer,
+    /// What the camera frames on reset: the organs shown when the set was opened (world space).
+    home: Bounds,
+    /// Per organ, the opacity the transparency toggle returns to: the last translucent one set.
+    last_translucent: Vec<f32>,
+}
+
+impl Scene {
+    /// The set with its default layout.
+    pub fn new(set: OrganSet, source: Vec<PathBuf>, renderer: Renderer) -> Scene {
+        let layout = Layout::new(&set);
+        let home = layout.bounds(&set);
+        let last_translucent = set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
+        Scene { set, source, layout, renderer, home, last_translucent }
+    }
+
+    pub fn set(&self) -> &OrganSet {
+        &self.set
+    }
+
+    pub fn source(&self) -> &[PathBuf] {
+        &self.source
+    }
+
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    pub fn home(&self) -> Bounds {
+        self.home
+    }
+
+    /// World bounds of one organ as placed now.
+    pub fn organ_bounds(&self, organ: usize) -> Bounds {
+        self.set.organs[organ].mesh.bounds().transformed(&self.layout.organs[organ].transform.matrix())
+    }
+
+    /// Applies an edit and returns its inverse; opacity edits remember translucent values for the
+    /// transparency toggle.
+    pub fn apply(&mut self, edit: &Edit) -> Edit {
+        let inverse = vbrain::edit::apply(&mut self.layout, edit);
+        if let Edit::Opacity { organs, .. } | Edit::Opacities { organs, .. } = edit {
+            for i in organs.indices(self.layout.organs.len()) {
+                let opacity = self.layout.organs[i].opacity;
+                if opacity > 0.0 && opacity < 1.0 {
+                    self.last_translucent[i] = opacity;
+                }
+            }
+        }
+        inverse
+    }
+
+    /// Opaque <-> the organ's last translucent opacity.
+    pub fn toggle_transparency(&self, organ: usize) -> Edit {
+        let opacity = if self.layout.organs[organ].opacity >= 1.0 { self.last_translucent[organ] } else { 1.0 };
+        Edit::Opacity { organs: Organs::One(organ), opacity }
+    }
+
+    /// A group's transparency: all opaque -> each organ's last translucent opacity, else opaque.
+    pub fn toggle_group_transparency(&self, name: &str, organs: &[usize]) -> Edit {
+        let group = Organs::Group { name: name.to_string(), organs: organs.to_vec() };
+        if organs.iter().all(|&i| self.layout.organs[i].opacity >= 1.0) {
+            Edit::Opacities { organs: group, opacities: organs.iter().map(|&i| self.last_translucent[i]).collect() }
+        } else {
+            Edit::Opacity { organs: group, opacity: 1.0 }
+        }
+    }
+
+    /// Shown <-> hidden.
+    pub fn toggle_visible(&self, organ: usize) -> Edit {
+        Edit::Visible { organs: Organs::One(organ), visible: !self.layout.organs[organ].visible }
+    }
+
+    /// Back to the set's defaults: visibility, opacity, colour, no transforms.
+    pub fn reset_layout(&self) -> Edit {
+        Edit::reset(&self.set, Organs::All)
+    }
+}

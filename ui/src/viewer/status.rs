@@ -1,0 +1,85 @@
+//! The status bar (frames per second, triangles and organs drawn, camera and render modes, the
+//! selected organ) and the notifications (bottom right, newest first, each dismissible). Both only
+//! read; dismissing returns an [`Action`].
+
+use super::action::Action;
+use super::scene::Scene;
+use super::settings::Settings;
+use super::viewport::Viewport;
+use eframe::egui;
+
+/// A message for the user; errors name the file that failed.
+pub struct Notification {
+    pub text: String,
+    pub error: bool,
+}
+
+/// What the status bar shows.
+pub struct Status<'a> {
+    pub scene: Option<&'a Scene>,
+    pub loading: bool,
+    pub viewport: &'a Viewport,
+    pub settings: &'a Settings,
+    pub selected: Option<usize>,
+}
+
+pub fn status_bar(ui: &mut egui::Ui, s: &Status) {
+    ui.horizontal(|ui| {
+        let Some(scene) = s.scene else {
+            ui.label(if s.loading { "loading..." } else { "no organ set: File > Open organ set..." });
+            return;
+        };
+        let stats = s.viewport.stats();
+        if s.settings.show_stats {
+            ui.label(format!("{:.0} fps", s.viewport.fps()));
+            ui.separator();
+        }
+        ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set().triangle_count()));
+        ui.separator();
+        ui.label(format!("{} organs drawn", stats.organs_drawn));
+        ui.separator();
+        ui.label(if s.viewport.fly() { "walk-through camera" } else { "orbit camera" });
+        ui.separator();
+        ui.label(format!("transparency: {}", s.settings.transparency.mode.name()));
+        ui.separator();
+        let occluders = match s.viewport.cull_stats().source {
+            Some(vbrain::cull::OccluderSource::Mos) => ", pre-computed occluders",
+            Some(vbrain::cull::OccluderSource::ProjectedSize) => ", occluders by projected size",
+            None => "",
+        };
+        ui.label(format!("culling: {}{occluders}", s.settings.cull.mode.name()));
+        if let Some(sel) = s.selected {
+            ui.separator();
+            ui.label(format!("selected: {}", scene.set().organs[sel].name));
+        }
+    });
+}
+
+/// The newest eight notifications; a click on "x" (or "Dismiss all") dismisses.
+pub fn notifications(ctx: &egui::Context, notifications: &[Notification]) -> Vec<Action> {
+    if notifications.is_empty() {
+        return Vec::new();
+    }
+    let mut dismiss = Vec::new();
+    egui::Area::new(egui::Id::unique("notifications")).anchor(egui::Align2::RIGHT_BOTTOM, [-12.0, -36.0]).show(
+        ctx,
+        |ui| {
+            egui::Frame::popup(ui.style()).show(ui, |ui| {
+                ui.set_max_width(520.0);
+                for (i, n) in notifications.iter().enumerate().rev().take(8) {
+                    ui.horizontal(|ui| {
+                        let colour = if n.error { egui::Color32::LIGHT_RED } else { ui.visuals().text_color() };
+                        if ui.small_button("x").on_hover_text("Dismiss").clicked() {
+                            dismiss = vec![Action::Dismiss(Some(i))];
+                        }
+                        ui.add(egui::Label::new(egui::RichText::new(&n.text).color(colour)).wrap());
+                    });
+                }
+                if notifications.len() > 1 && ui.button("Dismiss all").clicked() {
+                    dismiss = vec![Action::Dismiss(None)];
+                }
+            });
+        },
+    );
+    dismiss
+}

@@ -1,0 +1,408 @@
+//! The viewport: draws the scene through the core renderer into a texture egui paints, and turns
+//! mouse and keys into camera moves (orbit, pan, zoom toward the cursor, walk-through), picking
+//! (click selects, double-click frames) and organ moves (Ctrl+drag move, Shift+drag rotate,
+//! Ctrl+Shift+drag and Ctrl+wheel resize). Input is in egui points; the target is in physical
+//! pixels.
+//!
+//! The camera, the render target, the culler's frame-to-frame state and the statistics are the
+//! viewport's own (camera moves are not edits); organ moves and selection are returned as
+//! [`Action`]s. A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its
+//! actions, then [`Viewport::draw`], so what is drawn includes this frame's moves.
+
+use super::action::Action;
+use super::scene::Scene;
+use super::settings::Settings;
+use super::widgets::accessible;
+use eframe::egui::{self, Key, PointerButton, Pos2, Rect, Sense};
+use glam::{Quat, Vec2, Vec3};
+use std::collections::VecDeque;
+use std::time::Instant;
+use vbrain::camera::{Camera, View};
+use vbrain::cull::{CullStats, Culler};
+use vbrain::edit::Edit;
+use vbrain::layout::Transform;
+use vbrain::mesh::Bounds;
+use vbrain::navigation::Navigator;
+use vbrain::render::{FrameInput, RenderStats, Target};
+
+/// What the viewport reads each frame.
+#[derive(Clone, Copy)]
+pub struct Input<'a> {
+    pub scene: Option<&'a Scene>,
+    pub gpu: Option<&'a egui_wgpu::RenderState>,
+    pub settings: &'a Settings,
+    pub selected: Option<usize>,
+}
+
+pub struct Viewport {
+    nav: Navigator,
+    /// Walk-through camera: drag looks around, W/A/S/D/Q/E move.
+    fly: bool,
+    stats: RenderStats,
+    cull: CullStats,
+    /// Culls frame after frame, keeping where each organ's last traversal stopped.
+    culler: Culler,
+    /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
+    moving: bool,
+    target: Option<(Target, egui::TextureId)>,
+    /// The rectangle the viewport last occupied (points).
+    rect: Rect,
+    frame_times: VecDeque<Instant>,
+}
+
+impl Default for Viewport {
+    fn default() -> Self {
+        Viewport {
+            nav: Navigator { target: Vec3::ZERO, distance: 400.0, azimuth: 0.0, elevation: 0.0 },
+            fly: false,
+            stats: RenderStats::default(),
+            cull: CullStats::default(),
+            culler: Culler::default(),
+            moving: false,
+            target: None,
+            rect: Rect::NOTHING,
+            frame_times: VecDeque::new(),
+        }
+    }
+}
+
+impl Viewport {
+    /// A new set: the camera framing `home`, the culler's state dropped.
+    pub fn new_set(&mut self, home: &Bounds) {
+        self.reset_camera(home);
+        self.culler = Culler::default();
+    }
+
+    pub fn reset_camera(&mut self, home: &Bounds) {
+        self.nav = Navigator::framing(home, 0.0, 0.0);
+    }
+
+    pub fn set_view(&mut self, view: View, home: Option<Bounds>) {
+        let (az, el) = view.angles();
+        match home {
+            Some(b) => self.nav = Navigator::framing(&b, az, el),
+            None => (self.nav.azimuth, self.nav.elevation) = (az, el),
+        }
+    }
+
+    /// The camera framing these world bounds, from where it looks now.
+    pub fn frame(&mut self, bounds: &Bounds) {
+        self.nav.frame(bounds);
+    }
+
+    pub fn fly(&self) -> bool {
+        self.fly
+    }
+
+    pub fn toggle_fly(&mut self) {
+        self.fly = !self.fly;
+    }
+
+    /// What the last frame drew.
+    pub fn stats(&self) -> RenderStats {
+        self.stats
+    }
+
+    /// How the last frame culled.
+    pub fn cull_stats(&self) -> &CullStats {
+        &self.cull
+    }
+
+    /// The rectangle the viewport last occupied (points).
+    pub fn rect(&self) -> Rect {
+        self.rect
+    }
+
+    /// Frames per second over the last second of painted frames.
+    pub fn fps(&self) -> f32 {
+        match (self.frame_times.front(), self.frame_times.back()) {
+            (Some(a), Some(b)) if self.frame_times.len() > 1 => {
+                (self.frame_times.len() - 1) as f32 / b.duration_since(*a).as_secs_f32().max(1e-6)
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// The target's size in physical pixels, if drawn yet.
+    pub fn pixel_size(&self) -> Option<[u32; 2]> {
+        self.target.as_ref().map(|(t, _)| [t.width, t.height])
+    }
+
+    /// The camera of the current view: the navigator, depth fitted to what is drawn.
+    pub fn camera(&self, scene: &Scene) -> Camera {
+        self.nav.camera(&scene.layout().bounds(scene.set()).union(scene.home()))
+    }
+
+    /// Takes the rest of `ui` for the viewport.
+    pub fn allocate(&mut self, ui: &mut egui::Ui) -> (Rect, egui::Response) {
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        accessible(&response, "Viewport");
+        self.rect = rect;
+        (rect, response)
+    }
+
+    /// Mouse and keys: camera moves here, organ moves and picks as actions.
+    pub fn input(&mut self, ui: &egui::Ui, response: &egui::Response, input: &Input) -> Vec<Action> {
+        let mut out = Vec::new();
+        let (modifiers, dt) = ui.input(|i| (i.modifiers, i.stable_dt.min(0.1)));
+        let size = Vec2::new(self.rect.width(), self.rect.height());
+        let delta = Vec2::new(response.drag_delta().x, response.drag_delta().y);
+        let scrolled = response.hovered() && ui.input(|i| i.smooth_scroll_delta.y != 0.0);
+        self.moving = delta != Vec2::ZERO || scrolled;
+        // The selected organ's transform as this frame's drag and wheel leave it.
+        let mut placed: Option<(usize, Transform, Transform)> = None;
+        let transform = |scene: &Scene, organ: usize| scene.layout().organs.get(organ).map(|s| s.transform);
+        if response.dragged_by(PointerButton::Primary) && delta != Vec2::ZERO {
+            let organ = input.selected.filter(|_| modifiers.command || modifiers.shift);
+            match (organ, input.scene) {
+                (Some(sel), Some(scene)) => {
+                    let camera = self.nav.camera(&scene.home());
+                    if let Some(before) = transform(scene, sel) {
+                        let mut t = before;
+                        manipulate(&mut t, &camera, delta, size.y, modifiers);
+                        placed = Some((sel, before, t));
+                    }
+                }
+                _ if self.fly => self.nav.look(delta),
+                _ => self.nav.orbit(delta),
+            }
+        }
+        if (response.dragged_by(PointerButton::Secondary) || response.dragged_by(PointerButton::Middle))
+            && delta != Vec2::ZERO
+        {
+            self.nav.pan(delta, size.y);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y);
+            if scroll != 0.0 {
+                let factor = (-scroll * 0.0015).exp();
+                match (input.selected.filter(|_| modifiers.command), input.scene) {
+                    (Some(sel), Some(scene)) => {
+                        let current = match placed {
+                            Some((organ, before, t)) if organ == sel => Some((before, t)),
+                            _ => transform(scene, sel).map(|t| (t, t)),
+                        };
+                        if let Some((before, mut t)) = current {
+                            t.scale = (t.scale / factor).clamp(0.05, 20.0);
+                            placed = Some((sel, before, t));
+                        }
+                    }
+                    _ => {
+                        if let Some(p) = response.hover_pos() {
+                            let cursor = Vec2::new(p.x - self.rect.min.x, p.y - self.rect.min.y);
+                            self.nav.zoom_at(factor, cursor, size);
+                        }
+                    }
+                }
+            }
+        }
+        if let Some((organ, before, transform)) = placed {
+            if transform != before {
+                out.push(Action::Edit(Edit::Transform { organ, transform }));
+            }
+        }
+        if self.fly && !ui.ctx().egui_wants_keyboard_input() {
+            let speed = input.scene.map(|s| s.home().size().length() * 0.3).unwrap_or(50.0) * dt;
+            let held = |k| ui.input(|i| i.key_down(k));
+            let axis = |plus, minus| (held(plus) as i32 - held(minus) as i32) as f32 * speed;
+            let (f, r, u) = (axis(Key::W, Key::S), axis(Key::D, Key::A), axis(Key::E, Key::Q));
+            if f != 0.0 || r != 0.0 || u != 0.0 {
+                self.nav.walk(f, r, u);
+                self.moving = true;
+                ui.ctx().request_repaint();
+            }
+        }
+        if response.double_clicked() {
+            if let Some(p) = response.interact_pointer_pos() {
+                if let Some(organ) = self.pick(input, p) {
+                    out.push(Action::Select(Some(organ)));
+                    if let Some(scene) = input.scene {
+                        self.nav.frame(&scene.organ_bounds(organ));
+                    }
+                }
+            }
+        } else if response.clicked() {
+            if let Some(p) = response.interact_pointer_pos() {
+                out.push(Action::Select(self.pick(input, p)));
+            }
+        }
+        out
+    }
+
+    /// Draws the organ-ID buffer of the current view into the viewport's target; returns it.
+    fn draw_ids<'a>(&'a self, input: &Input<'a>) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
+        let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
+        let camera = self.camera(scene);
+        let frame = FrameInput::new(scene.set(), &camera, scene.layout());
+        scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, input.settings.pick_min_opacity);
+        Some((target, rs))
+    }
+
+    /// Which organ is under a point of the viewport (points), from the ID buffer.
+    pub fn pick(&self, input: &Input, at: Pos2) -> Option<usize> {
+        let (target, rs) = self.draw_ids(input)?;
+        let rect = self.rect;
+        let px = ((at.x - rect.min.x) / rect.width() * target.width as f32) as u32;
+        let py = ((at.y - rect.min.y) / rect.height() * target.height as f32) as u32;
+        match target.read_id_at(&rs.device, &rs.queue, px, py) {
+            Ok(Some(id)) if id > 0 => Some(id as usize - 1),
+            _ => None,
+        }
+    }
+
+    /// The organ-ID buffer of the current view at the viewport's size: organ index + 1 per
+    /// physical pixel (row-major), 0 for background. For tests and tools; picking reads single
+    /// pixels.
+    pub fn read_ids(&self, input: &Input) -> Option<(Vec<u32>, [u32; 2])> {
+        let (target, rs) = self.draw_ids(input)?;
+        Some((target.read_ids(&rs.device, &rs.queue).ok()?, [target.width, target.height]))
+    }
+
+    /// The image the viewport shows now, read back from its target.
+    pub fn read_image(&self, gpu: &egui_wgpu::RenderState) -> Option<image::RgbaImage> {
+        let (target, _) = self.target.as_ref()?;
+        target.read_color(&gpu.device, &gpu.queue).ok()
+    }
+
+    /// Draws the scene into `rect`, with the statistics overlay; problems come back as actions.
+    pub fn draw(&mut self, ui: &egui::Ui, rect: Rect, input: &Input) -> Vec<Action> {
+        let mut out = Vec::new();
+        let (Some(rs), Some(scene)) = (input.gpu, input.scene) else { return out };
+        let camera = self.camera(scene);
+        let ppp = ui.ctx().pixels_per_point();
+        let (w, h) = (((rect.width() * ppp).round() as u32).max(1), ((rect.height() * ppp).round() as u32).max(1));
+        if let Err(e) = self.resize_target(rs, w, h) {
+            out.push(Action::NotifyOnce(e.to_string()));
+            return out;
+        }
+        let settings = input.settings;
+        let Some((target, id)) = &self.target else { return out };
+        let (draw, cull) = self.culler.cull(scene.set(), scene.layout(), &camera, target.aspect(), &settings.cull);
+        let frame = FrameInput {
+            draw: Some(&draw),
+            background: settings.background_linear(false),
+            transparency: settings.transparency,
+            moving: self.moving,
+            ..FrameInput::new(scene.set(), &camera, scene.layout())
+        };
+        let stats = if settings.cull_debug {
+            scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame);
+            Ok(RenderStats {
+                organs_drawn: scene.layout().organs.iter().filter(|s| s.is_drawn()).count(),
+                triangles_drawn: cull.drawn,
+                ..Default::default()
+            })
+        } else {
+            scene.renderer().render(&rs.device, &rs.queue, target, &frame)
+        };
+        let (stats, failed) = match stats {
+            Ok(s) => (s, None),
+            Err(e) => (RenderStats::default(), Some(format!("drawing failed: {e}"))),
+        };
+        let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
+        ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
+        if settings.show_stats {
+            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent());
+        }
+        if let Some(text) = failed {
+            out.push(Action::NotifyOnce(text));
+        }
+        if self.moving {
+            // Draw once more when the motion stops, with the full masks.
+            ui.ctx().request_repaint();
+        }
+        self.stats = stats;
+        self.cull = cull;
+        let now = Instant::now();
+        self.frame_times.push_back(now);
+        while self.frame_times.front().is_some_and(|t| now.duration_since(*t).as_secs_f32() > 1.0) {
+            self.frame_times.pop_front();
+        }
+        out
+    }
+
+    /// Makes the target `w` x `h` physical pixels, registered with egui as a texture.
+    fn resize_target(&mut self, rs: &egui_wgpu::RenderState, w: u32, h: u32) -> vbrain::Result<()> {
+        if self.target.as_ref().is_some_and(|(t, _)| t.width == w && t.height == h) {
+            return Ok(());
+        }
+        let t = Target::new(&rs.device, w, h)?;
+        let mut egui_renderer = rs.renderer.write();
+        let id = match self.target.take() {
+            Some((_, id)) => {
+                egui_renderer.update_egui_texture_from_wgpu_texture(
+                    &rs.device,
+                    &t.display_view,
+                    wgpu::FilterMode::Linear,
+                    id,
+                );
+                id
+            }
+            None => egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear),
+        };
+        self.target = Some((t, id));
+        Ok(())
+    }
+}
+
+/// The statistics overlay (top left): culling and transparency figures of the frame.
+fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, stats: &RenderStats, faded: bool) {
+    let mut lines = Vec::new();
+    if settings.cull.mode != vbrain::cull::CullMode::None {
+        lines.push(format!(
+            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles{}\n{} nodes tested, {:.2} ms",
+            settings.cull.mode.name(),
+            cull.culled_percent(),
+            cull.frustum_culled,
+            cull.occlusion_culled,
+            cull.occluder_leaves,
+            cull.occluder_triangles,
+            cull.source.map_or(String::new(), |s| format!(" by {}", s.name())),
+            cull.nodes_tested,
+            cull.cull_ms
+        ));
+    }
+    if faded {
+        let t = &settings.transparency;
+        let mut line = format!("transparency: {}, {} passes", t.mode.name(), stats.passes);
+        if t.mode.mask_method().is_some() {
+            line += &format!(
+                "\nmasks: {} sub-samples, {} configurations, {:.2} ms",
+                stats.passes * 4,
+                stats.mask_configs,
+                stats.mask_ms
+            );
+        }
+        lines.push(line);
+    }
+    if !lines.is_empty() {
+        let font = egui::FontId::monospace(11.0);
+        ui.painter().text(
+            rect.min + egui::vec2(8.0, 8.0),
+            egui::Align2::LEFT_TOP,
+            lines.join("\n"),
+            font,
+            egui::Color32::from_gray(200),
+        );
+    }
+}
+
+/// Moves (Ctrl), rotates (Shift) or resizes (Ctrl+Shift) an organ by a drag, in view space.
+fn manipulate(t: &mut Transform, camera: &Camera, delta: Vec2, height: f32, modifiers: egui::Modifiers) {
+    let forward = (camera.target - camera.eye).normalize();
+    let right = forward.cross(camera.up).normalize();
+    let up = right.cross(forward);
+    if modifiers.command && modifiers.shift {
+        t.scale = (t.scale * (-delta.y * 0.01).exp()).clamp(0.05, 20.0);
+    } else if modifiers.command {
+        let centre = t.matrix().transform_point3(t.pivot);
+        let depth = (centre - camera.eye).dot(forward).max(1.0);
+        let k = 2.0 * depth * (camera.fov_y.to_radians() * 0.5).tan() / height.max(1.0);
+        t.translation += (right * delta.x - up * delta.y) * k;
+    } else {
+        let turn = Quat::from_axis_angle(up, (delta.x * 0.5).to_radians())
+            * Quat::from_axis_angle(right, (delta.y * 0.5).to_radians());
+        let (x, y, z) = (turn * t.rotation()).to_euler(glam::EulerRot::XYZ);
+        t.rotation_deg = Vec3::new(x, y, z) * (180.0 / std::f32::consts::PI);
+    }
+}
