@@ -1,6 +1,6 @@
 //! `vbrain bench`: culling modes compared over the same camera path (see [`crate::lab::bench`]).
 
-use super::common::{layout, open_reporting};
+use super::common::{database, layout, open_reporting};
 use super::BenchArgs;
 use crate::lab::bench::{self, BenchOptions};
 use anyhow::Result;
@@ -25,6 +25,7 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         json: args.json,
         out: &args.out,
         settings,
+        database: database(&args.path, &set),
     };
     bench::run(&set, &layout, &opts)?;
     Ok(ok)

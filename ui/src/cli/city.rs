@@ -5,7 +5,7 @@ use super::CityArgs;
 use anyhow::Result;
 
 pub fn run(args: &CityArgs) -> Result<bool> {
-    let set = vbrain::city::generate(args.seed);
+    let set = vbrain::lab::city::generate(args.seed);
     set.save(&args.out)?;
     summary(args.json, "city", &set, &args.out)
 }

@@ -5,6 +5,7 @@ use super::LayoutArgs;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
+use vbrain::cull::database::Database;
 use vbrain::layout::Layout;
 use vbrain::organ_set::{self, Loaded, OrganSet};
 
@@ -21,6 +22,15 @@ pub fn open_reporting(path: &Path) -> Result<(OrganSet, bool)> {
         bail!("{}: no organ could be loaded", path.display());
     }
     Ok((set, errors.is_empty()))
+}
+
+/// The occluder database beside the set opened from `path`, if one fits it; a file there that
+/// does not is a warning (culling then chooses occluders by projected size).
+pub fn database(path: &Path, set: &OrganSet) -> Option<Database> {
+    Database::load_for(path, set).unwrap_or_else(|e| {
+        eprintln!("warning: {e}; occluders by projected size only");
+        None
+    })
 }
 
 /// The set's default layout with `--show`, `--hide` and `--opacity` applied, in that order.
@@ -58,7 +68,7 @@ pub fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<boo
         let organs: Vec<_> = set
             .organs
             .iter()
-            .map(|o| json!({"id": o.id, "name": o.name, "triangles": o.mesh.triangle_count()}))
+            .map(|o| json!({"id": o.id, "name": o.name, "triangles": o.mesh().triangle_count()}))
             .collect();
         println!(
             "{}",

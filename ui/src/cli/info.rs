@@ -14,8 +14,9 @@ pub fn run(args: &InfoArgs) -> Result<bool> {
             .iter()
             .map(|o| {
                 json!({
-                    "id": o.id, "name": o.name, "group": o.group, "triangles": o.mesh.triangle_count(),
-                    "vertices": o.mesh.positions.len(), "bounds": o.mesh.bounds(),
+                    "id": o.id, "name": o.name, "group": o.group, "latin": o.latin, "synonyms": o.synonyms,
+                    "info": o.info, "triangles": o.mesh().triangle_count(),
+                    "vertices": o.mesh().positions.len(), "bounds": o.mesh().bounds(),
                 })
             })
             .collect();
@@ -25,7 +26,7 @@ pub fn run(args: &InfoArgs) -> Result<bool> {
         println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
         println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
         for o in &set.organs {
-            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh.triangle_count(), o.name);
+            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh().triangle_count(), o.name);
         }
     }
     Ok(ok)

@@ -3,7 +3,7 @@
 use super::MasksArgs;
 use crate::lab::masks::{self, MasksOptions};
 use anyhow::Result;
-use vbrain::transparency::experiment::Experiment;
+use vbrain::lab::masks::Experiment;
 
 pub fn run(args: &MasksArgs) -> Result<bool> {
     let n = args.mask.width as usize * args.mask.height as usize;

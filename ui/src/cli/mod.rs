@@ -21,9 +21,9 @@ pub mod values;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use values::{Orbit, OrganOpacity, RouteFrame, Size};
-use vbrain::bench::Route;
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Selection};
+use vbrain::lab::bench::Route;
 use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
 #[derive(Parser)]

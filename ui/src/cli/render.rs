@@ -1,13 +1,14 @@
 //! `vbrain render`: one picture of a set through the viewer's renderer, written as PNG.
 
-use super::common::{layout, open_reporting};
+use super::common::{database, layout, open_reporting};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
 use anyhow::Result;
 use serde_json::json;
 use vbrain::camera::{Camera, View};
-use vbrain::cull::{self, CullSettings};
+use vbrain::cull::{CullSettings, Culler};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::rng::XorShift;
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
@@ -28,8 +29,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let target = Target::new(&gpu.device, width, height)?;
     let background = if args.transparent { [0.0; 4] } else { crate::BACKGROUND };
     let mode = args.cull;
-    let (draw, cull) =
-        cull::cull(&set, &layout, &camera, target.aspect(), &CullSettings { mode, ..Default::default() });
+    let settings = CullSettings { mode, ..Default::default() };
+    let (draw, cull) = Culler::new(database(&args.path, &set)).cull(&set, &layout, &camera, target.aspect(), &settings);
     let transparency = TransparencySettings {
         mode: args.transparency,
         subsamples: args.subsamples,
@@ -37,7 +38,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         region_px: args.region,
         k: args.k,
     };
-    let order = args.draw_order_seed.map(|seed| shuffled(set.organs.len(), seed));
+    let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
     let input = FrameInput {
         draw: Some(&draw),
         background,
@@ -46,9 +47,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {
-        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input);
-        let organs_drawn = draw.ranges.iter().filter(|r| !r.is_empty()).count();
-        vbrain::render::RenderStats { triangles_drawn: cull.drawn, organs_drawn, ..Default::default() }
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input)?
     } else {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
@@ -74,11 +73,4 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         );
     }
     Ok(ok)
-}
-
-/// A permutation of `0..n` shuffled by `seed`.
-pub fn shuffled(n: usize, seed: u64) -> Vec<usize> {
-    let mut order: Vec<usize> = (0..n).collect();
-    vbrain::rng::XorShift::seeded(seed).shuffle(&mut order);
-    order
 }

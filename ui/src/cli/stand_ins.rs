@@ -29,22 +29,22 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     for organ in &mut set.organs {
         bar.set_message(organ.id.clone());
         bar.inc(1);
-        let triangles = organ.mesh.triangle_count();
+        let triangles = organ.mesh().triangle_count();
         if triangles < min_triangles {
             continue;
         }
         let options = stand_in::InnerOptions { triangles: (triangles as f64 * ratio) as usize, offset };
-        let outcome = match stand_in::build_inner(&organ.mesh, &organ.bvh, options) {
-            Ok(built) if 2 * built.stand_in.mesh.triangle_count() > triangles => {
-                Outcome::Skipped(format!("{} triangles, not under half", built.stand_in.mesh.triangle_count()))
+        let outcome = match stand_in::build_inner(organ.mesh(), organ.bvh(), options) {
+            Ok(built) if 2 * built.stand_in.mesh().triangle_count() > triangles => {
+                Outcome::Skipped(format!("{} triangles, not under half", built.stand_in.mesh().triangle_count()))
             }
             Ok(built) => {
                 let outcome =
-                    Outcome::Built { triangles: built.stand_in.mesh.triangle_count(), left_out: built.dropped };
-                organ.stand_in = Some(built.stand_in);
+                    Outcome::Built { triangles: built.stand_in.mesh().triangle_count(), left_out: built.dropped };
+                organ.set_stand_in(Some(built.stand_in));
                 outcome
             }
-            Err(why) => Outcome::Skipped(why),
+            Err(why) => Outcome::Skipped(why.to_string()),
         };
         rows.push((organ.id.clone(), triangles, outcome));
     }

@@ -8,9 +8,9 @@
 use anyhow::{anyhow, bail, Result};
 use clap::builder::{EnumValueParser, PossibleValue, TypedValueParser};
 use std::ffi::OsStr;
-use vbrain::bench::Route;
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, Selection};
+use vbrain::lab::bench::Route;
 use vbrain::transparency::TransparencyMode;
 
 /// A [`clap::ValueEnum`] over a core enum: its values are the core's `ALL`, named by its `name()`,

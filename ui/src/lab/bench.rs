@@ -6,17 +6,19 @@
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
-use vbrain::bench::{self, FrameRecord};
 use vbrain::cull::{CullMode, CullSettings};
+use vbrain::lab::bench::{self, FrameRecord};
 
 pub struct BenchOptions<'a> {
     pub frames: usize,
     pub size: (u32, u32),
     pub modes: &'a [CullMode],
-    pub route: vbrain::bench::Route,
+    pub route: vbrain::lab::bench::Route,
     pub json: bool,
     pub out: &'a Path,
     pub settings: CullSettings,
+    /// The set's pre-computed occluders.
+    pub database: Option<vbrain::cull::database::Database>,
 }
 
 pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, opts: &BenchOptions) -> Result<()> {
@@ -33,11 +35,14 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         &gpu,
         set,
         layout,
-        [opts.size.0, opts.size.1],
-        opts.frames,
-        modes,
-        &opts.settings,
-        opts.route,
+        &bench::Run {
+            size: [opts.size.0, opts.size.1],
+            frames: opts.frames,
+            modes,
+            settings: opts.settings,
+            route: opts.route,
+            database: opts.database.as_ref(),
+        },
         &mut |d, _| bar.set_position(d as u64),
     )?;
     bar.finish_and_clear();

@@ -6,7 +6,7 @@
 use anyhow::{bail, Result};
 use serde_json::json;
 use std::path::Path;
-use vbrain::transparency::experiment::{self, Experiment};
+use vbrain::lab::masks::{self as experiment, Experiment};
 use vbrain::transparency::MaskMethod;
 
 pub struct MasksOptions<'a> {

@@ -6,10 +6,11 @@
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
-use vbrain::bench::Route;
 use vbrain::camera::Camera;
+use vbrain::lab::bench::Route;
+use vbrain::lab::occluder_selection as experiment;
 use vbrain::layout::Layout;
-use vbrain::mos::{self, experiment, Params};
+use vbrain::mos::{self, Params};
 use vbrain::organ_set::{OrganSet, MANIFEST_FILE};
 
 pub struct Options<'a> {
@@ -45,7 +46,7 @@ pub fn preprocess(path: &Path, set: &OrganSet, layout: &Layout, opts: &Options) 
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
     db.save(&dir)?;
-    let file = dir.join(mos::database::FILE);
+    let file = dir.join(vbrain::cull::database::FILE);
     let counts: Vec<usize> = db.viewpoints.iter().map(|v| v.occluders.len()).collect();
     let mean = counts.iter().sum::<usize>() as f64 / counts.len().max(1) as f64;
     if opts.json {

@@ -22,6 +22,7 @@ use anyhow::{anyhow, Context as _, Result};
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
+use vbrain::cull::database::Database;
 use vbrain::edit::{Edit, Organs};
 use vbrain::organ_set::{self, Loaded};
 use vbrain::render::{FrameInput, Renderer};
@@ -66,7 +67,8 @@ pub struct Dialogs {
 }
 
 /// A set read off the UI thread, with the paths it came from.
-type Opened = (Loaded, Vec<PathBuf>);
+/// A set as loaded, with its occluder database (if one beside it fits), and where it came from.
+type Opened = (Loaded, Option<Database>, Vec<PathBuf>);
 
 pub struct App {
     /// The device eframe renders with; the scene draws with it too.
@@ -169,12 +171,19 @@ impl App {
         };
         self.loading = Some(Job::spawn(title, ctx, move |progress| {
             progress.set(0, 1, "reading meshes");
-            let result = match paths.as_slice() {
+            let mut loaded = match paths.as_slice() {
                 [one] => organ_set::open(one),
                 many => organ_set::open_files(many, "Mesh files"),
+            }?;
+            let database = match paths.as_slice() {
+                [one] => Database::load_for(one, &loaded.set).unwrap_or_else(|e| {
+                    loaded.warnings.push(format!("{e}; occluders by projected size only"));
+                    None
+                }),
+                _ => None,
             };
             progress.set(1, 1, "uploading");
-            Ok((result?, paths))
+            Ok((loaded, database, paths))
         }));
     }
 
@@ -268,13 +277,13 @@ impl App {
         let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
         self.loading = None;
         match result {
-            Ok((loaded, paths)) => self.install(loaded, paths),
+            Ok((loaded, database, paths)) => self.install(loaded, database, paths),
             Err(e) => self.notify(e.to_string(), true),
         }
     }
 
     /// Makes a loaded set the scene (the previous one stays if this one has no organs).
-    fn install(&mut self, loaded: Loaded, paths: Vec<PathBuf>) {
+    fn install(&mut self, loaded: Loaded, database: Option<Database>, paths: Vec<PathBuf>) {
         for w in loaded.warnings {
             self.notify(w, false);
         }
@@ -295,7 +304,7 @@ impl App {
                     self.settings.remember(one);
                 }
                 let scene = Scene::new(loaded.set, paths, renderer);
-                self.viewport.new_set(&scene.home());
+                self.viewport.new_set(&scene.home(), database);
                 self.selected = None;
                 self.scene = Some(scene);
             }
@@ -388,7 +397,12 @@ impl eframe::App for App {
         self.perform(&ctx, files::dropped(&ctx));
         let keys = self.key_actions(&ctx);
         self.perform(&ctx, keys);
-        let state = MenuState { scene: self.scene.as_ref(), fly: self.viewport.fly(), job: self.job() };
+        let state = MenuState {
+            scene: self.scene.as_ref(),
+            has_database: self.viewport.has_database(),
+            fly: self.viewport.fly(),
+            job: self.job(),
+        };
         let actions = Panel::top("menu").show(ui, |ui| menus::menu_bar(ui, &state, &mut self.settings)).inner;
         self.perform(&ctx, actions);
         let status = Status {

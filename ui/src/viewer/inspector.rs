@@ -14,10 +14,16 @@ pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize) -> Vec<Action> {
     let state = scene.layout().organs[sel];
     let name = &organ.name;
     ui.heading(name);
+    if let Some(latin) = &organ.latin {
+        ui.label(RichText::new(latin).italics());
+    }
+    if !organ.synonyms.is_empty() {
+        ui.label(format!("Also: {}", organ.synonyms.join(", ")));
+    }
     if !organ.group.is_empty() {
         ui.label(RichText::new(&organ.group).weak());
     }
-    ui.label(format!("{} triangles, id {}", organ.mesh.triangle_count(), organ.id));
+    ui.label(format!("{} triangles, id {}", organ.mesh().triangle_count(), organ.id));
     ui.separator();
     egui::ScrollArea::vertical().max_height(220.0).show(ui, |ui| {
         ui.label(if organ.info.is_empty() { "No description." } else { organ.info.as_str() });

@@ -23,6 +23,8 @@ pub struct Job {
 /// What the menus read besides the settings they edit.
 pub struct MenuState<'a> {
     pub scene: Option<&'a Scene>,
+    /// The set has pre-computed occluders.
+    pub has_database: bool,
     pub fly: bool,
     pub job: Option<Job>,
 }
@@ -94,7 +96,7 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
         out.push(Action::ToggleFly);
     }
     ui.separator();
-    let has_db = state.scene.is_some_and(|s| s.set().occluders.is_some());
+    let has_db = state.has_database;
     ui.menu_button("Culling of hidden tissue", |ui| culling_menu(ui, has_db, settings));
     ui.menu_button("Transparency of faded organs", |ui| transparency_menu(ui, &mut settings.transparency));
     ui.separator();

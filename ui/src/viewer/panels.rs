@@ -7,6 +7,7 @@ use super::scene::Scene;
 use super::widgets::accessible;
 use eframe::egui::{self, RichText};
 use vbrain::edit::{Edit, Organs};
+use vbrain::organ_set::names;
 
 /// A node of the group tree: its organs (indices) and sub-groups, in the set's order.
 #[derive(Default)]
@@ -52,13 +53,13 @@ impl Group {
     }
 }
 
-/// The tree of the organs matching `filter` (case-insensitive, on name, id or group).
+/// The tree of the organs matching `filter`: any of their names (name, id, Latin name, synonyms)
+/// or their group, case- and accent-insensitively.
 fn tree(scene: &Scene, filter: &str) -> Group {
-    let filter = filter.to_lowercase();
+    let folded = names::fold(filter);
     let mut root = Group::default();
     for (i, o) in scene.set().organs.iter().enumerate() {
-        let hay = format!("{} {} {}", o.name, o.id, o.group).to_lowercase();
-        if filter.is_empty() || hay.contains(&filter) {
+        if names::matches(o, filter) || names::fold(&o.group).contains(&folded) {
             let path: Vec<&str> = o.group.split('/').filter(|s| !s.is_empty()).collect();
             root.insert(&path, i);
         }

@@ -53,7 +53,7 @@ impl Scene {
 
     /// World bounds of one organ as placed now.
     pub fn organ_bounds(&self, organ: usize) -> Bounds {
-        self.set.organs[organ].mesh.bounds().transformed(&self.layout.organs[organ].transform.matrix())
+        self.set.organs[organ].mesh().bounds().transformed(&self.layout.organs[organ].transform.matrix())
     }
 
     /// Applies an edit and returns its inverse; opacity edits remember translucent values for the

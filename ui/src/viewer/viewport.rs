@@ -18,6 +18,7 @@ use glam::{Quat, Vec2, Vec3};
 use std::collections::VecDeque;
 use std::time::Instant;
 use vbrain::camera::{Camera, View};
+use vbrain::cull::database::Database;
 use vbrain::cull::{CullStats, Culler};
 use vbrain::edit::Edit;
 use vbrain::layout::Transform;
@@ -67,10 +68,15 @@ impl Default for Viewport {
 }
 
 impl Viewport {
-    /// A new set: the camera framing `home`, the culler's state dropped.
-    pub fn new_set(&mut self, home: &Bounds) {
+    /// A new set: the camera framing `home`, a new culler with the set's occluder database.
+    pub fn new_set(&mut self, home: &Bounds, database: Option<Database>) {
         self.reset_camera(home);
-        self.culler = Culler::default();
+        self.culler = Culler::new(database);
+    }
+
+    /// Whether the set has pre-computed occluders (for the culling menu).
+    pub fn has_database(&self) -> bool {
+        self.culler.database().is_some()
     }
 
     pub fn reset_camera(&mut self, home: &Bounds) {
@@ -286,12 +292,7 @@ impl Viewport {
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
         let stats = if settings.cull_debug {
-            scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame);
-            Ok(RenderStats {
-                organs_drawn: scene.layout().organs.iter().filter(|s| s.is_drawn()).count(),
-                triangles_drawn: cull.drawn,
-                ..Default::default()
-            })
+            scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame)
         } else {
             scene.renderer().render(&rs.device, &rs.queue, target, &frame)
         };
