@@ -273,6 +273,7 @@ fn bench_transparency_compares_every_mode_with_exact() {
     let views = v["views"].as_array().unwrap();
     assert_eq!(views.len(), 4);
     for view in views {
+        let error = |mode: &str| view["modes"][mode]["mean_abs_error"].as_f64().unwrap();
         for mode in [
             "screendoor",
             "screendoor-whitenoise",
@@ -281,8 +282,17 @@ fn bench_transparency_compares_every_mode_with_exact() {
             "alpha-sorted",
             "weighted-blended",
         ] {
-            let e = view["modes"][mode]["mean_abs_error"].as_f64().unwrap();
-            assert!((0.0..255.0).contains(&e), "{mode}: {e}");
+            assert!((0.0..255.0).contains(&error(mode)), "{mode}: {}", error(mode));
+        }
+        // Screen-door is closer to the exact reference than blending without sorting or weighted
+        // blending, in every view (about 1.2-2.4 against 4.9-17.5 at this size).
+        for worse in ["alpha-unsorted", "weighted-blended"] {
+            assert!(
+                error("screendoor") < error(worse),
+                "screendoor {} vs {worse} {}",
+                error("screendoor"),
+                error(worse)
+            );
         }
     }
     assert!(v["mask_regeneration"]["median_configs"].as_u64().unwrap() > 1);
