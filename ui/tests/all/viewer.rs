@@ -13,12 +13,15 @@ fn brain() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
 }
 
-/// The app on the default brain, loaded and drawn.
+/// The app on the default brain, loaded and drawn, at the snapshot's size.
 fn harness() -> Harness<'static, App> {
-    let mut h = Harness::builder()
-        .with_size(egui::Vec2::new(1100.0, 700.0))
-        .wgpu()
-        .build_eframe(|cc| App::new(cc, AppOptions { path: Some(brain()) }));
+    harness_of(egui::Vec2::new(1100.0, 700.0))
+}
+
+/// The app on the default brain in a window of `size`: smaller draws faster on a software GPU.
+fn harness_of(size: egui::Vec2) -> Harness<'static, App> {
+    let mut h =
+        Harness::builder().with_size(size).wgpu().build_eframe(|cc| App::new(cc, AppOptions { path: Some(brain()) }));
     for _ in 0..600 {
         h.step();
         if h.state().scene().is_some() {
@@ -140,7 +143,7 @@ fn snapshot_of_the_viewer() {
 
 #[test]
 fn shortcuts_act_on_the_selected_organ() {
-    let mut h = harness();
+    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
     let frontal = organ(&h, "frontal_l");
     let state = |h: &Harness<'static, App>| h.state().scene().unwrap().layout().organs[frontal];
     click(&h, point_on(&h, frontal));
