@@ -30,6 +30,7 @@ pub mod lab;
 pub mod layout;
 pub mod mesh;
 pub mod mos;
+pub mod multi_surface;
 pub mod navigation;
 pub mod organ_set;
 pub mod render;
