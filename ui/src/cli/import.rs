@@ -14,11 +14,13 @@ pub fn run(args: &ImportArgs) -> Result<bool> {
     });
     let opts = import::ImportOptions { triangles: args.triangles, smoothing: args.smooth, title };
     let bar = progress_bar(1);
-    let (set, warnings) = import::import(&vol, &table, &opts, &mut |done, total, what| {
+    let mut progress = |done: usize, total: usize, what: &str| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
         bar.set_message(what.to_string());
-    })?;
+    };
+    let import = if args.seamless { import::import_seamless } else { import::import };
+    let (set, warnings) = import(&vol, &table, &opts, &mut progress)?;
     bar.finish_and_clear();
     for w in &warnings {
         eprintln!("warning: {w}");

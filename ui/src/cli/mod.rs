@@ -158,6 +158,10 @@ pub struct ImportArgs {
     /// Title of the new set (default: the volume's file name)
     #[arg(long)]
     pub title: Option<String>,
+    /// Neighbouring organs share their boundary surfaces (one multi-label surface net, smoothed
+    /// and decimated as one), so no gap or sliver shows between them
+    #[arg(long)]
+    pub seamless: bool,
     #[arg(long)]
     pub json: bool,
 }
