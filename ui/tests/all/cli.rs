@@ -137,6 +137,34 @@ fn two_blobs(dir: &Path, name: &str) -> PathBuf {
 }
 
 #[test]
+fn a_seamless_import_shares_the_interface_of_touching_organs() {
+    let dir = tempfile::tempdir().unwrap();
+    let dims = [24, 16, 16];
+    let mut labels = vec![0i16; 24 * 16 * 16];
+    for z in 4..12 {
+        for y in 4..12 {
+            for x in 3..17 {
+                labels[x + 24 * (y + 16 * z)] = if x < 10 { 17 } else { 53 };
+            }
+        }
+    }
+    let vol = dir.path().join("touching.nii.gz");
+    write_nifti(&vol, dims, &labels);
+    let csv = dir.path().join("labels.csv");
+    std::fs::write(&csv, "index,name\n17,Left part\n53,Right part\n").unwrap();
+    let out = dir.path().join("set");
+    let (v, o) = (vol.to_str().unwrap(), out.to_str().unwrap());
+    json(&vbrain(&["import", v, "--labels", csv.to_str().unwrap(), "--out", o, "--seamless", "--json"]));
+    let info = json(&vbrain(&["info", o, "--json"]));
+    let organs = info["organs"].as_array().unwrap();
+    assert_eq!(organs.len(), 2);
+    // The two blocks meet in one plane: where one ends along x, the other begins, exactly.
+    let x = |i: usize, end: &str| organs[i]["bounds"][end][0].as_f64().unwrap();
+    let (a, b) = ((x(0, "min"), x(0, "max")), (x(1, "min"), x(1, "max")));
+    assert!(a.1 == b.0 || b.1 == a.0, "no shared face: {a:?} and {b:?}");
+}
+
+#[test]
 fn import_a_label_volume_then_scale_it() {
     let dir = tempfile::tempdir().unwrap();
     let vol = two_blobs(dir.path(), "seg.nii.gz");
