@@ -5,9 +5,12 @@
 /// Distance between slots of a uniform buffer (the largest alignment a device may require).
 pub(super) const SLOT: u64 = 256;
 
-/// Passes a frame may draw with their own frame and screen-door uniforms: one per 4 of the at most
-/// 64 screen-door sub-samples.
-pub(super) const MAX_PASSES: u64 = 16;
+/// Passes a frame may draw with their own frame and screen-door uniforms: one per 4 of the most
+/// screen-door sub-samples there are.
+pub(super) const MAX_PASSES: u64 = {
+    let choices = crate::transparency::SUBSAMPLE_CHOICES;
+    choices[choices.len() - 1] as u64 / 4
+};
 
 /// Slots of the frame uniform: 0 is the frame as seen, `1 + p` pass `p` of screen-door.
 pub(super) const FRAME_SLOTS: u64 = 1 + MAX_PASSES;
