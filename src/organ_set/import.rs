@@ -207,19 +207,13 @@ pub fn import(
         raw.push(extract(volume, labels, &boxes, opts.smoothing));
     }
     let total_raw: usize = raw.iter().map(Mesh::triangle_count).sum::<usize>().max(1);
-    let mut set = OrganSet { title: opts.title.clone(), ..Default::default() };
-    let mut ids = std::collections::HashSet::new();
-    for (i, ((name, _, colour), mut mesh)) in organs.into_iter().zip(raw).enumerate() {
-        progress(total_steps / 2 + i, total_steps, &name);
+    for (i, ((name, _, _), mesh)) in organs.iter().zip(&mut raw).enumerate() {
+        progress(total_steps / 2 + i, total_steps, name);
         let share = (opts.triangles as f64 * mesh.triangle_count() as f64 / total_raw as f64) as usize;
-        surface::simplify(&mut mesh, share.max(64));
+        surface::simplify(mesh, share.max(64));
         mesh.compute_normals();
-        if mesh.triangle_count() == 0 {
-            warnings.push(format!("\"{name}\": no surface left after clean-up: skipped"));
-            continue;
-        }
-        push_organ(&mut set, &mut ids, name, colour, mesh);
     }
+    let set = assemble(&opts.title, organs, raw, &mut warnings);
     progress(total_steps, total_steps, "done");
     Ok((set, warnings))
 }
@@ -277,17 +271,21 @@ fn present_organs(
     Ok((organs, boxes))
 }
 
-/// Adds an organ under its name's slug made unique, in the table's colour or a distinct one.
-fn push_organ(
-    set: &mut OrganSet,
-    ids: &mut std::collections::HashSet<String>,
-    name: String,
-    colour: Option<[f32; 3]>,
-    mesh: Mesh,
-) {
-    let id = super::unique_id(&slug(&name), ids);
-    let colour = colour.unwrap_or_else(|| distinct_colour(set.organs.len()));
-    set.organs.push(Organ::new(id, name, colour, mesh));
+/// The set of `organs` with their `meshes`: each under its name's slug made unique, in the table's
+/// colour or a distinct one; an organ whose mesh is empty is left out with a warning.
+fn assemble(title: &str, organs: Vec<OrganLabels>, meshes: Vec<Mesh>, warnings: &mut Vec<String>) -> OrganSet {
+    let mut set = OrganSet { title: title.to_string(), ..Default::default() };
+    let mut ids = std::collections::HashSet::new();
+    for ((name, _, colour), mesh) in organs.into_iter().zip(meshes) {
+        if mesh.triangle_count() == 0 {
+            warnings.push(format!("\"{name}\": no surface left after clean-up: skipped"));
+            continue;
+        }
+        let id = super::unique_id(&slug(&name), &mut ids);
+        let colour = colour.unwrap_or_else(|| distinct_colour(set.organs.len()));
+        set.organs.push(Organ::new(id, name, colour, mesh));
+    }
+    set
 }
 
 /// Like [`import`], but all organs from one multi-label surface net
@@ -318,15 +316,7 @@ pub fn import_seamless(
     shared.transform(volume.affine);
     progress(3, STEPS, "organs");
     let meshes = shared.organ_meshes(organs.len());
-    let mut set = OrganSet { title: opts.title.clone(), ..Default::default() };
-    let mut ids = std::collections::HashSet::new();
-    for ((name, _, colour), mesh) in organs.into_iter().zip(meshes) {
-        if mesh.triangle_count() == 0 {
-            warnings.push(format!("\"{name}\": no surface left after clean-up: skipped"));
-            continue;
-        }
-        push_organ(&mut set, &mut ids, name, colour, mesh);
-    }
+    let set = assemble(&opts.title, organs, meshes, &mut warnings);
     progress(STEPS, STEPS, "done");
     Ok((set, warnings))
 }

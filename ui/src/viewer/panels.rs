@@ -59,7 +59,7 @@ fn tree(scene: &Scene, filter: &str) -> Group {
     let folded = names::fold(filter);
     let mut root = Group::default();
     for (i, o) in scene.set().organs.iter().enumerate() {
-        if names::matches(o, filter) || names::fold(&o.group).contains(&folded) {
+        if names::matches_folded(o, &folded) || names::fold(&o.group).contains(&folded) {
             let path: Vec<&str> = o.group.split('/').filter(|s| !s.is_empty()).collect();
             root.insert(&path, i);
         }
