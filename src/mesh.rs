@@ -115,6 +115,30 @@ impl Mesh {
             .sum()
     }
 
+    /// Directed edges (a, b) of the welded mesh used more often than (b, a): none where the surface
+    /// is closed (every ray from outside to a point inside crosses it), even where more than two
+    /// triangles share an edge.
+    pub fn open_edges(&self) -> usize {
+        let (remap, _) = weld(&self.positions);
+        let mut balance: std::collections::HashMap<(u32, u32), i32> =
+            std::collections::HashMap::with_capacity(self.indices.len());
+        for t in self.indices.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (remap[t[k] as usize], remap[t[(k + 1) % 3] as usize]);
+                if a != b {
+                    *balance.entry((a.min(b), a.max(b))).or_insert(0) += if a < b { 1 } else { -1 };
+                }
+            }
+        }
+        balance.values().filter(|&&d| d != 0).count()
+    }
+
+    /// Closed and wound counter-clockwise seen from outside: from outside, only its front faces can
+    /// be seen (the renderer culls the back ones).
+    pub fn is_closed_outward(&self) -> bool {
+        !self.indices.is_empty() && self.open_edges() == 0 && self.signed_volume() > 0.0
+    }
+
     /// Appends another mesh (indices shifted).
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;

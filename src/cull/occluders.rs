@@ -234,6 +234,13 @@ pub(super) fn rasterise_occluders(
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
 const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
 
+/// How wide (NDC units, across its longest edge) a triangle must be seen to count as facing the
+/// eye. The GPU decides facing on vertices snapped to a sub-pixel grid, where a sliver seen edge-on
+/// may come out facing away: culled as a back face, it leaves a crack of samples that the culler
+/// must not count as covered. 1e-4 is a twentieth of a pixel at 1920 pixels wide, far above the
+/// snapping (a 256th of a pixel).
+const FACING_MARGIN_NDC: f32 = 1e-4;
+
 /// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
 /// its neighbours among them, pushed back by `bias` in NDC depth; returns how many.
 #[allow(clippy::too_many_arguments)]
@@ -255,13 +262,18 @@ fn rasterise_organ(
     let mut slot: Vec<u32> = Vec::with_capacity(chosen);
     let (mut triangles, mut ids) = (Vec::with_capacity(chosen), Vec::with_capacity(chosen));
     let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
+    let margin = FACING_MARGIN_NDC * 0.5 * w.max(h) as f32;
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
             let tri = projected.triangle(mesh, t).filter(|[a, b, c]| {
-                // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area.
-                (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) < 0.0
+                // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area; wider
+                // than the margin across its longest edge.
+                let twice_area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+                let longest =
+                    (*b - *a).truncate().length().max((*c - *b).truncate().length()).max((*a - *c).truncate().length());
+                -twice_area > margin * longest
             });
             match tri {
                 Some(tri) => {

@@ -42,6 +42,8 @@ pub struct Organ {
     /// A mesh with fewer triangles on or inside this organ's surface (organ space) that stands in
     /// for it as an occluder, e.g. the original of a subdivided set.
     pub(crate) stand_in: Option<StandIn>,
+    /// [`Mesh::is_closed_outward`]: drawn with its back faces culled.
+    closed: bool,
 }
 
 /// An occluder stand-in: its mesh (in the order of its own hierarchy's leaves) and hierarchy.
@@ -66,7 +68,9 @@ impl Organ {
     /// An organ with the set's defaults; builds its hierarchy (reordering the mesh's triangles).
     pub fn new(id: String, name: String, colour: [f32; 3], mut mesh: Mesh) -> Organ {
         let bvh = Bvh::build(&mut mesh);
+        let closed = mesh.is_closed_outward();
         Organ {
+            closed,
             id,
             name,
             group: String::new(),
@@ -92,6 +96,12 @@ impl Organ {
         &self.bvh
     }
 
+    /// Closed and wound outward ([`Mesh::is_closed_outward`]): its back faces are never seen from
+    /// outside, and the renderer culls them.
+    pub fn closed(&self) -> bool {
+        self.closed
+    }
+
     /// The occluder stand-in, if it has one.
     pub fn stand_in(&self) -> Option<&StandIn> {
         self.stand_in.as_ref()
@@ -106,6 +116,7 @@ impl Organ {
     /// longer lie inside).
     pub fn set_mesh(&mut self, mut mesh: Mesh) {
         self.bvh = Bvh::build(&mut mesh);
+        self.closed = mesh.is_closed_outward();
         self.mesh = mesh;
         self.stand_in = None;
     }
@@ -140,6 +151,15 @@ impl OrganSet {
 
     pub fn find(&self, id: &str) -> Option<usize> {
         self.organs.iter().position(|o| o.id == id)
+    }
+
+    /// The organ with id `key`, or else every organ in the group `key` names
+    /// ([`names::in_group`]: "Frontal lobe", "Left hemisphere/Frontal lobe"); empty if neither.
+    pub fn select(&self, key: &str) -> Vec<usize> {
+        match self.find(key) {
+            Some(i) => vec![i],
+            None => (0..self.organs.len()).filter(|&i| names::in_group(&self.organs[i], key)).collect(),
+        }
     }
 
     /// The manifest that describes this set with meshes at `meshes/<id>.vbo` (and occluder

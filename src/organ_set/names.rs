@@ -1,6 +1,7 @@
 //! Finding organs by any of their names: the English name, the id, Terminologia Anatomica's Latin
 //! name and the synonyms, compared case- and accent-insensitively ("Broca", "gyrus precentralis",
-//! "Heschl" all find their organs).
+//! "Heschl" all find their organs), and finding a group by a run of its path ("Frontal lobe",
+//! "Left hemisphere/Frontal lobe").
 
 use super::Organ;
 use unicode_normalization::UnicodeNormalization;
@@ -43,6 +44,15 @@ pub fn matches_folded(organ: &Organ, folded: &str) -> bool {
     folded.is_empty() || names(organ).any(|n| fold(n).contains(folded))
 }
 
+/// Is the organ in the group `path`: do `path`'s `/`-separated parts (folded) appear as a run of
+/// consecutive parts of the organ's group? "Frontal lobe" names both hemispheres' frontal lobes,
+/// "Left hemisphere" everything under it, "Cerebrum/Left hemisphere/Frontal lobe" one lobe.
+pub fn in_group(organ: &Organ, path: &str) -> bool {
+    let parts = |s: &str| s.split('/').map(fold).filter(|p| !p.is_empty()).collect::<Vec<_>>();
+    let (group, run) = (parts(&organ.group), parts(path));
+    !run.is_empty() && group.windows(run.len()).any(|w| w == run.as_slice())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -66,5 +76,19 @@ mod tests {
             assert!(!matches(&o, q), "{q}");
         }
         assert_eq!(fold("  Heschl's  gyrus-Ü "), "heschls gyrus u");
+    }
+
+    #[test]
+    fn a_group_is_found_by_any_run_of_its_path() {
+        let mut o = organ();
+        o.group = "Cerebrum/Left hemisphere/Frontal lobe".into();
+        for path in
+            ["Frontal lobe", "frontal LOBE", "Left hemisphere", "left hemisphere/frontal lobe", o.group.as_str()]
+        {
+            assert!(in_group(&o, path), "{path}");
+        }
+        for path in ["Frontal", "Right hemisphere", "Cerebrum/Frontal lobe", "", "/"] {
+            assert!(!in_group(&o, path), "{path}");
+        }
     }
 }

@@ -17,7 +17,6 @@ use super::StandIn;
 use crate::bvh::Bvh;
 use crate::mesh::{ray_triangle, Bounds, Mesh};
 use glam::Vec3;
-use std::collections::HashMap;
 
 /// How a stand-in is made.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -48,7 +47,7 @@ pub enum StandInError {
 /// Builds a verified inner stand-in for a closed surface (`bvh` built over `mesh`).
 pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inner, StandInError> {
     let (positions, indices) = welded(mesh);
-    let open = open_edges(&indices);
+    let open = mesh.open_edges();
     if open > 0 || indices.is_empty() {
         return Err(StandInError::NotClosed(open));
     }
@@ -99,21 +98,6 @@ pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inne
 fn welded(mesh: &Mesh) -> (Vec<Vec3>, Vec<u32>) {
     let (remap, positions) = crate::mesh::weld(&mesh.positions);
     (positions.into_iter().map(Vec3::from).collect(), mesh.indices.iter().map(|&i| remap[i as usize]).collect())
-}
-
-/// Directed edges (a, b) used more often than (b, a): none where the surface is closed (every ray
-/// from outside to a point inside crosses it), even where more than two triangles share an edge.
-fn open_edges(indices: &[u32]) -> usize {
-    let mut balance: HashMap<(u32, u32), i32> = HashMap::with_capacity(indices.len());
-    for t in indices.chunks_exact(3) {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if a != b {
-                *balance.entry((a.min(b), a.max(b))).or_insert(0) += if a < b { 1 } else { -1 };
-            }
-        }
-    }
-    balance.values().filter(|&&d| d != 0).count()
 }
 
 /// A closed surface with its hierarchy, for ray and proximity queries.

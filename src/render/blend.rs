@@ -1,15 +1,15 @@
 //! Opaque organs with depth and 4x MSAA, then faded ones alpha blended into the resolved colour
-//! image: back to front by centre with back faces culled (`alpha-sorted`, also every frame with
-//! nothing faded), or in drawing order with depth written (`alpha-unsorted`).
+//! image: back to front by centre (`alpha-sorted`, also every frame with nothing faded), or in
+//! drawing order with depth written (`alpha-unsorted`).
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{target, OrganPipeline, PipelineFactory, OVER, SAMPLE_COUNT};
+use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory, OVER, SAMPLE_COUNT};
 use super::target::COLOR_FORMAT;
 use crate::error::Result;
 
 pub(super) struct Blend {
-    pub opaque: wgpu::RenderPipeline,
-    pub translucent: wgpu::RenderPipeline,
+    pub opaque: OrganPipelines,
+    pub translucent: OrganPipelines,
     /// Translucent organs back to front (else in drawing order).
     sorted: bool,
 }
@@ -17,23 +17,20 @@ pub(super) struct Blend {
 impl Blend {
     /// Both blending techniques, sorted first; they share the opaque pipeline.
     pub fn new(factory: &PipelineFactory, layout: &wgpu::PipelineLayout) -> [Blend; 2] {
-        let organ = |label, blend, depth_write, cull| {
+        let organ = |label, blend, depth_write| {
             factory.build(OrganPipeline {
                 label,
                 fragment: "fs_shade",
                 targets: &target(COLOR_FORMAT, blend),
                 depth_write,
-                cull,
                 samples: SAMPLE_COUNT,
                 layout,
             })
         };
-        let opaque = organ("organ opaque", None, true, None);
-        let back = Some(wgpu::Face::Back);
+        let opaque = organ("organ opaque", None, true);
         let sorted =
-            Blend { opaque: opaque.clone(), translucent: organ("organ blend", Some(OVER), false, back), sorted: true };
-        let unsorted =
-            Blend { opaque, translucent: organ("organ blend unsorted", Some(OVER), true, back), sorted: false };
+            Blend { opaque: opaque.clone(), translucent: organ("organ blend", Some(OVER), false), sorted: true };
+        let unsorted = Blend { opaque, translucent: organ("organ blend unsorted", Some(OVER), true), sorted: false };
         [sorted, unsorted]
     }
 }
@@ -54,13 +51,11 @@ impl Technique for Blend {
         }
         let colour = [&target.msaa_color, &target.color_view];
         let mut pass = scene.begin_organ_pass(encoder, colour, target, input.background, false);
-        pass.set_pipeline(&self.opaque);
         for &i in &opaque {
-            scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+            scene.draw(&mut pass, &self.opaque, i, &scene.ranges(i, input.draw));
         }
-        pass.set_pipeline(&self.translucent);
         for &i in &translucent {
-            scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+            scene.draw(&mut pass, &self.translucent, i, &scene.ranges(i, input.draw));
         }
         Ok(RenderStats { passes: 1, ..Default::default() })
     }

@@ -40,15 +40,13 @@ impl Technique for CullDebug<'_> {
         let drawn: Vec<usize> = (0..scene.organ_count().min(states.len())).filter(|&i| states[i].is_drawn()).collect();
         let colour = [&target.msaa_color, &target.color_view];
         let mut pass = scene.begin_organ_pass(encoder, colour, target, input.background, false);
-        pass.set_pipeline(&self.0.opaque);
         for &i in &drawn {
             let kept = scene.ranges(i, input.draw);
             let culled = complement(&kept, scene.index_count(i));
-            scene.draw_in(&mut pass, 2, i, &culled);
+            scene.draw_in(&mut pass, &self.0.opaque, 2, i, &culled);
         }
-        pass.set_pipeline(&self.0.translucent);
         for &i in &drawn {
-            scene.draw_in(&mut pass, 1, i, &scene.ranges(i, None));
+            scene.draw_in(&mut pass, &self.0.translucent, 1, i, &scene.ranges(i, None));
         }
         Ok(RenderStats { passes: 1, ..Default::default() })
     }

@@ -5,7 +5,7 @@
 //! writes the result into the target's colour image, which the frame's submission then holds.
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{clear_colour, target, OrganPipeline, PipelineFactory};
+use super::pipelines::{clear_colour, target, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::screendoor::ndc_jitter;
 use super::target::{read_texture, DEPTH_FORMAT};
 use crate::error::Result;
@@ -15,7 +15,7 @@ const EXACT_GRID: usize = 4;
 const LAYER_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 pub(super) struct Exact {
-    layer: wgpu::RenderPipeline,
+    layer: OrganPipelines,
 }
 
 impl Exact {
@@ -25,7 +25,6 @@ impl Exact {
             fragment: "fs_shade",
             targets: &target(LAYER_FORMAT, None),
             depth_write: true,
-            cull: None,
             samples: 1,
             layout,
         });
@@ -84,9 +83,8 @@ impl Technique for Exact {
                     multiview_mask: None,
                 });
                 scene.set_frame(&mut pass, 0);
-                pass.set_pipeline(&self.layer);
                 for &i in organs {
-                    scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                    scene.draw(&mut pass, &self.layer, i, &scene.ranges(i, input.draw));
                 }
             }
             queue.submit([encoder.finish()]);

@@ -2,14 +2,14 @@
 //! organ index + 1 of the nearest drawn organ per pixel, for picking; or leaf numbers, for
 //! measuring exact visibility.
 
-use super::pipelines::{target, OrganPipeline, PipelineFactory};
+use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::scene::GpuScene;
 use super::target::{Target, ID_FORMAT};
 use super::FrameInput;
 
 pub(super) struct Ids {
-    organ: wgpu::RenderPipeline,
-    leaf: wgpu::RenderPipeline,
+    organ: OrganPipelines,
+    leaf: OrganPipelines,
 }
 
 /// What an ID pass writes.
@@ -28,7 +28,6 @@ impl Ids {
                 fragment,
                 targets: &target(ID_FORMAT, None),
                 depth_write: true,
-                cull: None,
                 samples: 1,
                 layout,
             })
@@ -74,17 +73,15 @@ impl Ids {
         let organs = input.layout.organs.iter().enumerate().take(scene.organ_count());
         match kind {
             IdKind::Organs { min_opacity } => {
-                pass.set_pipeline(&self.organ);
                 for (i, s) in organs {
                     if s.is_drawn() && s.opacity >= min_opacity {
-                        scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                        scene.draw(&mut pass, &self.organ, i, &scene.ranges(i, input.draw));
                     }
                 }
             }
             IdKind::Leaves { set, first_id } => {
-                pass.set_pipeline(&self.leaf);
                 for (i, _) in organs.filter(|(_, s)| s.is_drawn()) {
-                    scene.bind_organ(&mut pass, 0, i);
+                    scene.bind_organ(&mut pass, &self.leaf, 0, i);
                     let bvh = &set.organs[i].bvh;
                     for l in 0..bvh.leaves.len() as u32 {
                         let id = first_id[i] + l + 1;

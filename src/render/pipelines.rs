@@ -23,7 +23,6 @@ pub(super) struct OrganPipeline<'a> {
     pub fragment: &'a str,
     pub targets: &'a [Option<wgpu::ColorTargetState>],
     pub depth_write: bool,
-    pub cull: Option<wgpu::Face>,
     pub samples: u32,
     pub layout: &'a wgpu::PipelineLayout,
 }
@@ -36,6 +35,25 @@ pub(super) fn target(
     [Some(wgpu::ColorTargetState { format, blend, write_mask: wgpu::ColorWrites::ALL })]
 }
 
+/// An organ pipeline for closed organs, which cull their back faces (never seen from outside; where
+/// two organs touch, the back of one's face would tie in depth with the other's front, and the
+/// drawing order would pick the pixel), and one for open organs, which draw both sides.
+#[derive(Clone)]
+pub(super) struct OrganPipelines {
+    closed: wgpu::RenderPipeline,
+    open: wgpu::RenderPipeline,
+}
+
+impl OrganPipelines {
+    pub fn get(&self, closed: bool) -> &wgpu::RenderPipeline {
+        if closed {
+            &self.closed
+        } else {
+            &self.open
+        }
+    }
+}
+
 /// Builds organ pipelines from organ.wgsl.
 pub(super) struct PipelineFactory<'a> {
     pub device: &'a wgpu::Device,
@@ -43,7 +61,11 @@ pub(super) struct PipelineFactory<'a> {
 }
 
 impl PipelineFactory<'_> {
-    pub fn build(&self, spec: OrganPipeline) -> wgpu::RenderPipeline {
+    pub fn build(&self, spec: OrganPipeline) -> OrganPipelines {
+        OrganPipelines { closed: self.build_one(&spec, Some(wgpu::Face::Back)), open: self.build_one(&spec, None) }
+    }
+
+    fn build_one(&self, spec: &OrganPipeline, cull: Option<wgpu::Face>) -> wgpu::RenderPipeline {
         let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(spec.label),
@@ -58,7 +80,7 @@ impl PipelineFactory<'_> {
                     attributes: &vertex_attributes,
                 })],
             },
-            primitive: wgpu::PrimitiveState { cull_mode: spec.cull, ..Default::default() },
+            primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(spec.depth_write),

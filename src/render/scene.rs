@@ -1,7 +1,7 @@
 //! The set on the GPU: per-organ vertex and index buffers (organ space), the frame uniform's slots
 //! and the organ uniforms' sections, and the draw calls every technique shares.
 
-use super::pipelines::clear_colour;
+use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
 use super::uniforms::{FrameUniform, OrganUniform, FRAME_SLOTS, SLOT};
 use super::FrameInput;
@@ -24,6 +24,8 @@ struct GpuMesh {
     index_count: u32,
     /// Organ-space centre, for back-to-front sorting of translucent organs.
     center: Vec3,
+    /// Drawn with back faces culled ([`crate::organ_set::Organ::closed`]).
+    closed: bool,
 }
 
 pub(super) struct GpuScene {
@@ -82,6 +84,7 @@ impl GpuScene {
                 }),
                 index_count: o.mesh.indices.len() as u32,
                 center: o.mesh.bounds().center(),
+                closed: o.closed(),
             });
         }
         let layout_of = |label| {
@@ -198,25 +201,34 @@ impl GpuScene {
         pass.set_bind_group(0, &self.frame_bind, &[(slot * SLOT) as u32]);
     }
 
-    /// Draws `ranges` of an organ as shown.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass, organ: usize, ranges: &[Range<u32>]) {
-        self.draw_in(pass, 0, organ, ranges);
+    /// Draws `ranges` of an organ as shown, with the pipeline of its kind (closed or open).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass, pipelines: &OrganPipelines, organ: usize, ranges: &[Range<u32>]) {
+        self.draw_in(pass, pipelines, 0, organ, ranges);
     }
 
     /// Draws with the organ uniforms of a section.
-    pub fn draw_in(&self, pass: &mut wgpu::RenderPass, section: u64, organ: usize, ranges: &[Range<u32>]) {
+    pub fn draw_in(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        pipelines: &OrganPipelines,
+        section: u64,
+        organ: usize,
+        ranges: &[Range<u32>],
+    ) {
         if ranges.is_empty() {
             return;
         }
-        self.bind_organ(pass, section, organ);
+        self.bind_organ(pass, pipelines, section, organ);
         for r in ranges {
             pass.draw_indexed(r.clone(), 0, 0..1);
         }
     }
 
-    /// Binds an organ's uniforms (of a section) and buffers, for draws the caller makes.
-    pub fn bind_organ(&self, pass: &mut wgpu::RenderPass, section: u64, organ: usize) {
+    /// Binds the pipeline of an organ's kind, its uniforms (of a section) and buffers, for draws
+    /// the caller makes.
+    pub fn bind_organ(&self, pass: &mut wgpu::RenderPass, pipelines: &OrganPipelines, section: u64, organ: usize) {
         let m = &self.meshes[organ];
+        pass.set_pipeline(pipelines.get(m.closed));
         let slot = section * self.meshes.len() as u64 + organ as u64;
         pass.set_bind_group(1, &self.organ_bind, &[(slot * SLOT) as u32]);
         pass.set_vertex_buffer(0, m.vertices.slice(..));

@@ -8,7 +8,9 @@
 //! masks' buffers are kept from frame to frame and grow when a frame needs more.
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{fullscreen_pass, target, Composite, OrganPipeline, PipelineFactory, SAMPLE_COUNT};
+use super::pipelines::{
+    fullscreen_pass, target, Composite, OrganPipeline, OrganPipelines, PipelineFactory, SAMPLE_COUNT,
+};
 use super::scene::{uniform_entry, GpuScene};
 use super::target::{Target, COLOR_FORMAT, HDR_FORMAT};
 use super::uniforms::{ScreendoorUniform, MAX_PASSES, SLOT};
@@ -17,8 +19,8 @@ use crate::transparency::{layout as sublayout, regions};
 use std::sync::Mutex;
 
 pub(super) struct Screendoor {
-    opaque: wgpu::RenderPipeline,
-    masked: wgpu::RenderPipeline,
+    opaque: OrganPipelines,
+    masked: OrganPipelines,
     accumulate: wgpu::RenderPipeline,
     present: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
@@ -38,13 +40,12 @@ struct Pool {
 
 /// The pipelines that draw organs into the float image with depth: opaque ones, shared with
 /// weighted blending.
-pub(super) fn opaque_hdr(factory: &PipelineFactory, layout: &wgpu::PipelineLayout) -> wgpu::RenderPipeline {
+pub(super) fn opaque_hdr(factory: &PipelineFactory, layout: &wgpu::PipelineLayout) -> OrganPipelines {
     factory.build(OrganPipeline {
         label: "organ opaque hdr",
         fragment: "fs_shade",
         targets: &target(HDR_FORMAT, None),
         depth_write: true,
-        cull: None,
         samples: SAMPLE_COUNT,
         layout,
     })
@@ -56,7 +57,7 @@ impl Screendoor {
         factory: &PipelineFactory,
         scene: &GpuScene,
         composite: &Composite,
-        opaque: wgpu::RenderPipeline,
+        opaque: OrganPipelines,
     ) -> Screendoor {
         let storage = |binding| wgpu::BindGroupLayoutEntry {
             binding,
@@ -82,7 +83,6 @@ impl Screendoor {
             fragment: "fs_screendoor",
             targets: &target(HDR_FORMAT, None),
             depth_write: true,
-            cull: None,
             samples: SAMPLE_COUNT,
             layout: &masked_layout,
         });
@@ -214,14 +214,12 @@ impl Technique for ScreendoorFrame<'_> {
                 let mut pass =
                     scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, false);
                 scene.set_frame(&mut pass, slot);
-                pass.set_pipeline(&sd.opaque);
                 for &i in &opaque {
-                    scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                    scene.draw(&mut pass, &sd.opaque, i, &scene.ranges(i, input.draw));
                 }
-                pass.set_pipeline(&sd.masked);
                 pass.set_bind_group(2, &pool.bind, &[(p as u64 * SLOT) as u32]);
                 for &i in &transparent {
-                    scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                    scene.draw(&mut pass, &sd.masked, i, &scene.ranges(i, input.draw));
                 }
             }
             fullscreen_pass(encoder, &hdr.accum, &sd.accumulate, &images[0], p > 0, 1.0 / passes as f64);

@@ -3,13 +3,13 @@
 //! over that depth, then the resolve over the opaque image.
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{fullscreen_pass, Composite, OrganPipeline, PipelineFactory};
+use super::pipelines::{fullscreen_pass, Composite, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::target::{COLOR_FORMAT, HDR_FORMAT, REVEAL_FORMAT};
 use crate::error::Result;
 
 pub(super) struct Weighted {
-    opaque: wgpu::RenderPipeline,
-    sums: wgpu::RenderPipeline,
+    opaque: OrganPipelines,
+    sums: OrganPipelines,
     resolve: wgpu::RenderPipeline,
 }
 
@@ -19,7 +19,7 @@ impl Weighted {
         factory: &PipelineFactory,
         layout: &wgpu::PipelineLayout,
         composite: &Composite,
-        opaque: wgpu::RenderPipeline,
+        opaque: OrganPipelines,
     ) -> Weighted {
         let add = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::One,
@@ -47,7 +47,6 @@ impl Weighted {
                 }),
             ],
             depth_write: false,
-            cull: None,
             samples: super::SAMPLE_COUNT,
             layout,
         });
@@ -72,9 +71,8 @@ impl Technique for WeightedFrame<'_> {
         {
             // The opaque depth stays for the weighted pass to test against.
             let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
-            pass.set_pipeline(&wb.opaque);
             for &i in &opaque {
-                scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                scene.draw(&mut pass, &wb.opaque, i, &scene.ranges(i, input.draw));
             }
         }
         {
@@ -102,9 +100,8 @@ impl Technique for WeightedFrame<'_> {
                 multiview_mask: None,
             });
             scene.set_frame(&mut pass, 0);
-            pass.set_pipeline(&wb.sums);
             for &i in &transparent {
-                scene.draw(&mut pass, i, &scene.ranges(i, input.draw));
+                scene.draw(&mut pass, &wb.sums, i, &scene.ranges(i, input.draw));
             }
         }
         let images = self.composite.images(f.device, [&hdr.resolved, &hdr.accum, &hdr.reveal]);
