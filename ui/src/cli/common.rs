@@ -1,5 +1,5 @@
 //! What the commands share: opening a set with its problems reported on stderr, applying
-//! `--show`/`--hide`/`--opacity` by organ id, the summary of a written set, and progress bars.
+//! `--show`/`--hide`/`--opacity` by organ id or group, the summary of a written set, and progress bars.
 
 use super::LayoutArgs;
 use anyhow::{anyhow, bail, Result};
@@ -41,7 +41,9 @@ pub fn layout(set: &OrganSet, args: &LayoutArgs) -> Result<Layout> {
         if o.id == "all" {
             layout.organs.iter_mut().for_each(|s| s.opacity = o.opacity);
         } else {
-            layout.organs[index(set, &o.id)?].opacity = o.opacity;
+            for i in organs(set, &o.id)? {
+                layout.organs[i].opacity = o.opacity;
+            }
         }
     }
     Ok(layout)
@@ -49,17 +51,23 @@ pub fn layout(set: &OrganSet, args: &LayoutArgs) -> Result<Layout> {
 
 /// Applies `--show` then `--hide` to a layout.
 pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hide: &[String]) -> Result<()> {
-    for id in show {
-        layout.organs[index(set, id)?].visible = true;
-    }
-    for id in hide {
-        layout.organs[index(set, id)?].visible = false;
+    for (keys, visible) in [(show, true), (hide, false)] {
+        for key in keys {
+            for i in organs(set, key)? {
+                layout.organs[i].visible = visible;
+            }
+        }
     }
     Ok(())
 }
 
-fn index(set: &OrganSet, id: &str) -> Result<usize> {
-    set.find(id).ok_or_else(|| anyhow!("no organ with id \"{id}\" (see `vbrain info`)"))
+/// The organs `key` names: an id or a group ([`OrganSet::select`]).
+fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
+    let found = set.select(key);
+    if found.is_empty() {
+        bail!("no organ with id \"{key}\" and no group of that name (see `vbrain info`)");
+    }
+    Ok(found)
 }
 
 /// Prints what a command wrote: organs and triangles (with `json`, as one object).

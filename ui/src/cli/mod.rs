@@ -69,16 +69,17 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
-/// `--show`, `--hide` and `--opacity`: changes to a set's default layout, by organ id.
+/// `--show`, `--hide` and `--opacity`: changes to a set's default layout, by organ id or group
+/// ("Frontal lobe" is both frontal lobes, "Left hemisphere/Frontal lobe" one).
 #[derive(clap::Args)]
 pub struct LayoutArgs {
-    /// Show organs hidden by default (e.g. skull), by id
+    /// Show organs hidden by default (e.g. skull), by id or group
     #[arg(long, num_args = 1..)]
     pub show: Vec<String>,
-    /// Hide organs by id (repeatable)
+    /// Hide organs by id or group (repeatable)
     #[arg(long, num_args = 1..)]
     pub hide: Vec<String>,
-    /// Set opacity, ID=A or all=A with A in 0..1 (repeatable)
+    /// Set opacity, ID=A, GROUP=A or all=A with A in 0..1 (repeatable)
     #[arg(long, num_args = 1.., value_parser = values::organ_opacity)]
     pub opacity: Vec<OrganOpacity>,
 }
@@ -257,10 +258,10 @@ pub struct OccludersArgs {
     /// Culling raster side, pixels
     #[arg(long, default_value_t = 128)]
     pub raster: usize,
-    /// Show organs hidden by default (e.g. skull), by id
+    /// Show organs hidden by default (e.g. skull), by id or group
     #[arg(long, num_args = 1..)]
     pub show: Vec<String>,
-    /// Hide organs by id
+    /// Hide organs by id or group
     #[arg(long, num_args = 1..)]
     pub hide: Vec<String>,
     /// Run the occluder-selection experiment (thesis Figure 14) instead: culled % against the

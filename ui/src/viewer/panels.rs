@@ -86,6 +86,14 @@ impl OrganPanel {
             let r =
                 ui.add(egui::TextEdit::singleline(&mut self.filter).hint_text("search organs").desired_width(200.0));
             accessible(&r, "Search organs");
+            r.on_hover_text("Any name: English, Latin, a synonym (\"Broca\"), an id or a group");
+            if !self.filter.is_empty() {
+                let r = ui.small_button("×").on_hover_text("Clear the search");
+                accessible(&r, "Clear search");
+                if r.clicked() {
+                    self.filter.clear();
+                }
+            }
             if ui.button("Show all").clicked() {
                 out.push(Action::Edit(Edit::show_all()));
             }
@@ -93,7 +101,7 @@ impl OrganPanel {
         ui.separator();
         let root = tree(scene, &self.filter);
         egui::ScrollArea::vertical().auto_shrink([false; 2]).show(ui, |ui| {
-            let mut rows = Rows { scene, selected, out: &mut out };
+            let mut rows = Rows { scene, selected, filtering: !self.filter.trim().is_empty(), out: &mut out };
             rows.group_contents(ui, &root);
             if root.organs.is_empty() && root.children.is_empty() {
                 ui.label("No organ matches.");
@@ -107,6 +115,9 @@ impl OrganPanel {
 struct Rows<'a> {
     scene: &'a Scene,
     selected: Option<usize>,
+    /// A search is on: every group of the matches opens (its own open state, apart from the
+    /// unfiltered tree's).
+    filtering: bool,
     out: &'a mut Vec<Action>,
 }
 
@@ -117,8 +128,10 @@ impl Rows<'_> {
 
     fn group_contents(&mut self, ui: &mut egui::Ui, group: &Group) {
         for child in &group.children {
-            let id = ui.make_persistent_id(("group", &child.name, child.all().first().copied()));
-            egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, true)
+            let id = ui.make_persistent_id(("group", &child.name, child.all().first().copied(), self.filtering));
+            // Groups three deep (a hemisphere's lobes) start closed: 68 gyri are too many rows.
+            let open = self.filtering || child.path.matches('/').count() < 2;
+            egui::collapsing_header::CollapsingState::load_with_default_open(ui.ctx(), id, open)
                 .show_header(ui, |ui| self.group_header(ui, child))
                 .body(|ui| self.group_contents(ui, child));
         }
