@@ -24,16 +24,16 @@ r --orbit -60,20 --cull frustum
 r --orbit 30,15 --show skull
 r --orbit 30,15 --show skull --debug-culled
 r --orbit 120,-10 --debug-culled
-r --orbit -90,5 --opacity frontal_l=0.35
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35"
 r --orbit 45,30 --opacity all=0.5
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency screendoor-whitenoise
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency screendoor-pixeltree
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency alpha-unsorted
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency alpha-sorted
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency weighted-blended
-r --orbit -90,5 --opacity frontal_l=0.35 parietal_l=0.5 --transparency exact
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency screendoor-whitenoise
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency screendoor-pixeltree
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency alpha-unsorted
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency alpha-sorted
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency weighted-blended
+r --orbit -90,5 --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5" --transparency exact
 r --orbit 10,10 --opacity all=0.4 --subsamples 16 --region 32 --k 2
 r --orbit 10,10 --opacity all=0.4 --draw-order-seed 7
 r --view right --transparent
-r --route orbit:40 --hide frontal_r parietal_r
+r --route orbit:40 --hide "Right hemisphere/Frontal lobe" "Right hemisphere/Parietal lobe"
 r --orbit 200,40 --show scalp skull --opacity scalp=0.3 skull=0.6 --cull occlusion

@@ -8,7 +8,8 @@ What it does (all coordinates millimetres, RAS, MNI152 space):
     FreeSurfer's fsaverage scalp (head) and inner-skull surfaces shipped by `mne` (fsaverage = MNI305;
     mapped to MNI152 with FreeSurfer's published MNI305->MNI152 affine).
  2. Builds one 1 mm label volume on a head-sized grid: the 34 cortical parcels (gyri) per hemisphere,
-    each its own organ and grouped by lobe in the organ tree, subcortical structures, ventricles, brainstem, cerebellum, corpus callosum, and a skull
+    each its own organ and grouped by lobe in the organ tree (white matter voxels on the outer
+    surface, holes in the atlas's cortical ribbon, take their neighbouring gyrus's label), subcortical structures, ventricles, brainstem, cerebellum, corpus callosum, and a skull
     shell made from the inner-skull surface (grown to enclose every brain label, its gyral imprints
     closed) dilated by 6 mm, smoothed, and kept 3 mm inside the skin. A second volume holds the whole head, whose surface is the scalp.
  3. Runs `vbrain import --seamless` on both (multi-label surface nets: neighbouring organs share their
@@ -39,6 +40,8 @@ REPO = HERE.parent.parent
 VBRAIN = os.environ.get("VBRAIN", str(REPO / "target" / "release" / "vbrain"))
 BRAIN_TRIANGLES = 215_000
 SCALP_TRIANGLES = 14_000
+# Taubin iterations of the joint smoothing (lambda/mu pairs: smooths without shrinking).
+SMOOTHING = 30
 
 # FreeSurfer, "CoordinateSystems": MNI152 = M @ MNI305 (fsaverage is in MNI305).
 MNI305_TO_MNI152 = np.array([
@@ -174,6 +177,31 @@ def voxelize(rr, tris, grid_affine, shape):
     return mask
 
 
+def cover_white_matter(labels, organs):
+    """White matter on the brain's outer surface, where the atlas's cortical ribbon has a hole (single
+    voxels, seen as white specks on the cortex), takes the commonest cortical label among its 26
+    neighbours; white matter with no cortex beside it (the medial wall) stays. Returns the count."""
+    numbers = {o[0]: n for n, o in enumerate(organs, start=1)}
+    white = [numbers["white_matter_l"], numbers["white_matter_r"]]
+    cortex = np.array([n for n, o in enumerate(organs, start=1) if o[2].count("/") == 2])
+    touching = ndimage.generate_binary_structure(3, 3)
+    changed = 0
+    for _ in range(3):
+        exposed = np.isin(labels, white) & ndimage.binary_dilation(labels == 0, touching)
+        moved = 0
+        for x, y, z in np.argwhere(exposed):
+            around = labels[max(x - 1, 0):x + 2, max(y - 1, 0):y + 2, max(z - 1, 0):z + 2].ravel()
+            around = around[np.isin(around, cortex)]
+            if len(around):
+                values, counts = np.unique(around, return_counts=True)
+                labels[x, y, z] = values[np.argmax(counts)]
+                moved += 1
+        changed += moved
+        if moved == 0:
+            break
+    return changed
+
+
 def ball(r):
     g = np.mgrid[-r:r + 1, -r:r + 1, -r:r + 1]
     return (g ** 2).sum(0) <= r * r
@@ -182,7 +210,8 @@ def ball(r):
 def run_import(volume, table, out, triangles, title):
     # Seamless: neighbouring organs (gyri, cortex and white matter) share their boundary surfaces.
     subprocess.run([VBRAIN, "import", str(volume), "--labels", str(table), "--out", str(out),
-                    "--triangles", str(triangles), "--title", title, "--seamless"], check=True)
+                    "--triangles", str(triangles), "--title", title, "--seamless",
+                    "--smooth", str(SMOOTHING)], check=True)
     return json.loads((out / "organset.json").read_text())
 
 
@@ -217,6 +246,7 @@ def main():
     for n, organ in enumerate(organs, start=1):
         if organ[6] != [SKULL_LABEL]:
             labels[np.isin(dk_grid, organ[6])] = n
+    print(f"white matter covered by cortex in {cover_white_matter(labels, organs)} surface voxels")
     head = voxelize(*read_surface(DATA["head"]), grid_affine, shape)
     head = ndimage.binary_fill_holes(head)
     inner = voxelize(*read_surface(DATA["inner_skull"]), grid_affine, shape)

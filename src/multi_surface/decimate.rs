@@ -23,7 +23,7 @@ use std::collections::BinaryHeap;
 const PRESIMPLIFY_ERROR: f32 = 0.2;
 
 /// No organ's surface is decimated below this many triangles.
-const MIN_ORGAN_TRIANGLES: usize = 12;
+const MIN_ORGAN_TRIANGLES: usize = 96;
 
 /// Weight of a patch border's constraint planes against the surfaces' own (per area).
 const BORDER_WEIGHT: f64 = 4.0;
@@ -389,7 +389,7 @@ mod tests {
         let mut soup = Soup::new(&positions, &junction, &patches);
         assert_eq!(soup.organ_triangles, [12, 12]);
         assert!(!soup.can_collapse(0, 1), "no organ goes below MIN_ORGAN_TRIANGLES");
-        soup.organ_triangles[1] = 40;
+        soup.organ_triangles[1] = 200;
         assert!(soup.can_collapse(0, 1), "along the ring: fine");
         assert!(!soup.can_collapse(0, 6), "onto the apex: its lower triangles would fold up");
         assert!(!soup.can_collapse(0, 3), "not an edge");

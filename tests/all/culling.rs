@@ -1,6 +1,7 @@
 //! Culling is conservative: over hundreds of random camera poses and organ layouts (moved, rotated,
 //! scaled, hidden and faded organs), images with occlusion culling on and off are identical, pixel
-//! for pixel, on the default brain and on a synthetic scene of high depth complexity. And it does
+//! for pixel (but for [`RASTER_CRACKS`]), on the default brain and on a synthetic scene of high
+//! depth complexity. And it does
 //! cull: the test also requires a real share of triangles culled. Occluders come by projected size
 //! and from pre-computed minimum occluder sets (forced even after organs moved, and automatic while
 //! the layout is the pre-processed one), in turn; and from occluder stand-ins on a subdivided scene.
@@ -86,14 +87,22 @@ fn random_camera(set: &OrganSet, layout: &Layout, rng: &mut Rng) -> Camera {
     nav.camera(&layout.bounds(set).union(home))
 }
 
-/// Renders every pose with culling off and on and counts differing images; returns the share of
-/// triangles occlusion culling removed.
+/// Lone samples a run may see through a closed surface with culling off, of what culling then
+/// removes behind it. Lavapipe (Mesa 22.3) lets one 4x MSAA sample of the default brain through the
+/// skull in one pose of 160: all four sample positions lie at least 0.02 pixels inside the skull's
+/// front triangles (a fan around one shared vertex, no sliver among them), the same sample leaks in
+/// every technique and drawing order, and moving the organ behind 20 mm away ends it. A culling
+/// error removes whole parts: many pixels, in many poses.
+const RASTER_CRACKS: usize = 1;
+
+/// Renders every pose with culling off and on and checks the images are identical (but for
+/// [`RASTER_CRACKS`]); returns the share of triangles occlusion culling removed.
 fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, seed: u64, skull_opaque: bool) -> f64 {
     let gpu = gpu();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
     let target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(XorShift(seed));
-    let (mut culled, mut total) = (0usize, 0usize);
+    let (mut culled, mut total, mut cracks) = (0usize, 0usize, 0usize);
     let mut culler = Culler::new(database);
     for pose in 0..poses {
         // Every fifth pose keeps the set's own layout, for which its occluder database was made.
@@ -128,11 +137,29 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
             images.push(target.read_color(&gpu.device, &gpu.queue).unwrap());
         }
         if images[0] != images[1] {
-            let diff = images[0].pixels().zip(images[1].pixels()).filter(|(a, b)| a != b).count();
+            let diff: Vec<(u32, u32)> = images[0]
+                .enumerate_pixels()
+                .filter(|&(x, y, a)| a != images[1].get_pixel(x, y))
+                .map(|(x, y, _)| (x, y))
+                .collect();
             let dir = std::env::temp_dir();
             images[0].save(dir.join(format!("cull-off-{pose}.png"))).unwrap();
             images[1].save(dir.join(format!("cull-on-{pose}.png"))).unwrap();
-            panic!("pose {pose}: {diff} pixels differ with culling on (images in {})", dir.display());
+            // A lone pixel that differs by at most one of its four samples is a rasteriser crack, not
+            // culling (see RASTER_CRACKS); anything more fails.
+            let [a, b] = [0, 1].map(|k| images[k].get_pixel(diff[0].0, diff[0].1).0);
+            let step = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+            if diff.len() == 1 && step <= 64 && cracks < RASTER_CRACKS {
+                eprintln!("pose {pose}: one sample differs at {:?} ({a:?} off, {b:?} on): a raster crack", diff[0]);
+                cracks += 1;
+                continue;
+            }
+            panic!(
+                "pose {pose}: {} pixels differ with culling on, first {:?} (images in {})",
+                diff.len(),
+                diff[0],
+                dir.display()
+            );
         }
     }
     culled as f64 / total.max(1) as f64

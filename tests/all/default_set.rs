@@ -33,10 +33,52 @@ fn enclosed(mesh: &Mesh, p: Vec3) -> bool {
     dirs.iter().all(|&d| hits(mesh, p, d))
 }
 
+/// The 34 cortical regions of the Desikan-Killiany atlas, by lobe, as the set's ids name them
+/// (`<region>_l`, `<region>_r`).
+const GYRI: [(&str, &[&str]); 6] = [
+    (
+        "Frontal lobe",
+        &[
+            "superiorfrontal",
+            "rostralmiddlefrontal",
+            "caudalmiddlefrontal",
+            "parsopercularis",
+            "parstriangularis",
+            "parsorbitalis",
+            "lateralorbitofrontal",
+            "medialorbitofrontal",
+            "precentral",
+            "paracentral",
+            "frontalpole",
+        ],
+    ),
+    ("Parietal lobe", &["superiorparietal", "inferiorparietal", "supramarginal", "postcentral", "precuneus"]),
+    (
+        "Temporal lobe",
+        &[
+            "superiortemporal",
+            "middletemporal",
+            "inferiortemporal",
+            "bankssts",
+            "fusiform",
+            "transversetemporal",
+            "entorhinal",
+            "temporalpole",
+            "parahippocampal",
+        ],
+    ),
+    ("Occipital lobe", &["lateraloccipital", "lingual", "cuneus", "pericalcarine"]),
+    (
+        "Cingulate gyrus",
+        &["rostralanteriorcingulate", "caudalanteriorcingulate", "posteriorcingulate", "isthmuscingulate"],
+    ),
+    ("Insula", &["insula"]),
+];
+
 #[test]
 fn size_and_names() {
     let set = default_set();
-    assert!(set.organs.len() >= 20, "{} organs", set.organs.len());
+    assert!(set.organs.len() >= 100, "{} organs", set.organs.len());
     let t = set.triangle_count();
     assert!((150_000..=300_000).contains(&t), "{t} triangles");
     for id in [
@@ -44,18 +86,22 @@ fn size_and_names() {
         "skull",
         "white_matter_l",
         "lateral_ventricle_r",
+        "inferior_lateral_ventricle_l",
         "third_ventricle",
         "fourth_ventricle",
         "thalamus_l",
         "caudate_r",
         "putamen_l",
         "pallidum_r",
+        "accumbens_l",
+        "ventral_dc_r",
         "hippocampus_l",
         "amygdala_r",
         "brainstem",
         "cerebellum_l",
+        "cerebellum_white_matter_r",
         "corpus_callosum",
-        "frontal_l",
+        "optic_chiasm",
     ] {
         let o = &set.organs[set.find(id).unwrap_or_else(|| panic!("no organ {id}"))];
         assert!(o.info.len() > 150, "{id}: info text too short");
@@ -63,12 +109,44 @@ fn size_and_names() {
         assert!(o.mesh().triangle_count() >= 50, "{id}: {} triangles", o.mesh().triangle_count());
     }
     assert!(!set.sources.is_empty() && set.sources.iter().all(|s| !s.licence.is_empty() && !s.attribution.is_empty()));
-    // RAS: the left hemisphere is at negative x, the frontal lobe anterior of the occipital lobe,
+    // Every organ is closed and wound outward, so its back faces are culled (where two organs
+    // touch, their shared face is drawn once from each side).
+    let open: Vec<&str> = set.organs.iter().filter(|o| !o.closed()).map(|o| o.id.as_str()).collect();
+    assert!(open.is_empty(), "not closed: {open:?}");
+    // RAS: the left hemisphere is at negative x, the frontal pole anterior of the occipital lobe,
     // the cerebellum below the parietal lobe.
     let c = |id: &str| set.organs[set.find(id).unwrap()].mesh().bounds().center();
-    assert!(c("frontal_l").x < -10.0 && c("frontal_r").x > 10.0);
-    assert!(c("frontal_l").y > c("occipital_l").y + 40.0);
-    assert!(c("cerebellum_l").z < c("parietal_l").z - 40.0);
+    assert!(c("precentral_l").x < -10.0 && c("precentral_r").x > 10.0);
+    assert!(c("frontalpole_l").y > c("lateraloccipital_l").y + 100.0);
+    assert!(c("precentral_l").y > c("postcentral_l").y);
+    assert!(c("cerebellum_l").z < c("superiorparietal_l").z - 40.0);
+}
+
+#[test]
+fn the_cortex_is_the_34_gyri_per_hemisphere_grouped_by_lobe() {
+    let set = default_set();
+    let mut cortex = 0;
+    for (side, suffix) in [("Left", "l"), ("Right", "r")] {
+        for (lobe, regions) in GYRI {
+            for region in regions {
+                let id = format!("{region}_{suffix}");
+                let o = &set.organs[set.find(&id).unwrap_or_else(|| panic!("no organ {id}"))];
+                assert_eq!(o.group, format!("Cerebrum/{side} hemisphere/{lobe}"), "{id}");
+                assert!(o.name.starts_with(side), "{id}: {}", o.name);
+                assert!(o.info.len() > 150, "{id}: info text too short");
+                assert!(o.mesh().triangle_count() >= 100, "{id}: {} triangles", o.mesh().triangle_count());
+                cortex += 1;
+            }
+        }
+    }
+    assert_eq!(cortex, 68);
+    let o = &set.organs[set.find("parsopercularis_l").unwrap()];
+    assert_eq!(o.name, "Left pars opercularis of the inferior frontal gyrus");
+    assert!(o.synonyms.iter().any(|s| s.contains("Broca")), "{:?}", o.synonyms);
+    assert_eq!(set.organs[set.find("precentral_r").unwrap()].latin.as_deref(), Some("Gyrus precentralis"));
+    // A lobe is one group: "Left hemisphere/Frontal lobe" selects its 11 gyri.
+    assert_eq!(set.select("Left hemisphere/Frontal lobe").len(), 11);
+    assert_eq!(set.select("Frontal lobe").len(), 22);
 }
 
 #[test]
@@ -78,14 +156,14 @@ fn one_space_cortex_in_skull_in_scalp() {
     let (skull, scalp) = (mesh("skull"), mesh("scalp"));
     let mut checked = 0;
     for id in [
-        "frontal_l",
-        "frontal_r",
-        "parietal_l",
-        "parietal_r",
-        "temporal_l",
-        "temporal_r",
-        "occipital_l",
-        "occipital_r",
+        "superiorfrontal_l",
+        "precentral_r",
+        "superiorparietal_l",
+        "supramarginal_r",
+        "superiortemporal_l",
+        "inferiortemporal_r",
+        "lateraloccipital_l",
+        "frontalpole_r",
         "cerebellum_l",
         "cerebellum_r",
     ] {
@@ -111,7 +189,7 @@ fn inside(mesh: &Mesh, origin: Vec3, dir: Vec3) -> bool {
 fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
     let set = default_set();
     let with: Vec<_> = set.organs.iter().filter_map(|o| o.stand_in().map(|s| (o, s))).collect();
-    for id in ["skull", "white_matter_l", "white_matter_r", "frontal_l", "frontal_r"] {
+    for id in ["skull", "white_matter_l", "white_matter_r", "superiorfrontal_l", "precentral_r"] {
         assert!(
             with.iter().any(|(o, _)| o.id == id),
             "{id} has no occluder stand-in: run `vbrain stand-ins organs/brain`"

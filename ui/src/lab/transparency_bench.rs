@@ -57,23 +57,12 @@ const VIEWS: [ViewSpec; 4] = [
     ViewSpec {
         name: "left hemisphere",
         transparent: &[
-            "frontal_l",
-            "parietal_l",
-            "temporal_l",
-            "occipital_l",
-            "cingulate_l",
-            "insula_l",
-            "white_matter_l",
+            "Left hemisphere",
             "lateral_ventricle_l",
-            "caudate_l",
-            "putamen_l",
-            "pallidum_l",
-            "accumbens_l",
-            "thalamus_l",
-            "ventral_dc_l",
-            "hippocampus_l",
-            "amygdala_l",
-            "cerebellum_l",
+            "Basal ganglia/Left",
+            "Diencephalon/Left",
+            "Limbic system/Left",
+            "Cerebellum/Left",
         ],
         opaque: &["brainstem"],
         orbit: (-90.0, 5.0),
@@ -104,21 +93,29 @@ struct Row {
 fn view_layout(set: &OrganSet, spec: &ViewSpec, seed: u64) -> Result<(Layout, usize)> {
     let mut layout = Layout::new(set);
     let mut rng = vbrain::rng::XorShift::seeded(seed);
-    let index =
-        |id: &str| set.find(id).ok_or_else(|| anyhow!("the set has no organ \"{id}\" for view \"{}\"", spec.name));
-    if !spec.transparent.is_empty() {
-        layout.organs.iter_mut().for_each(|s| s.visible = false);
-        for id in spec.opaque {
-            layout.organs[index(id)?].visible = true;
+    let select = |keys: &[&str]| -> Result<Vec<usize>> {
+        let mut found = Vec::new();
+        for key in keys {
+            let organs = set.select(key);
+            if organs.is_empty() {
+                bail!("the set has no organ or group \"{key}\" for view \"{}\"", spec.name);
+            }
+            found.extend(organs);
         }
-        for id in spec.transparent {
-            layout.organs[index(id)?].visible = true;
-        }
-    }
+        Ok(found)
+    };
     let chosen: Vec<usize> = if spec.transparent.is_empty() {
         (0..set.organs.len()).filter(|&i| layout.organs[i].visible).collect()
     } else {
-        spec.transparent.iter().map(|id| index(id)).collect::<Result<_>>()?
+        layout.organs.iter_mut().for_each(|s| s.visible = false);
+        for i in select(spec.opaque)? {
+            layout.organs[i].visible = true;
+        }
+        let chosen = select(spec.transparent)?;
+        for &i in &chosen {
+            layout.organs[i].visible = true;
+        }
+        chosen
     };
     for &i in &chosen {
         layout.organs[i].opacity = 0.2 + 0.6 * rng.unit();

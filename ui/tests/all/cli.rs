@@ -45,7 +45,7 @@ fn render_writes_a_png_of_the_asked_size() {
         "--orbit",
         "-30,20",
         "--hide",
-        "frontal_l",
+        "Left hemisphere/Frontal lobe",
         "--opacity",
         "all=0.8",
         "--json",
@@ -59,7 +59,8 @@ fn render_writes_a_png_of_the_asked_size() {
         vec!["--view", "sideways"],
         vec!["--orbit", "1"],
         vec!["--hide", "no_such_organ"],
-        vec!["--opacity", "frontal_l=2"],
+        vec!["--opacity", "precentral_l=2"],
+        vec!["--hide", "Frontal"],
         vec!["--view", "left", "--orbit", "0,0"],
     ] {
         let mut args = vec!["render", &set, "--out", o];

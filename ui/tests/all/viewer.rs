@@ -65,34 +65,84 @@ fn click(h: &Harness<'static, App>, at: Pos2) {
     }
 }
 
+/// Types `query` into the organ search.
+fn search(h: &mut Harness<'static, App>, query: &str) {
+    h.get_by_label("Search organs").focus();
+    h.run_steps(1);
+    h.get_by_label("Search organs").type_text(query);
+    h.run_steps(2);
+}
+
+/// The organs the tree shows (by their eye toggles' labels "Show NAME").
+fn rows(h: &Harness<'static, App>) -> Vec<String> {
+    let scene = h.state().scene().unwrap();
+    scene
+        .set()
+        .organs
+        .iter()
+        .filter(|o| h.query_by_label(&format!("Show {}", o.name)).is_some())
+        .map(|o| o.name.clone())
+        .collect()
+}
+
+#[test]
+fn search_finds_gyri_by_name_synonym_and_latin() {
+    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
+    for (query, expect) in [
+        ("precentral", vec!["Left precentral gyrus", "Right precentral gyrus"]),
+        (
+            "Broca",
+            vec![
+                "Left pars opercularis of the inferior frontal gyrus",
+                "Left pars triangularis of the inferior frontal gyrus",
+                "Right pars opercularis of the inferior frontal gyrus",
+                "Right pars triangularis of the inferior frontal gyrus",
+            ],
+        ),
+        ("gyrus précentralis", vec!["Left precentral gyrus", "Right precentral gyrus"]),
+    ] {
+        if h.query_by_label("Clear search").is_some() {
+            h.get_by_label("Clear search").click();
+            h.run_steps(2);
+        }
+        search(&mut h, query);
+        let mut found = rows(&h);
+        found.sort();
+        assert_eq!(found, expect, "search \"{query}\"");
+    }
+}
+
 #[test]
 fn hide_fade_select_and_export() {
     let mut h = harness();
-    let frontal = organ(&h, "frontal_l");
+    let frontal = organ(&h, "precentral_l");
     let total = h.state().scene().unwrap().set().triangle_count();
     assert!(
         h.state().viewport().stats().triangles_drawn > 100_000 && h.state().viewport().stats().triangles_drawn < total
     );
     let before = h.state().read_image().unwrap();
     assert!(pixels_of(&h, frontal) > 1000);
+    // The lobes start closed; a search opens the groups of what it finds.
+    assert!(h.query_by_label("Show Left precentral gyrus").is_none());
+    search(&mut h, "precentral");
 
     // Hide it with its eye toggle: gone from the viewport.
-    h.get_by_label("Show Left frontal lobe").click();
+    h.get_by_label("Show Left precentral gyrus").click();
     h.run_steps(2);
     assert!(!h.state().scene().unwrap().layout().organs[frontal].visible);
     assert_eq!(pixels_of(&h, frontal), 0);
     assert_ne!(h.state().read_image().unwrap(), before);
-    h.get_by_label("Show Left frontal lobe").click();
+    h.get_by_label("Show Left precentral gyrus").click();
     h.run_steps(2);
     assert_eq!(h.state().read_image().unwrap(), before, "showing it again restores the image");
 
     // Fade it with its transparency toggle: still drawn, now translucent, and the image changes.
-    h.get_by_label("Transparency of Left frontal lobe").click();
+    h.get_by_label("Transparency of Left precentral gyrus").click();
     h.run_steps(2);
     let opacity = h.state().scene().unwrap().layout().organs[frontal].opacity;
     assert!(opacity > 0.0 && opacity < 1.0, "{opacity}");
     assert_ne!(h.state().read_image().unwrap(), before);
-    h.get_by_label("Transparency of Left frontal lobe").click();
+    h.get_by_label("Transparency of Left precentral gyrus").click();
     h.run_steps(2);
     assert_eq!(h.state().scene().unwrap().layout().organs[frontal].opacity, 1.0);
 
@@ -100,7 +150,7 @@ fn hide_fade_select_and_export() {
     click(&h, point_on(&h, frontal));
     h.run_steps(3);
     assert_eq!(h.state().selected(), Some(frontal));
-    assert!(h.query_by_label("Inspector opacity of Left frontal lobe").is_some());
+    assert!(h.query_by_label("Inspector opacity of Left precentral gyrus").is_some());
 
     // Export at the viewport's size: the PNG is exactly what the viewport shows.
     let dir = tempfile::tempdir().unwrap();
@@ -144,7 +194,7 @@ fn snapshot_of_the_viewer() {
 #[test]
 fn shortcuts_act_on_the_selected_organ() {
     let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
-    let frontal = organ(&h, "frontal_l");
+    let frontal = organ(&h, "superiorfrontal_l");
     let state = |h: &Harness<'static, App>| h.state().scene().unwrap().layout().organs[frontal];
     click(&h, point_on(&h, frontal));
     h.run_steps(3);
