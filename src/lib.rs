@@ -26,6 +26,7 @@ pub mod camera;
 pub mod cull;
 pub mod edit;
 pub mod error;
+pub mod history;
 pub mod lab;
 pub mod layout;
 pub mod mesh;
@@ -35,6 +36,7 @@ pub mod navigation;
 pub mod organ_set;
 pub mod render;
 pub mod rng;
+pub mod scene_file;
 pub mod surface;
 pub mod transparency;
 

@@ -36,7 +36,13 @@ pub fn database(path: &Path, set: &OrganSet) -> Option<Database> {
 /// The set's default layout with `--show`, `--hide` and `--opacity` applied, in that order.
 pub fn layout(set: &OrganSet, args: &LayoutArgs) -> Result<Layout> {
     let mut layout = Layout::new(set);
-    apply_visibility(set, &mut layout, &args.show, &args.hide)?;
+    apply_layout_args(set, &mut layout, args)?;
+    Ok(layout)
+}
+
+/// Applies `--show`, `--hide` and `--opacity` to a layout, in that order.
+pub fn apply_layout_args(set: &OrganSet, layout: &mut Layout, args: &LayoutArgs) -> Result<()> {
+    apply_visibility(set, layout, &args.show, &args.hide)?;
     for o in &args.opacity {
         if o.id == "all" {
             layout.organs.iter_mut().for_each(|s| s.opacity = o.opacity);
@@ -46,7 +52,7 @@ pub fn layout(set: &OrganSet, args: &LayoutArgs) -> Result<Layout> {
             }
         }
     }
-    Ok(layout)
+    Ok(())
 }
 
 /// Applies `--show` then `--hide` to a layout.

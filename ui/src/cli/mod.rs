@@ -101,13 +101,21 @@ pub struct CameraArgs {
 
 #[derive(clap::Args)]
 pub struct RenderArgs {
-    pub path: PathBuf,
+    /// Organ set (default: the set of --scene)
+    pub path: Option<PathBuf>,
     /// Output PNG file
     #[arg(long)]
     pub out: PathBuf,
     /// Image size, WxH
     #[arg(long, default_value = "1024x1024", value_parser = values::size)]
     pub size: Size,
+    /// Render a saved scene (.vbscene): its set, camera, organs and render settings; the other
+    /// options given override it
+    #[arg(long)]
+    pub scene: Option<PathBuf>,
+    /// Write the scene this renders (set, camera, organs, render settings) to this file
+    #[arg(long)]
+    pub save_scene: Option<PathBuf>,
     #[command(flatten)]
     pub camera: CameraArgs,
     #[command(flatten)]
@@ -115,24 +123,24 @@ pub struct RenderArgs {
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,
-    /// Culling (the image is the same; only the work differs)
-    #[arg(long, default_value = "occlusion", value_parser = values::cull_mode())]
-    pub cull: CullMode,
+    /// Culling (the image is the same; only the work differs) [default: occlusion]
+    #[arg(long, value_parser = values::cull_mode())]
+    pub cull: Option<CullMode>,
     /// Show what culling removed in colour through a translucent grey model (thesis Figure 21)
     #[arg(long)]
     pub debug_culled: bool,
-    /// Transparency: how faded organs are drawn
-    #[arg(long, default_value = "screendoor", value_parser = values::transparency_mode())]
-    pub transparency: TransparencyMode,
-    /// Screen-door sub-samples per pixel: 4, 8, 16, 32 or 64
-    #[arg(long, default_value_t = 64, value_parser = values::subsamples)]
-    pub subsamples: usize,
-    /// Screen-door mask region side in pixels
-    #[arg(long, default_value_t = TransparencySettings::default().region_px, value_parser = region())]
-    pub region: u32,
-    /// Nearest organs that the masks' error compensation favours
-    #[arg(long, default_value_t = 6, value_parser = at_least_one)]
-    pub k: usize,
+    /// Transparency: how faded organs are drawn [default: screendoor]
+    #[arg(long, value_parser = values::transparency_mode())]
+    pub transparency: Option<TransparencyMode>,
+    /// Screen-door sub-samples per pixel: 4, 8, 16, 32 or 64 [default: 64]
+    #[arg(long, value_parser = values::subsamples)]
+    pub subsamples: Option<usize>,
+    /// Screen-door mask region side in pixels [default: 32]
+    #[arg(long, value_parser = region())]
+    pub region: Option<u32>,
+    /// Nearest organs that the masks' error compensation favours [default: 6]
+    #[arg(long, value_parser = at_least_one)]
+    pub k: Option<usize>,
     /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
     #[arg(long)]
     pub draw_order_seed: Option<u64>,

@@ -1,43 +1,97 @@
-//! `vbrain render`: one picture of a set through the viewer's renderer, written as PNG.
+//! `vbrain render`: one picture of a set through the viewer's renderer, written as PNG; with
+//! `--scene`, of a saved scene (options given override it), and with `--save-scene`, the scene it
+//! rendered written out. Standard views and orbits place the camera as the viewer's navigator does
+//! (and over the same bounds: what is drawn and the set's default layout), so a scene renders
+//! alike here and in the viewer.
 
-use super::common::{database, layout, open_reporting};
+use super::common::{apply_layout_args, database, open_reporting};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
-use anyhow::Result;
+use anyhow::{anyhow, bail, Result};
 use serde_json::json;
-use vbrain::camera::{Camera, View};
-use vbrain::cull::{CullSettings, Culler};
-use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use std::path::PathBuf;
+use vbrain::camera::View;
+use vbrain::cull::{CullMode, CullSettings, Culler};
+use vbrain::layout::Layout;
+use vbrain::navigation::Navigator;
+use vbrain::render::{linear_to_srgb, srgb_to_linear, FrameInput, GpuContext, Renderer, Target};
 use vbrain::rng::XorShift;
+use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile};
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
     let (width, height) = (args.size.width, args.size.height);
-    let (set, ok) = open_reporting(&args.path)?;
-    let layout = layout(&set, &args.layout)?;
-    let bounds = layout.bounds(&set);
-    let c = &args.camera;
-    let camera = match (c.view, c.orbit, c.route) {
-        (Some(view), _, _) => Camera::view(&bounds, view),
-        (_, Some(o), _) => Camera::orbit(&bounds, o.azimuth, o.elevation),
-        (_, _, Some(r)) => r.route.camera(&bounds, r.frame, ROUTE_FRAMES),
-        (None, None, None) => Camera::view(&bounds, View::Anterior),
+    let scene = match &args.scene {
+        Some(p) => Some((p, SceneFile::load(p).map_err(|e| anyhow!(e))?)),
+        None => None,
     };
+    let path: PathBuf = match (&args.path, &scene) {
+        (Some(p), _) => p.clone(),
+        (None, Some((p, s))) => s.set_path(p),
+        (None, None) => bail!("give an organ set or --scene FILE"),
+    };
+    let (set, ok) = open_reporting(&path)?;
+    let mut layout = Layout::new(&set);
+    let mut selection = None;
+    if let Some((p, s)) = &scene {
+        let applied = s.apply(&set);
+        for w in &applied.warnings {
+            eprintln!("warning: {}: {w}", p.display());
+        }
+        (layout, selection) = (applied.layout, applied.selection);
+    }
+    apply_layout_args(&set, &mut layout, &args.layout)?;
+
+    // The camera: the options' view or orbit, else the scene's, else the anterior view.
+    let bounds = layout.bounds(&set).union(Layout::new(&set).bounds(&set));
+    let c = &args.camera;
+    let nav = match (c.view, c.orbit, c.route, &scene) {
+        (Some(view), ..) => Some(CameraState::of(&framing(&set, view.angles()), CameraMode::Orbit)),
+        (_, Some(o), ..) => Some(CameraState::of(&framing(&set, (o.azimuth, o.elevation)), CameraMode::Orbit)),
+        (_, _, Some(_), _) => None,
+        (.., Some((_, s))) => Some(s.camera),
+        _ => Some(CameraState::of(&framing(&set, View::Anterior.angles()), CameraMode::Orbit)),
+    };
+    let camera = match (&nav, c.route) {
+        (Some(n), _) => n.navigator().camera(&bounds),
+        (None, Some(r)) => r.route.camera(&layout.bounds(&set), r.frame, ROUTE_FRAMES),
+        (None, None) => unreachable!("a camera without a route has a navigator"),
+    };
+
+    // Render settings: the options given, else the scene's, else the defaults.
+    let chosen = scene.as_ref().map(|(_, s)| s.render);
+    let base = chosen.map_or_else(TransparencySettings::default, |r| r.transparency);
+    let subsamples = args.subsamples.unwrap_or(base.subsamples);
+    let transparency = TransparencySettings {
+        mode: args.transparency.unwrap_or(base.mode),
+        subsamples,
+        interactive_subsamples: subsamples,
+        region_px: args.region.unwrap_or(base.region_px),
+        k: args.k.unwrap_or(base.k),
+    };
+    let mode = args.cull.or(chosen.map(|r| r.cull)).unwrap_or(CullMode::Occlusion);
+    let default_background = crate::BACKGROUND.map(linear_to_srgb);
+    let background_srgb =
+        chosen.map_or([default_background[0], default_background[1], default_background[2]], |r| r.background);
+    let background = if args.transparent {
+        [0.0; 4]
+    } else {
+        let [r, g, b] = background_srgb.map(srgb_to_linear);
+        [r, g, b, 1.0]
+    };
+
+    if let Some(out) = &args.save_scene {
+        let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
+        let render = RenderState { transparency, cull: mode, background: background_srgb };
+        SceneFile::capture(&set, &path, out, &layout, nav, render, selection).save(out).map_err(|e| anyhow!(e))?;
+    }
+
     let started = std::time::Instant::now();
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
-    let background = if args.transparent { [0.0; 4] } else { crate::BACKGROUND };
-    let mode = args.cull;
     let settings = CullSettings { mode, ..Default::default() };
-    let (draw, cull) = Culler::new(database(&args.path, &set)).cull(&set, &layout, &camera, target.aspect(), &settings);
-    let transparency = TransparencySettings {
-        mode: args.transparency,
-        subsamples: args.subsamples,
-        interactive_subsamples: args.subsamples,
-        region_px: args.region,
-        k: args.k,
-    };
+    let (draw, cull) = Culler::new(database(&path, &set)).cull(&set, &layout, &camera, target.aspect(), &settings);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
     let input = FrameInput {
         draw: Some(&draw),
@@ -59,7 +113,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
             "cull": mode.name(), "culled_percent": cull.culled_percent(), "cull_ms": cull.cull_ms,
             "transparency": transparency.mode.name(), "passes": stats.passes, "mask_ms": stats.mask_ms,
-            "mask_configs": stats.mask_configs,
+            "mask_configs": stats.mask_configs, "scene": args.save_scene,
             "adapter": gpu.adapter_description(), "seconds": started.elapsed().as_secs_f64(),
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -73,4 +127,9 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         );
     }
     Ok(ok)
+}
+
+/// The navigator the viewer's standard views use: framing the set's default layout at these angles.
+fn framing(set: &vbrain::organ_set::OrganSet, (azimuth, elevation): (f32, f32)) -> Navigator {
+    Navigator::framing(&Layout::new(set).bounds(set), azimuth, elevation)
 }

@@ -9,8 +9,11 @@ use vbrain::edit::Edit;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
-    /// Change the layout.
+    /// Change the layout (one undoable step; while a pointer button is down, edits of one slider
+    /// or drag merge into one).
     Edit(Edit),
+    Undo,
+    Redo,
     Select(Option<usize>),
     /// Open a set (one folder or file) or several mesh files, off the UI thread.
     Open(Vec<PathBuf>),

@@ -216,8 +216,19 @@ impl App {
             }
             match action {
                 Action::Edit(edit) => {
+                    let dragging = ctx.input(|i| i.pointer.any_down());
                     if let Some(scene) = &mut self.scene {
-                        scene.apply(&edit);
+                        scene.apply(&edit, dragging);
+                    }
+                }
+                Action::Undo | Action::Redo => {
+                    let undo = action == Action::Undo;
+                    if let Some(scene) = &mut self.scene {
+                        let done = if undo { scene.undo() } else { scene.redo() };
+                        if done.is_none() {
+                            self.notify(if undo { "nothing to undo" } else { "nothing to redo" }, false);
+                        }
+                        ctx.request_repaint();
                     }
                 }
                 Action::Select(organ) => self.selected = organ,
@@ -329,6 +340,8 @@ impl App {
                 }
                 Command::Open => out.push(Action::Show(Window::OpenSet)),
                 Command::Export => out.push(Action::Show(Window::Export)),
+                Command::Undo => out.push(Action::Undo),
+                Command::Redo | Command::RedoY => out.push(Action::Redo),
                 Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
                 Command::ToggleTransparency => {
                     out.extend(organ.map(|(s, sel)| Action::Edit(s.toggle_transparency(sel))));
@@ -393,6 +406,12 @@ impl eframe::App for App {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         use egui::{CentralPanel, Panel};
         let ctx = ui.ctx().clone();
+        if !ctx.input(|i| i.pointer.any_down()) {
+            // No drag goes on: the next edit starts a new undo step.
+            if let Some(scene) = &mut self.scene {
+                scene.end_gesture();
+            }
+        }
         self.poll_jobs(&ctx);
         self.perform(&ctx, files::dropped(&ctx));
         let keys = self.key_actions(&ctx);

@@ -1,5 +1,5 @@
-//! The menu bar: File, View (camera, culling, transparency, panels, background), Organs and Help,
-//! with the running job's progress at the end. One function per menu; each reads the scene and
+//! The menu bar: File, Edit (undo, redo), View (camera, culling, transparency, panels,
+//! background), Organs and Help, with the running job's progress at the end. One function per menu; each reads the scene and
 //! pushes [`Action`]s. The viewer's settings (culling, transparency, panels, background) are
 //! edited in place: they are preferences, not part of the scene.
 
@@ -33,6 +33,7 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -
     let mut out = Vec::new();
     egui::MenuBar::new().ui(ui, |ui| {
         ui.menu_button("File", |ui| file_menu(ui, state.scene, &settings.recent, &mut out));
+        ui.menu_button("Edit", |ui| edit_menu(ui, state.scene, &mut out));
         ui.menu_button("View", |ui| view_menu(ui, state, settings, &mut out));
         ui.menu_button("Organs", |ui| organs_menu(ui, state.scene, settings, &mut out));
         ui.menu_button("Help", shortcuts::help);
@@ -41,6 +42,23 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -
         }
     });
     out
+}
+
+/// Undo and Redo, named after what they undo and redo.
+fn edit_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>) {
+    let history = scene.map(Scene::history);
+    let undo = history.and_then(|h| h.undo_label()).map_or("Undo".to_string(), |l| format!("Undo {l}"));
+    let button = egui::Button::new(undo).shortcut_text(shortcuts::text(ui.ctx(), Command::Undo));
+    let r = ui.add_enabled(history.is_some_and(|h| h.undo_label().is_some()), button);
+    if r.clicked() {
+        out.push(Action::Undo);
+    }
+    let redo = history.and_then(|h| h.redo_label()).map_or("Redo".to_string(), |l| format!("Redo {l}"));
+    let button = egui::Button::new(redo).shortcut_text(shortcuts::text(ui.ctx(), Command::Redo));
+    let r = ui.add_enabled(history.is_some_and(|h| h.redo_label().is_some()), button);
+    if r.clicked() {
+        out.push(Action::Redo);
+    }
 }
 
 fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::PathBuf], out: &mut Vec<Action>) {

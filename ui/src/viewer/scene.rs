@@ -1,10 +1,11 @@
 //! The scene: a loaded organ set with its renderer and the user's layout (world space,
-//! millimetres RAS). The layout changes only through [`Scene::apply`], one [`Edit`] at a time;
-//! everything else reads it. The builders (`toggle_*`, `reset_layout`) make the edits that depend
+//! millimetres RAS). The layout changes only through [`Scene::apply`], one [`Edit`] at a time, and
+//! through undo and redo of its [`History`]; everything else reads it. The builders (`toggle_*`, `reset_layout`) make the edits that depend
 //! on the current state.
 
 use std::path::PathBuf;
 use vbrain::edit::{Edit, Organs};
+use vbrain::history::{gesture_of, History};
 use vbrain::layout::Layout;
 use vbrain::mesh::Bounds;
 use vbrain::organ_set::OrganSet;
@@ -20,6 +21,7 @@ pub struct Scene {
     home: Bounds,
     /// Per organ, the opacity the transparency toggle returns to: the last translucent one set.
     last_translucent: Vec<f32>,
+    history: History,
 }
 
 impl Scene {
@@ -28,7 +30,7 @@ impl Scene {
         let layout = Layout::new(&set);
         let home = layout.bounds(&set);
         let last_translucent = set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
-        Scene { set, source, layout, renderer, home, last_translucent }
+        Scene { set, source, layout, renderer, home, last_translucent, history: History::default() }
     }
 
     pub fn set(&self) -> &OrganSet {
@@ -56,10 +58,19 @@ impl Scene {
         self.set.organs[organ].mesh().bounds().transformed(&self.layout.organs[organ].transform.matrix())
     }
 
-    /// Applies an edit and returns its inverse; opacity edits remember translucent values for the
-    /// transparency toggle.
-    pub fn apply(&mut self, edit: &Edit) -> Edit {
-        let inverse = vbrain::edit::apply(&mut self.layout, edit);
+    /// Applies an edit as one undoable step named after it; while `dragging` (a pointer button is
+    /// down), edits of the same gesture (a slider, a mouse drag) merge into one step. Opacity edits
+    /// remember translucent values for the transparency toggle.
+    pub fn apply(&mut self, edit: &Edit, dragging: bool) {
+        let label = {
+            let names = |i: usize| self.set.organs.get(i).map_or("?", |o| o.name.as_str());
+            edit.describe(&names)
+        };
+        let gesture = if dragging { gesture_of(edit) } else { None };
+        if gesture.is_none() {
+            self.history.end_gesture();
+        }
+        self.history.apply(&mut self.layout, edit.clone(), label, gesture);
         if let Edit::Opacity { organs, .. } | Edit::Opacities { organs, .. } = edit {
             for i in organs.indices(self.layout.organs.len()) {
                 let opacity = self.layout.organs[i].opacity;
@@ -68,7 +79,33 @@ impl Scene {
                 }
             }
         }
-        inverse
+    }
+
+    /// The drag that was going on ended: the next edit is a new step.
+    pub fn end_gesture(&mut self) {
+        self.history.end_gesture();
+    }
+
+    /// Undoes the last step; returns what it was.
+    pub fn undo(&mut self) -> Option<String> {
+        self.history.undo(&mut self.layout)
+    }
+
+    /// Redoes the last undone step; returns what it was.
+    pub fn redo(&mut self) -> Option<String> {
+        self.history.redo(&mut self.layout)
+    }
+
+    pub fn history(&self) -> &History {
+        &self.history
+    }
+
+    /// Replaces the layout (a scene opened over this set); the history starts again.
+    pub fn set_layout(&mut self, layout: Layout) {
+        if layout.organs.len() == self.layout.organs.len() {
+            self.layout = layout;
+            self.history.clear();
+        }
     }
 
     /// Opaque <-> the organ's last translucent opacity.

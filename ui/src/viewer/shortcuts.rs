@@ -20,6 +20,10 @@ pub enum Command {
     ToggleVisible,
     Isolate,
     ResetLayout,
+    Redo,
+    /// Redo's second shortcut (Ctrl+Y).
+    RedoY,
+    Undo,
     Open,
     Export,
 }
@@ -45,6 +49,10 @@ impl Shortcut {
         Shortcut { modifiers: Modifiers::COMMAND, ..self }
     }
 
+    const fn command_shift(self) -> Self {
+        Shortcut { modifiers: Modifiers { shift: true, ..Modifiers::COMMAND }, ..self }
+    }
+
     const fn while_typing(self) -> Self {
         Shortcut { while_typing: true, ..self }
     }
@@ -67,7 +75,7 @@ pub const MOUSE: [(&str, &str); 7] = [
 ];
 
 /// The keyboard shortcuts, in the order they are handled within a frame.
-pub const SHORTCUTS: [Shortcut; 11] = {
+pub const SHORTCUTS: [Shortcut; 14] = {
     use Command::*;
     [
         Shortcut::new(
@@ -95,8 +103,13 @@ pub const SHORTCUTS: [Shortcut; 11] = {
             "reset the organ layout (visibility, opacity, colour, transforms)",
         )
         .command(),
+        // Before Undo: Ctrl+Z also matches Ctrl+Shift+Z, so this one must be consumed first.
+        Shortcut::new(&[Key::Z], Redo, "Ctrl+Shift+Z", "redo what was undone").command_shift(),
+        Shortcut::new(&[Key::Y], RedoY, "Ctrl+Y", "redo (as Ctrl+Shift+Z)").command(),
+        Shortcut::new(&[Key::Z], Undo, "Ctrl+Z", "undo the last change to the organs (the Edit menu names it)")
+            .command(),
         Shortcut::new(&[Key::O], Open, "Ctrl+O", "open an organ set").command().while_typing(),
-        Shortcut::new(&[Key::S], Export, "Ctrl+S", "export a screenshot").command().while_typing(),
+        Shortcut::new(&[Key::E], Export, "Ctrl+E", "export a screenshot").command().while_typing(),
     ]
 };
 
@@ -167,9 +180,15 @@ mod tests {
     #[test]
     fn inputs_name_their_keys_and_modifiers() {
         for s in &SHORTCUTS {
-            let ctrl = s.input.starts_with("Ctrl+");
-            assert_eq!(ctrl, s.modifiers == Modifiers::COMMAND, "{}", s.input);
-            let keys = s.input.trim_start_matches("Ctrl+");
+            let modifiers = if s.input.starts_with("Ctrl+Shift+") {
+                Modifiers { shift: true, ..Modifiers::COMMAND }
+            } else if s.input.starts_with("Ctrl+") {
+                Modifiers::COMMAND
+            } else {
+                Modifiers::NONE
+            };
+            assert_eq!(modifiers, s.modifiers, "{}", s.input);
+            let keys = s.input.trim_start_matches("Ctrl+").trim_start_matches("Shift+");
             let words: Vec<&str> = keys.split([' ']).filter(|w| *w != "or").collect();
             assert_eq!(words, s.keys.iter().map(|&k| written(k)).collect::<Vec<_>>(), "{}", s.input);
         }

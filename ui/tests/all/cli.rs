@@ -29,6 +29,50 @@ fn info_json_of_the_default_brain() {
     assert!(organs.iter().all(|o| o["id"].is_string() && o["name"].is_string()));
 }
 
+/// A scene saved by one render and rendered by another gives the same bytes; options beside
+/// `--scene` override it; a broken scene names itself.
+#[test]
+fn a_saved_scene_renders_the_same_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let (a, b, c) = (dir.path().join("a.png"), dir.path().join("b.png"), dir.path().join("c.png"));
+    let scene = dir.path().join("s.vbscene");
+    let p = |p: &Path| p.display().to_string();
+    let set = brain();
+    let size = ["--size", "96x80"];
+    json(&vbrain(
+        &[
+            &[
+                "render",
+                &set,
+                "--orbit",
+                "30,10",
+                "--opacity",
+                "precentral_l=0.4",
+                "--hide",
+                "Right hemisphere/Occipital lobe",
+            ][..],
+            &["--save-scene", &p(&scene), "--out", &p(&a), "--json"],
+            &size,
+        ]
+        .concat(),
+    ));
+    let text = std::fs::read_to_string(&scene).unwrap();
+    assert!(text.starts_with("{\n  \"format\": \"vbrain-scene/1\""), "{text}");
+    json(&vbrain(&[&["render", "--scene", &p(&scene), "--out", &p(&b), "--json"][..], &size].concat()));
+    assert_eq!(std::fs::read(&a).unwrap(), std::fs::read(&b).unwrap(), "the scene renders the same bytes");
+    json(&vbrain(
+        &[&["render", "--scene", &p(&scene), "--opacity", "precentral_l=1", "--out", &p(&c), "--json"][..], &size]
+            .concat(),
+    ));
+    assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap(), "an option overrides the scene");
+
+    std::fs::write(&scene, text.replacen("\"camera\": {", "\"camera\": {,", 1)).unwrap();
+    let r = vbrain(&["render", "--scene", &p(&scene), "--out", &p(&c)]);
+    assert!(!r.status.success());
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(err.contains("s.vbscene:"), "{err}");
+}
+
 #[test]
 fn render_writes_a_png_of_the_asked_size() {
     let dir = tempfile::tempdir().unwrap();

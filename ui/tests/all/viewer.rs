@@ -155,9 +155,9 @@ fn hide_fade_select_and_export() {
     // Export at the viewport's size: the PNG is exactly what the viewport shows.
     let dir = tempfile::tempdir().unwrap();
     let shown = h.state().read_image().unwrap();
-    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
     h.run_steps(2);
-    assert!(h.state().dialogs().export.open, "Ctrl+S opens the export window");
+    assert!(h.state().dialogs().export.open, "Ctrl+E opens the export window");
     let file = dir.path().join("view.png");
     h.state_mut().dialogs_mut().export.path.text = file.display().to_string();
     h.state_mut().settings_mut().export.size = ExportSize::Viewport;
@@ -168,7 +168,7 @@ fn hide_fade_select_and_export() {
     assert_eq!(png, shown, "the exported image matches the viewport");
 
     // Twice the size, into the same name: a new file, never an overwrite.
-    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
     h.run_steps(2);
     h.state_mut().dialogs_mut().export.path.text = file.display().to_string();
     h.state_mut().settings_mut().export.size = ExportSize::Double;
@@ -220,6 +220,41 @@ fn shortcuts_act_on_the_selected_organ() {
     h.run_steps(2);
     assert_eq!(state(&h).opacity, 1.0, "Ctrl+R resets the layout");
     assert!(h.state().scene().unwrap().layout().organs.iter().filter(|s| s.visible).count() > 30);
+    let reset = h.state().scene().unwrap().layout().clone();
+
+    // Undo walks back through every change, one step each; redo (both keys) walks forward.
+    let shift = Modifiers { shift: true, ..Modifiers::COMMAND };
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &layout, "Ctrl+Z undoes the reset");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert!(!state(&h).visible && h.state().scene().unwrap().layout().organs.iter().filter(|s| s.visible).count() > 30);
+    h.key_press_modifiers(shift, Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &layout, "Ctrl+Shift+Z redoes the isolate");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Y);
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &reset, "Ctrl+Y redoes the reset");
+    for _ in 0..6 {
+        h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+        h.run_steps(1);
+    }
+    h.run_steps(1);
+    assert_eq!(state(&h).opacity, 1.0);
+    assert!(state(&h).visible);
+    assert_eq!(h.state().scene().unwrap().history().len(), 0, "all six steps undone");
+
+    // The Edit menu names what it would redo.
+    h.get_by_label("Edit").click();
+    h.run_steps(2);
+    let redo: Vec<String> = h.query_all_by_label_contains("Redo").map(|n| format!("{n:?}")).collect();
+    assert!(
+        redo.iter().any(|l| l.contains("Redo fade Left superior frontal gyrus")),
+        "the Edit menu names the step: {redo:?}"
+    );
+    h.key_press(Key::Escape);
+    h.run_steps(2);
     h.key_press(Key::Escape);
     h.run_steps(2);
     assert_eq!(h.state().selected(), None, "Esc deselects");
