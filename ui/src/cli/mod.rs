@@ -47,7 +47,7 @@ pub enum Command {
     Bench(BenchArgs),
     /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
     Masks(MasksArgs),
-    /// Compare the transparency modes against the exact reference on views with 4 to 39
+    /// Compare the transparency modes against the exact reference on views with 4 to 99
     /// transparent organs; also time mask regeneration at 1920x1080
     BenchTransparency(BenchTransparencyArgs),
     /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
