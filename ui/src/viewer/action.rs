@@ -14,8 +14,15 @@ pub enum Action {
     Edit(Edit),
     Undo,
     Redo,
+    /// Save the scene: to its file, or (`as_new`, or none yet) ask where.
+    SaveScene {
+        as_new: bool,
+    },
+    /// Save the scene to this file (`.vbscene`).
+    SaveSceneTo(PathBuf),
     Select(Option<usize>),
-    /// Open a set (one folder or file) or several mesh files, off the UI thread.
+    /// Open a set (one folder or file), a scene file (`.vbscene`, then its set) or several mesh
+    /// files, off the UI thread.
     Open(Vec<PathBuf>),
     /// Open a window.
     Show(Window),

@@ -7,6 +7,7 @@
 //! next component draws, so every component shows what the ones before it changed.
 
 use super::action::{Action, Window};
+use super::document::{self, Document};
 use super::export::{self, ExportWindow};
 use super::files::{self, ImportWindow, OpenWindow};
 use super::inspector::inspector;
@@ -82,6 +83,10 @@ pub struct App {
     dialogs: Dialogs,
     loading: Option<Job<Result<Opened>>>,
     importing: Option<Job<Result<PathBuf>>>,
+    /// The scene file: its path, whether it is saved, a scene waiting for its set.
+    document: Document,
+    /// The window title last set.
+    title: String,
 }
 
 impl App {
@@ -97,6 +102,8 @@ impl App {
             dialogs: Dialogs::default(),
             loading: None,
             importing: None,
+            document: Document::default(),
+            title: String::new(),
             settings,
         };
         let path = match options.path {
@@ -165,6 +172,12 @@ impl App {
 
     /// Loads a set (one folder or file) or several mesh files, off the UI thread.
     pub fn open(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
+        if let [one] = paths.as_slice() {
+            if document::is_scene(one) {
+                return self.open_scene(ctx, one);
+            }
+        }
+        self.document.pending = None;
         let title = match paths.as_slice() {
             [one] => one.display().to_string(),
             many => format!("{} files", many.len()),
@@ -185,6 +198,69 @@ impl App {
             progress.set(1, 1, "uploading");
             Ok((loaded, database, paths))
         }));
+    }
+
+    /// Opens a scene file: applied at once over the set it names if that is open, else once that
+    /// set has loaded.
+    fn open_scene(&mut self, ctx: &egui::Context, path: &Path) {
+        let file = match vbrain::scene_file::SceneFile::load(path) {
+            Ok(f) => f,
+            Err(e) => return self.notify(e.to_string(), true),
+        };
+        let set_path = file.set_path(path);
+        let same = |a: &Path| std::fs::canonicalize(a).ok() == std::fs::canonicalize(&set_path).ok();
+        let open_already = self.scene.as_ref().is_some_and(|s| matches!(s.source(), [one] if same(one)));
+        if open_already {
+            self.apply_scene(path, &file);
+        } else if !set_path.exists() {
+            self.notify(format!("{}: its organ set {} is missing", path.display(), set_path.display()), true);
+        } else {
+            self.open(ctx, vec![set_path]);
+            self.document.pending = Some((path.to_path_buf(), file));
+        }
+    }
+
+    /// Shows a scene: layout, selection, camera and render settings; it becomes the document.
+    fn apply_scene(&mut self, path: &Path, file: &vbrain::scene_file::SceneFile) {
+        let Some(scene) = &mut self.scene else { return };
+        let applied = file.apply(scene.set());
+        scene.set_layout(applied.layout);
+        self.selected = applied.selection;
+        let fly = file.camera.mode == vbrain::scene_file::CameraMode::Walk;
+        self.viewport.set_navigator(file.camera.navigator(), fly);
+        self.settings.transparency = file.render.transparency;
+        self.settings.cull.mode = file.render.cull;
+        self.settings.background = file.render.background;
+        self.document.mark_saved(scene, Some(path.to_path_buf()));
+        self.settings.remember(path);
+        for w in applied.warnings {
+            self.notify(format!("{}: {w}", path.display()), false);
+        }
+    }
+
+    /// Saves the scene to `path` (atomically); it becomes the document.
+    fn save_scene(&mut self, path: &Path) {
+        let Some(scene) = &self.scene else { return };
+        let Some(file) = document::capture(scene, &self.viewport, &self.settings, self.selected, path) else {
+            return self
+                .notify("mesh files opened together cannot be saved as a scene: save them as a set first", true);
+        };
+        match file.save(path) {
+            Ok(()) => {
+                self.document.mark_saved(scene, Some(path.to_path_buf()));
+                self.settings.remember(path);
+                self.notify(format!("saved {}", path.display()), false);
+            }
+            Err(e) => self.notify(e.to_string(), true),
+        }
+    }
+
+    pub fn document(&self) -> &Document {
+        &self.document
+    }
+
+    pub fn document_mut(&mut self) -> &mut Document {
+        &mut self.document
     }
 
     pub fn is_loading(&self) -> bool {
@@ -221,6 +297,14 @@ impl App {
                         scene.apply(&edit, dragging);
                     }
                 }
+                Action::SaveScene { as_new } => match (&self.document.path, as_new) {
+                    (Some(p), false) => {
+                        let p = p.clone();
+                        self.save_scene(&p);
+                    }
+                    _ => self.document.save_window.open = true,
+                },
+                Action::SaveSceneTo(path) => self.save_scene(&path),
                 Action::Undo | Action::Redo => {
                     let undo = action == Action::Undo;
                     if let Some(scene) = &mut self.scene {
@@ -317,7 +401,11 @@ impl App {
                 let scene = Scene::new(loaded.set, paths, renderer);
                 self.viewport.new_set(&scene.home(), database);
                 self.selected = None;
+                self.document.mark_saved(&scene, None);
                 self.scene = Some(scene);
+                if let Some((path, file)) = self.document.pending.take() {
+                    self.apply_scene(&path, &file);
+                }
             }
             Err(e) => self.notify(e.to_string(), true),
         }
@@ -341,6 +429,8 @@ impl App {
                 Command::Open => out.push(Action::Show(Window::OpenSet)),
                 Command::Export => out.push(Action::Show(Window::Export)),
                 Command::Undo => out.push(Action::Undo),
+                Command::SaveAs => out.push(Action::SaveScene { as_new: true }),
+                Command::Save => out.push(Action::SaveScene { as_new: false }),
                 Command::Redo | Command::RedoY => out.push(Action::Redo),
                 Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
                 Command::ToggleTransparency => {
@@ -390,6 +480,13 @@ impl App {
         self.perform(ctx, actions);
         let actions = self.dialogs.import.show(ctx, self.importing.is_some());
         self.perform(ctx, actions);
+        let actions = self.document.save_window.show(ctx);
+        self.perform(ctx, actions);
+        let title = format!("vbrain - {}", self.document.title(self.scene.as_ref()));
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
         if let Some(scene) = &self.scene {
             let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
             let actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);

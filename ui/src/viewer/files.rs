@@ -32,8 +32,8 @@ impl OpenWindow {
     pub fn show_set(&mut self, ctx: &egui::Context, recent: &[PathBuf]) -> Vec<Action> {
         let mut open = self.open;
         let mut go = None;
-        egui::Window::new("Open organ set").open(&mut open).collapsible(false).show(ctx, |ui| {
-            ui.label("A folder with organset.json, a folder of .obj/.vbo files, or one mesh file.");
+        egui::Window::new("Open organ set or scene").open(&mut open).collapsible(false).show(ctx, |ui| {
+            ui.label("A folder with organset.json, a folder of .obj/.vbo files, one mesh file, or a .vbscene file.");
             self.field.ui(ui, "Path:", Pick::Folder, &[]);
             if ui.button("Open").clicked() {
                 go = self.field.paths().into_iter().next();

@@ -62,7 +62,7 @@ fn edit_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>) {
 }
 
 fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::PathBuf], out: &mut Vec<Action>) {
-    let open = egui::Button::new("Open organ set...").shortcut_text(shortcuts::text(ui.ctx(), Command::Open));
+    let open = egui::Button::new("Open organ set or scene...").shortcut_text(shortcuts::text(ui.ctx(), Command::Open));
     if ui.add(open).clicked() {
         out.push(Action::Show(Window::OpenSet));
     }
@@ -72,7 +72,16 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
     if ui.button("Import label volume...").clicked() {
         out.push(Action::Show(Window::Import));
     }
-    ui.menu_button("Recent sets", |ui| {
+    let save = egui::Button::new("Save scene").shortcut_text(shortcuts::text(ui.ctx(), Command::Save));
+    if ui.add_enabled(scene.is_some(), save).clicked() {
+        out.push(Action::SaveScene { as_new: false });
+    }
+    let save_as = egui::Button::new("Save scene as...").shortcut_text(shortcuts::text(ui.ctx(), Command::SaveAs));
+    if ui.add_enabled(scene.is_some(), save_as).clicked() {
+        out.push(Action::SaveScene { as_new: true });
+    }
+    ui.separator();
+    ui.menu_button("Recent sets and scenes", |ui| {
         if recent.is_empty() {
             ui.label("none yet");
         }

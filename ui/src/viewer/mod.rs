@@ -15,6 +15,7 @@
 
 pub mod action;
 pub mod app;
+pub mod document;
 pub mod export;
 pub mod files;
 pub mod inspector;

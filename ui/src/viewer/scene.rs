@@ -22,6 +22,8 @@ pub struct Scene {
     /// Per organ, the opacity the transparency toggle returns to: the last translucent one set.
     last_translucent: Vec<f32>,
     history: History,
+    /// Changes to the layout so far (edits, undos, redos, a scene applied): what "unsaved" compares.
+    changes: u64,
 }
 
 impl Scene {
@@ -30,7 +32,7 @@ impl Scene {
         let layout = Layout::new(&set);
         let home = layout.bounds(&set);
         let last_translucent = set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
-        Scene { set, source, layout, renderer, home, last_translucent, history: History::default() }
+        Scene { set, source, layout, renderer, home, last_translucent, history: History::default(), changes: 0 }
     }
 
     pub fn set(&self) -> &OrganSet {
@@ -70,7 +72,12 @@ impl Scene {
         if gesture.is_none() {
             self.history.end_gesture();
         }
+        let before = self.history.len();
+        let was = self.layout.clone();
         self.history.apply(&mut self.layout, edit.clone(), label, gesture);
+        if self.layout != was || self.history.len() != before {
+            self.changes += 1;
+        }
         if let Edit::Opacity { organs, .. } | Edit::Opacities { organs, .. } = edit {
             for i in organs.indices(self.layout.organs.len()) {
                 let opacity = self.layout.organs[i].opacity;
@@ -88,12 +95,21 @@ impl Scene {
 
     /// Undoes the last step; returns what it was.
     pub fn undo(&mut self) -> Option<String> {
-        self.history.undo(&mut self.layout)
+        let done = self.history.undo(&mut self.layout);
+        self.changes += u64::from(done.is_some());
+        done
     }
 
     /// Redoes the last undone step; returns what it was.
     pub fn redo(&mut self) -> Option<String> {
-        self.history.redo(&mut self.layout)
+        let done = self.history.redo(&mut self.layout);
+        self.changes += u64::from(done.is_some());
+        done
+    }
+
+    /// How many changes the layout has seen (compare two values to tell whether it changed).
+    pub fn changes(&self) -> u64 {
+        self.changes
     }
 
     pub fn history(&self) -> &History {
@@ -105,6 +121,7 @@ impl Scene {
         if layout.organs.len() == self.layout.organs.len() {
             self.layout = layout;
             self.history.clear();
+            self.changes += 1;
         }
     }
 

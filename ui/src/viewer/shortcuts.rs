@@ -24,6 +24,8 @@ pub enum Command {
     /// Redo's second shortcut (Ctrl+Y).
     RedoY,
     Undo,
+    SaveAs,
+    Save,
     Open,
     Export,
 }
@@ -75,7 +77,7 @@ pub const MOUSE: [(&str, &str); 7] = [
 ];
 
 /// The keyboard shortcuts, in the order they are handled within a frame.
-pub const SHORTCUTS: [Shortcut; 14] = {
+pub const SHORTCUTS: [Shortcut; 16] = {
     use Command::*;
     [
         Shortcut::new(
@@ -108,7 +110,11 @@ pub const SHORTCUTS: [Shortcut; 14] = {
         Shortcut::new(&[Key::Y], RedoY, "Ctrl+Y", "redo (as Ctrl+Shift+Z)").command(),
         Shortcut::new(&[Key::Z], Undo, "Ctrl+Z", "undo the last change to the organs (the Edit menu names it)")
             .command(),
-        Shortcut::new(&[Key::O], Open, "Ctrl+O", "open an organ set").command().while_typing(),
+        Shortcut::new(&[Key::S], SaveAs, "Ctrl+Shift+S", "save the scene in a new file").command_shift().while_typing(),
+        Shortcut::new(&[Key::S], Save, "Ctrl+S", "save the scene (organs, camera, render settings) as a .vbscene file")
+            .command()
+            .while_typing(),
+        Shortcut::new(&[Key::O], Open, "Ctrl+O", "open an organ set or a scene").command().while_typing(),
         Shortcut::new(&[Key::E], Export, "Ctrl+E", "export a screenshot").command().while_typing(),
     ]
 };

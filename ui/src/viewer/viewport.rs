@@ -79,6 +79,17 @@ impl Viewport {
         self.culler.database().is_some()
     }
 
+    /// The camera's navigator (what a scene file saves).
+    pub fn navigator(&self) -> Navigator {
+        self.nav
+    }
+
+    /// The camera of a scene: its navigator, orbiting or walking.
+    pub fn set_navigator(&mut self, nav: Navigator, fly: bool) {
+        self.nav = nav;
+        self.fly = fly;
+    }
+
     pub fn reset_camera(&mut self, home: &Bounds) {
         self.nav = Navigator::framing(home, 0.0, 0.0);
     }

@@ -259,3 +259,44 @@ fn shortcuts_act_on_the_selected_organ() {
     h.run_steps(2);
     assert_eq!(h.state().selected(), None, "Esc deselects");
 }
+
+#[test]
+fn save_a_scene_then_reopen_it() {
+    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
+    let dir = tempfile::tempdir().unwrap();
+    let gyrus = organ(&h, "superiorfrontal_l");
+    click(&h, point_on(&h, gyrus));
+    h.run_steps(3);
+    h.key_press(Key::T);
+    h.key_press(Key::Num3);
+    h.run_steps(3);
+    assert!(h.state().document().unsaved(h.state().scene()), "a faded organ is an unsaved change");
+
+    // Ctrl+S with no file yet asks where; the scene is written there.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run_steps(2);
+    assert!(h.state().document().save_window.open, "Ctrl+S asks where to save a new scene");
+    let file = dir.path().join("lesson-view");
+    h.state_mut().document_mut().save_window.field.text = file.display().to_string();
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    let file = dir.path().join("lesson-view.vbscene");
+    assert!(file.is_file(), "{:?}", messages(&h));
+    assert!(!h.state().document().unsaved(h.state().scene()));
+    let saved_layout = h.state().scene().unwrap().layout().clone();
+    let shown = h.state().read_image().unwrap();
+
+    // Change everything, then open the scene: the same organs, selection, camera and pixels.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::R);
+    h.key_press(Key::Escape);
+    h.key_press(Key::Num5);
+    h.run_steps(3);
+    assert_ne!(h.state().read_image().unwrap(), shown);
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![vbrain_ui::viewer::action::Action::Open(vec![file.clone()])]);
+    h.run_steps(3);
+    assert_eq!(h.state().scene().unwrap().layout(), &saved_layout);
+    assert_eq!(h.state().selected(), Some(gyrus));
+    assert_eq!(h.state().read_image().unwrap(), shown, "the reopened scene shows the same pixels");
+    assert!(!h.state().document().unsaved(h.state().scene()));
+}
