@@ -33,6 +33,13 @@ use vbrain::render::{FrameInput, Renderer};
 pub struct AppOptions {
     /// What to open; `None` opens the default brain (or the last set, if the settings say so).
     pub path: Option<PathBuf>,
+    /// The recovery file for unsaved changes ([`recovery_path`] for the viewer; `None` writes none).
+    pub recovery: Option<PathBuf>,
+}
+
+/// Where the viewer keeps its recovery file: beside its settings.
+pub fn recovery_path() -> Option<PathBuf> {
+    eframe::storage_dir("vbrain").map(|d| d.join("recovery.vbscene"))
 }
 
 /// The default organ set: `organs/brain` under the working directory, else beside the sources.
@@ -54,8 +61,12 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
             .with_drag_and_drop(true),
         ..Default::default()
     };
-    eframe::run_native("vbrain", options, Box::new(move |cc| Ok(Box::new(App::new(cc, AppOptions { path })))))
-        .map_err(|e| anyhow!("could not open the viewer window: {e}"))
+    eframe::run_native(
+        "vbrain",
+        options,
+        Box::new(move |cc| Ok(Box::new(App::new(cc, AppOptions { path, recovery: recovery_path() })))),
+    )
+    .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
 
 /// The viewer's windows.
@@ -87,6 +98,8 @@ pub struct App {
     document: Document,
     /// The window title last set.
     title: String,
+    /// The user chose to close (nothing unsaved, or discarded): let the window close.
+    closing: bool,
 }
 
 impl App {
@@ -104,8 +117,11 @@ impl App {
             importing: None,
             document: Document::default(),
             title: String::new(),
+            closing: false,
             settings,
         };
+        app.document.offer_recovery = options.recovery.as_ref().is_some_and(|p| p.is_file());
+        app.document.recovery = options.recovery;
         let path = match options.path {
             Some(p) => p,
             None => match &app.settings.last_set {
@@ -231,8 +247,15 @@ impl App {
         self.settings.transparency = file.render.transparency;
         self.settings.cull.mode = file.render.cull;
         self.settings.background = file.render.background;
-        self.document.mark_saved(scene, Some(path.to_path_buf()));
-        self.settings.remember(path);
+        if self.document.restoring.as_deref() == Some(path) {
+            // Recovered changes are saved nowhere yet.
+            self.document.restoring = None;
+            self.document.mark_unsaved();
+            let _ = std::fs::remove_file(path);
+        } else {
+            self.document.mark_saved(scene, Some(path.to_path_buf()));
+            self.settings.remember(path);
+        }
         for w in applied.warnings {
             self.notify(format!("{}: {w}", path.display()), false);
         }
@@ -316,6 +339,9 @@ impl App {
                     }
                 }
                 Action::Select(organ) => self.selected = organ,
+                Action::Open(paths) if self.document.unsaved(self.scene.as_ref()) => {
+                    self.document.confirm = Some(document::Pending::Open(paths));
+                }
                 Action::Open(paths) => self.open(ctx, paths),
                 Action::Show(window) => match window {
                     Window::OpenSet => self.dialogs.open_set.open = true,
@@ -353,7 +379,13 @@ impl App {
                         self.notifications.remove(i);
                     }
                 }
-                Action::Quit => ctx.send_viewport_cmd(egui::ViewportCommand::Close),
+                Action::Quit if self.document.unsaved(self.scene.as_ref()) => {
+                    self.document.confirm = Some(document::Pending::Quit);
+                }
+                Action::Quit => {
+                    self.closing = true;
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
             }
         }
     }
@@ -401,7 +433,7 @@ impl App {
                 let scene = Scene::new(loaded.set, paths, renderer);
                 self.viewport.new_set(&scene.home(), database);
                 self.selected = None;
-                self.document.mark_saved(&scene, None);
+                self.document.opened_set(&scene);
                 self.scene = Some(scene);
                 if let Some((path, file)) = self.document.pending.take() {
                     self.apply_scene(&path, &file);
@@ -482,6 +514,7 @@ impl App {
         self.perform(ctx, actions);
         let actions = self.document.save_window.show(ctx);
         self.perform(ctx, actions);
+        self.unsaved_changes(ctx);
         let title = format!("vbrain - {}", self.document.title(self.scene.as_ref()));
         if title != self.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
@@ -491,6 +524,75 @@ impl App {
             let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
             let actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
             self.perform(ctx, actions);
+        }
+    }
+}
+
+impl App {
+    /// The question before unsaved changes are lost, the window closing, the recovery file kept
+    /// and a recovery file offered back.
+    fn unsaved_changes(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.closing {
+            if self.document.unsaved(self.scene.as_ref()) {
+                ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+                self.document.confirm = Some(document::Pending::Quit);
+            } else {
+                self.document.remove_recovery();
+            }
+        }
+        if let Some(pending) = self.document.confirm.clone() {
+            let name = self.document.title(None);
+            match document::confirm_window(ctx, &pending, &name) {
+                Some(document::Answer::Save) => {
+                    self.document.confirm = None;
+                    self.perform(ctx, vec![Action::SaveScene { as_new: false }]);
+                    // Saved to its file: go on; asked where (a new scene): the user goes on after.
+                    if !self.document.unsaved(self.scene.as_ref()) {
+                        self.go_on(ctx, pending);
+                    }
+                }
+                Some(document::Answer::Discard) => {
+                    self.document.confirm = None;
+                    self.document.remove_recovery();
+                    if let Some(scene) = &self.scene {
+                        self.document.mark_saved(scene, self.document.path.clone());
+                    }
+                    self.go_on(ctx, pending);
+                }
+                Some(document::Answer::Cancel) => self.document.confirm = None,
+                None => {}
+            }
+        }
+        if self.document.offer_recovery && self.scene.is_some() && self.loading.is_none() {
+            if let Some(restore) = document::recovery_window(ctx) {
+                self.document.offer_recovery = false;
+                match (restore, self.document.recovery.clone()) {
+                    (true, Some(p)) => {
+                        let restored = p.with_extension("restored.vbscene");
+                        if std::fs::rename(&p, &restored).is_ok() {
+                            self.document.restoring = Some(restored.clone());
+                            self.open_scene(ctx, &restored);
+                        }
+                    }
+                    _ => self.document.remove_recovery(),
+                }
+            }
+        }
+        if let Some(scene) = &self.scene {
+            let now = ctx.input(|i| i.time);
+            let (viewport, settings, selected) = (&self.viewport, &self.settings, self.selected);
+            let capture = |p: &Path| document::capture(scene, viewport, settings, selected, p);
+            if let Some(problem) = self.document.keep_recovery(now, scene, capture) {
+                self.notifications.push(Notification { text: problem, error: true });
+            }
+        }
+    }
+
+    /// Carries out what waited for the answer.
+    fn go_on(&mut self, ctx: &egui::Context, pending: document::Pending) {
+        match pending {
+            document::Pending::Quit => self.perform(ctx, vec![Action::Quit]),
+            document::Pending::Open(paths) => self.perform(ctx, vec![Action::Open(paths)]),
         }
     }
 }

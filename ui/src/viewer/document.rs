@@ -1,6 +1,11 @@
 //! The open scene file (`.vbscene`): where it lives, whether the organs changed since it was saved,
-//! the Save Scene window, and turning the viewer's state into a [`SceneFile`] and back. The app
-//! owns one [`Document`]; saving and opening go through [`crate::viewer::App::perform`].
+//! the Save Scene window, the question before unsaved changes would be lost, the recovery file,
+//! and turning the viewer's state into a [`SceneFile`]. The app owns one [`Document`]; saving and
+//! opening go through [`crate::viewer::App::perform`].
+//!
+//! Recovery: while there are unsaved changes, the scene is written (atomically) to a recovery file
+//! at most every [`RECOVERY_SECONDS`]; a clean exit, a save or a discard removes it. A recovery file
+//! found at start is offered back.
 
 use super::action::Action;
 use super::scene::Scene;
@@ -29,6 +34,16 @@ pub fn with_extension(path: &str) -> PathBuf {
     }
 }
 
+/// Seconds between writes of the recovery file while changes go on.
+pub const RECOVERY_SECONDS: f64 = 3.0;
+
+/// What waits for an answer about unsaved changes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Pending {
+    Quit,
+    Open(Vec<PathBuf>),
+}
+
 #[derive(Default)]
 pub struct Document {
     /// The scene file last saved or opened.
@@ -38,6 +53,16 @@ pub struct Document {
     /// A scene whose set is loading: applied once the set is installed.
     pub pending: Option<(PathBuf, SceneFile)>,
     pub save_window: SaveWindow,
+    /// Asking whether to save before this happens.
+    pub confirm: Option<Pending>,
+    /// Where the recovery file goes (`None`: none is written).
+    pub recovery: Option<PathBuf>,
+    /// When the recovery file was last written, and the change count it holds.
+    recovered: Option<(f64, u64)>,
+    /// A recovery file was found at start: offer it.
+    pub offer_recovery: bool,
+    /// The recovery file being restored (renamed aside): applied as unsaved changes.
+    pub restoring: Option<PathBuf>,
 }
 
 impl Document {
@@ -46,10 +71,55 @@ impl Document {
         scene.is_some_and(|s| s.changes() != self.saved)
     }
 
-    /// What is on screen now is what the file holds.
+    /// What is on screen now is what the file holds; the recovery file is no longer needed.
     pub fn mark_saved(&mut self, scene: &Scene, path: Option<PathBuf>) {
         self.saved = scene.changes();
         self.path = path;
+        self.remove_recovery();
+    }
+
+    /// A set was opened: nothing to save yet (a recovery file from before stays, to be offered).
+    pub fn opened_set(&mut self, scene: &Scene) {
+        self.saved = scene.changes();
+        self.path = None;
+    }
+
+    /// What is on screen is not saved anywhere (a recovered scene).
+    pub fn mark_unsaved(&mut self) {
+        self.saved = u64::MAX;
+        self.path = None;
+    }
+
+    /// Writes the recovery file (what `capture` makes of the scene for that path) if there are
+    /// unsaved changes it does not hold yet and its last write is [`RECOVERY_SECONDS`] old; `now`
+    /// in seconds. Returns a problem to show.
+    pub fn keep_recovery(
+        &mut self,
+        now: f64,
+        scene: &Scene,
+        capture: impl FnOnce(&Path) -> Option<SceneFile>,
+    ) -> Option<String> {
+        let path = self.recovery.clone()?;
+        if !self.unsaved(Some(scene)) {
+            return None;
+        }
+        let changes = scene.changes();
+        if let Some((at, held)) = self.recovered {
+            if held == changes || now - at < RECOVERY_SECONDS {
+                return None;
+            }
+        }
+        let file = capture(&path)?;
+        self.recovered = Some((now, changes));
+        file.save(&path).err().map(|e| format!("could not write the recovery file: {e}"))
+    }
+
+    /// Removes the recovery file (after a save, a discard or a clean exit).
+    pub fn remove_recovery(&mut self) {
+        if let Some(p) = &self.recovery {
+            let _ = std::fs::remove_file(p);
+        }
+        self.recovered = None;
     }
 
     /// The window title's name for it: the file's name, with `*` while unsaved.
@@ -108,4 +178,55 @@ impl SaveWindow {
         self.open = open && go.is_none();
         go.map(|p| vec![Action::SaveSceneTo(p)]).unwrap_or_default()
     }
+}
+
+/// The question before unsaved changes would be lost: Save, Don't save or Cancel. Returns the
+/// answer once given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Answer {
+    Save,
+    Discard,
+    Cancel,
+}
+
+pub fn confirm_window(ctx: &egui::Context, pending: &Pending, name: &str) -> Option<Answer> {
+    let mut answer = None;
+    let what = match pending {
+        Pending::Quit => "before quitting",
+        Pending::Open(_) => "before opening another",
+    };
+    egui::Modal::new(egui::Id::unique("unsaved changes")).show(ctx, |ui| {
+        ui.heading("Save changes?");
+        ui.label(format!("{name} has changes that are not saved. Save them {what}?"));
+        ui.horizontal(|ui| {
+            if ui.button("Save").clicked() {
+                answer = Some(Answer::Save);
+            }
+            if ui.button("Don't save").clicked() {
+                answer = Some(Answer::Discard);
+            }
+            if ui.button("Cancel").clicked() || ui.input(|i| i.key_pressed(egui::Key::Escape)) {
+                answer = Some(Answer::Cancel);
+            }
+        });
+    });
+    answer
+}
+
+/// The offer of a recovery file found at start: Restore or Discard.
+pub fn recovery_window(ctx: &egui::Context) -> Option<bool> {
+    let mut answer = None;
+    egui::Modal::new(egui::Id::unique("recovery")).show(ctx, |ui| {
+        ui.heading("Restore unsaved changes?");
+        ui.label("vbrain closed while a scene had changes that were not saved. Restore them?");
+        ui.horizontal(|ui| {
+            if ui.button("Restore").clicked() {
+                answer = Some(true);
+            }
+            if ui.button("Discard").clicked() {
+                answer = Some(false);
+            }
+        });
+    });
+    answer
 }

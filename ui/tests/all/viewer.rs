@@ -20,8 +20,15 @@ fn harness() -> Harness<'static, App> {
 
 /// The app on the default brain in a window of `size`: smaller draws faster on a software GPU.
 fn harness_of(size: egui::Vec2) -> Harness<'static, App> {
-    let mut h =
-        Harness::builder().with_size(size).wgpu().build_eframe(|cc| App::new(cc, AppOptions { path: Some(brain()) }));
+    harness_with(size, None)
+}
+
+/// The same, keeping its recovery file at `recovery`.
+fn harness_with(size: egui::Vec2, recovery: Option<std::path::PathBuf>) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(size)
+        .wgpu()
+        .build_eframe(move |cc| App::new(cc, AppOptions { path: Some(brain()), recovery: recovery.clone() }));
     for _ in 0..600 {
         h.step();
         if h.state().scene().is_some() {
@@ -294,9 +301,56 @@ fn save_a_scene_then_reopen_it() {
     assert_ne!(h.state().read_image().unwrap(), shown);
     let ctx = h.ctx.clone();
     h.state_mut().perform(&ctx, vec![vbrain_ui::viewer::action::Action::Open(vec![file.clone()])]);
+    h.run_steps(2);
+    // The reset since the save is an unsaved change: the viewer asks first.
+    h.get_by_label("Don't save").click();
     h.run_steps(3);
-    assert_eq!(h.state().scene().unwrap().layout(), &saved_layout);
+    assert!(h.state().scene().unwrap().layout() == &saved_layout, "the saved layout is back");
     assert_eq!(h.state().selected(), Some(gyrus));
     assert_eq!(h.state().read_image().unwrap(), shown, "the reopened scene shows the same pixels");
     assert!(!h.state().document().unsaved(h.state().scene()));
+}
+
+#[test]
+fn unsaved_changes_are_asked_about_and_recovered() {
+    use vbrain::edit::{Edit, Organs};
+    use vbrain_ui::viewer::action::Action;
+    let dir = tempfile::tempdir().unwrap();
+    let recovery = dir.path().join("recovery.vbscene");
+    let size = egui::Vec2::new(640.0, 400.0);
+    let mut h = harness_with(size, Some(recovery.clone()));
+    let gyrus = organ(&h, "precentral_l");
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::Edit(Edit::Visible { organs: Organs::One(gyrus), visible: false })]);
+    h.run_steps(2);
+    assert!(recovery.is_file(), "the first unsaved change is written to the recovery file at once");
+    let kept = dir.path().join("kept.vbscene");
+    std::fs::copy(&recovery, &kept).unwrap();
+
+    // Quitting asks; Cancel keeps everything.
+    h.state_mut().perform(&ctx, vec![Action::Quit]);
+    h.run_steps(2);
+    assert!(h.query_by_label("Save changes?").is_some(), "quitting with unsaved changes asks");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    assert!(h.query_by_label("Save changes?").is_none());
+    assert!(!h.state().scene().unwrap().layout().organs[gyrus].visible);
+
+    // Opening another set asks too; Don't save goes on and removes the recovery file.
+    h.state_mut().perform(&ctx, vec![Action::Open(vec![brain()])]);
+    h.run_steps(2);
+    assert!(h.query_by_label("Save changes?").is_some(), "opening another set with unsaved changes asks");
+    h.get_by_label("Don't save").click();
+    h.run_steps(2);
+    assert!(!recovery.exists(), "discarded changes need no recovery");
+
+    // A recovery file found at start is offered back, as unsaved changes.
+    std::fs::rename(&kept, &recovery).unwrap();
+    let mut h = harness_with(size, Some(recovery.clone()));
+    h.run_steps(2);
+    assert!(h.query_by_label("Restore unsaved changes?").is_some(), "{:?}", messages(&h));
+    h.get_by_label("Restore").click();
+    h.run_steps(3);
+    assert!(!h.state().scene().unwrap().layout().organs[gyrus].visible, "the hidden gyrus is back");
+    assert!(h.state().document().unsaved(h.state().scene()), "restored changes are not saved anywhere yet");
 }
