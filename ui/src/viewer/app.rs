@@ -396,7 +396,8 @@ impl App {
             match result {
                 Ok(dir) => {
                     self.notify(format!("imported into {}", dir.display()), false);
-                    self.open(ctx, vec![dir]);
+                    // Through perform, so unsaved changes are asked about first.
+                    self.perform(ctx, vec![Action::Open(vec![dir])]);
                 }
                 Err(e) => self.notify(e.to_string(), true),
             }
