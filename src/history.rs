@@ -61,10 +61,12 @@ impl History {
         History { done: Vec::new(), undone: Vec::new(), limit: limit.max(1), open: false }
     }
 
-    /// Applies `edit` to `layout` and records it (unless it changed nothing). With `gesture`, an
-    /// edit that continues the last step's open gesture merges into it.
-    pub fn apply(&mut self, layout: &mut Layout, edit: Edit, label: String, gesture: Option<Gesture>) {
+    /// Applies `edit` to `layout` and records it (unless it changed nothing); returns whether it
+    /// changed the layout. With `gesture`, an edit that continues the last step's open gesture
+    /// merges into it.
+    pub fn apply(&mut self, layout: &mut Layout, edit: Edit, label: String, gesture: Option<Gesture>) -> bool {
         let inverse = apply(layout, &edit);
+        let changed = !matches!(&inverse, Edit::Restore { states, .. } if states.is_empty());
         let continues = |s: &Step| self.open && gesture.is_some() && s.gesture == gesture;
         let merge_into = match self.done.last_mut() {
             Some(last) if continues(last) => Some(last),
@@ -90,8 +92,8 @@ impl History {
             }
             last.label = label;
         } else {
-            if matches!(&inverse, Edit::Restore { states, .. } if states.is_empty()) {
-                return;
+            if !changed {
+                return false;
             }
             self.done.push(Step { label, redo: edit, undo: inverse, gesture });
             if self.done.len() > self.limit {
@@ -100,6 +102,7 @@ impl History {
         }
         self.undone.clear();
         self.open = gesture.is_some();
+        changed
     }
 
     /// Ends the current gesture (the drag was released): the next edit is a new step.

@@ -69,13 +69,7 @@ impl Scene {
             edit.describe(&names)
         };
         let gesture = if dragging { gesture_of(edit) } else { None };
-        if gesture.is_none() {
-            self.history.end_gesture();
-        }
-        let before = self.history.len();
-        let was = self.layout.clone();
-        self.history.apply(&mut self.layout, edit.clone(), label, gesture);
-        if self.layout != was || self.history.len() != before {
+        if self.history.apply(&mut self.layout, edit.clone(), label, gesture) {
             self.changes += 1;
         }
         if let Edit::Opacity { organs, .. } | Edit::Opacities { organs, .. } = edit {
