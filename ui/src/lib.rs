@@ -13,3 +13,14 @@ pub use viewer::{App, AppOptions};
 
 /// Background of the viewport and of `vbrain render` (linear RGBA).
 pub const BACKGROUND: [f32; 4] = [0.012, 0.014, 0.02, 1.0];
+
+/// [`BACKGROUND`] as sRGB, as the viewer's settings and scene files hold backgrounds.
+pub fn background_srgb() -> [f32; 3] {
+    [BACKGROUND[0], BACKGROUND[1], BACKGROUND[2]].map(vbrain::render::linear_to_srgb)
+}
+
+/// An sRGB background as the renderer's linear RGBA: opaque, or with alpha 0 if `transparent`.
+pub fn background_linear(srgb: [f32; 3], transparent: bool) -> [f32; 4] {
+    let [r, g, b] = srgb.map(vbrain::render::srgb_to_linear);
+    [r, g, b, if transparent { 0.0 } else { 1.0 }]
+}

@@ -14,7 +14,7 @@ use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Culler};
 use vbrain::layout::Layout;
 use vbrain::navigation::Navigator;
-use vbrain::render::{linear_to_srgb, srgb_to_linear, FrameInput, GpuContext, Renderer, Target};
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::rng::XorShift;
 use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile};
 use vbrain::transparency::TransparencySettings;
@@ -45,17 +45,19 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     // The camera: the options' view or orbit, else the scene's, else the anterior view.
     let bounds = layout.bounds(&set).union(Layout::new(&set).bounds(&set));
     let c = &args.camera;
-    let nav = match (c.view, c.orbit, c.route, &scene) {
-        (Some(view), ..) => Some(CameraState::of(&framing(&set, view.angles()), CameraMode::Orbit)),
-        (_, Some(o), ..) => Some(CameraState::of(&framing(&set, (o.azimuth, o.elevation)), CameraMode::Orbit)),
-        (_, _, Some(_), _) => None,
-        (.., Some((_, s))) => Some(s.camera),
-        _ => Some(CameraState::of(&framing(&set, View::Anterior.angles()), CameraMode::Orbit)),
-    };
-    let camera = match (&nav, c.route) {
-        (Some(n), _) => n.navigator().camera(&bounds),
-        (None, Some(r)) => r.route.camera(&layout.bounds(&set), r.frame, ROUTE_FRAMES),
-        (None, None) => unreachable!("a camera without a route has a navigator"),
+    let (camera, nav) = match c.route {
+        // A bench route's camera is not a navigator: it cannot be saved in a scene.
+        Some(r) => (r.route.camera(&layout.bounds(&set), r.frame, ROUTE_FRAMES), None),
+        None => {
+            let orbit = |angles| CameraState::of(&framing(&set, angles), CameraMode::Orbit);
+            let nav = match (c.view, c.orbit, &scene) {
+                (Some(view), ..) => orbit(view.angles()),
+                (_, Some(o), _) => orbit((o.azimuth, o.elevation)),
+                (None, None, Some((_, s))) => s.camera,
+                (None, None, None) => orbit(View::Anterior.angles()),
+            };
+            (nav.navigator().camera(&bounds), Some(nav))
+        }
     };
 
     // Render settings: the options given, else the scene's, else the defaults.
@@ -70,15 +72,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         k: args.k.unwrap_or(base.k),
     };
     let mode = args.cull.or(chosen.map(|r| r.cull)).unwrap_or(CullMode::Occlusion);
-    let default_background = crate::BACKGROUND.map(linear_to_srgb);
-    let background_srgb =
-        chosen.map_or([default_background[0], default_background[1], default_background[2]], |r| r.background);
-    let background = if args.transparent {
-        [0.0; 4]
-    } else {
-        let [r, g, b] = background_srgb.map(srgb_to_linear);
-        [r, g, b, 1.0]
-    };
+    let background_srgb = chosen.map_or_else(crate::background_srgb, |r| r.background);
+    let background = if args.transparent { [0.0; 4] } else { crate::background_linear(background_srgb, false) };
 
     if let Some(out) = &args.save_scene {
         let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };

@@ -58,13 +58,11 @@ impl Default for ExportSettings {
 
 impl Default for Settings {
     fn default() -> Self {
-        let bg = crate::BACKGROUND;
-        let srgb = vbrain::render::linear_to_srgb;
         Settings {
             recent: Vec::new(),
             last_set: None,
             reopen_last: false,
-            background: [srgb(bg[0]), srgb(bg[1]), srgb(bg[2])],
+            background: crate::background_srgb(),
             pick_min_opacity: 0.5,
             show_inspector: true,
             show_stats: true,
@@ -97,9 +95,7 @@ impl Settings {
 
     /// The background as linear RGBA for the renderer.
     pub fn background_linear(&self, transparent: bool) -> [f32; 4] {
-        let lin = vbrain::render::srgb_to_linear;
-        let b = self.background;
-        [lin(b[0]), lin(b[1]), lin(b[2]), if transparent { 0.0 } else { 1.0 }]
+        crate::background_linear(self.background, transparent)
     }
 }
 
