@@ -29,6 +29,7 @@ pub mod error;
 pub mod history;
 pub mod lab;
 pub mod layout;
+pub mod lesson;
 pub mod mesh;
 pub mod mos;
 pub mod multi_surface;

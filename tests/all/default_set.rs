@@ -204,3 +204,28 @@ fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
         }
     }
 }
+
+/// The lessons shipped with the default brain: each parses, has five or more steps with real
+/// captions, and names only organs and groups the set has.
+#[test]
+fn shipped_lessons_name_only_what_the_set_has() {
+    let set = default_set();
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("organs/brain/lessons");
+    let mut lessons = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != vbrain::lesson::EXTENSION) {
+            continue;
+        }
+        let lesson = vbrain::lesson::Lesson::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(lesson.steps.len() >= 5, "{}: {} steps", path.display(), lesson.steps.len());
+        assert!(lesson.steps.iter().all(|s| s.caption.len() > 200), "{}: a caption is too short", path.display());
+        assert_eq!(lesson.unknown_names(set), Vec::<String>::new(), "{}", path.display());
+        assert_eq!(
+            std::fs::canonicalize(lesson.set_path(&path)).unwrap(),
+            std::fs::canonicalize(dir.join("..")).unwrap()
+        );
+        lessons += 1;
+    }
+    assert!(lessons >= 3, "{lessons} lessons");
+}

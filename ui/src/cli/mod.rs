@@ -11,6 +11,7 @@ mod city;
 pub mod common;
 mod import;
 mod info;
+mod lesson;
 mod masks;
 mod occluders;
 mod render;
@@ -41,6 +42,9 @@ pub enum Command {
     Info(InfoArgs),
     /// Render a set to a PNG through the viewer's renderer
     Render(RenderArgs),
+    /// Lessons: step-by-step views of a set with captions
+    #[command(subcommand)]
+    Lesson(LessonCommand),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -97,6 +101,26 @@ pub struct CameraArgs {
     /// average, worst)
     #[arg(long, value_parser = values::route_frame)]
     pub route: Option<RouteFrame>,
+}
+
+#[derive(Subcommand)]
+pub enum LessonCommand {
+    /// Write one PNG per step (DIR/01.png, ...) and DIR/lesson.md with the captions and images
+    Render(LessonRenderArgs),
+}
+
+#[derive(clap::Args)]
+pub struct LessonRenderArgs {
+    /// Lesson file (.vblesson)
+    pub lesson: PathBuf,
+    /// Output folder
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH
+    #[arg(long, default_value = "1024x768", value_parser = values::size)]
+    pub size: Size,
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(clap::Args)]
@@ -362,6 +386,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
     match command {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
+        Command::Lesson(LessonCommand::Render(args)) => lesson::render(&args),
         Command::Import(args) => import::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),

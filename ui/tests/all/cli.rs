@@ -73,6 +73,39 @@ fn a_saved_scene_renders_the_same_picture() {
     assert!(err.contains("s.vbscene:"), "{err}");
 }
 
+/// Every shipped lesson renders: one PNG per step, each step's picture different from the one
+/// before, and lesson.md with every step's title and picture.
+#[test]
+fn lesson_render_writes_every_step_of_every_shipped_lesson() {
+    let dir = tempfile::tempdir().unwrap();
+    let lessons = Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain/lessons");
+    for name in ["cortex", "deep-nuclei", "ventricles"] {
+        let out = dir.path().join(name);
+        let lesson = lessons.join(format!("{name}.vblesson"));
+        let v = json(&vbrain(&[
+            "lesson",
+            "render",
+            &lesson.display().to_string(),
+            "--out",
+            &out.display().to_string(),
+            "--size",
+            "64x48",
+            "--json",
+        ]));
+        let files: Vec<PathBuf> =
+            v["files"].as_array().unwrap().iter().map(|f| PathBuf::from(f.as_str().unwrap())).collect();
+        assert_eq!(v["steps"].as_u64(), Some(files.len() as u64));
+        assert!(files.len() >= 5, "{name}: {} steps", files.len());
+        assert_eq!(files[0], out.join("01.png"));
+        let pictures: Vec<Vec<u8>> = files.iter().map(|f| std::fs::read(f).unwrap()).collect();
+        assert!(pictures.windows(2).all(|w| w[0] != w[1]), "{name}: two steps in a row look the same");
+        let md = std::fs::read_to_string(out.join("lesson.md")).unwrap();
+        assert!(md.starts_with("# ") && md.contains("](01.png)") && md.matches("\n## ").count() == files.len(), "{md}");
+    }
+    let r = vbrain(&["lesson", "render", "no-such.vblesson", "--out", &dir.path().display().to_string()]);
+    assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("no-such.vblesson"));
+}
+
 #[test]
 fn render_writes_a_png_of_the_asked_size() {
     let dir = tempfile::tempdir().unwrap();
