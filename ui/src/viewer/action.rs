@@ -20,6 +20,11 @@ pub enum Action {
     },
     /// Save the scene to this file (`.vbscene`).
     SaveSceneTo(PathBuf),
+    /// Open a lesson (`.vblesson`) at its first step.
+    OpenLesson(PathBuf),
+    /// Show step k (0-based) of the open lesson.
+    LessonStep(usize),
+    CloseLesson,
     Select(Option<usize>),
     /// Open a set (one folder or file), a scene file (`.vbscene`, then its set) or several mesh
     /// files, off the UI thread.

@@ -12,6 +12,7 @@ use super::export::{self, ExportWindow};
 use super::files::{self, ImportWindow, OpenWindow};
 use super::inspector::inspector;
 use super::jobs::Job;
+use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
 use super::panels::OrganPanel;
 use super::scene::Scene;
@@ -100,6 +101,10 @@ pub struct App {
     document: Document,
     /// The window title last set.
     title: String,
+    /// The lesson being followed, if any.
+    lesson: LessonPanel,
+    /// A lesson whose set is loading: opened once the set is installed.
+    pending_lesson: Option<PathBuf>,
     /// The user chose to close (nothing unsaved, or discarded): let the window close.
     closing: bool,
 }
@@ -119,6 +124,8 @@ impl App {
             importing: None,
             document: Document::default(),
             title: String::new(),
+            lesson: LessonPanel::default(),
+            pending_lesson: None,
             closing: false,
             settings,
         };
@@ -194,6 +201,9 @@ impl App {
             if document::is_scene(one) {
                 return self.open_scene(ctx, one);
             }
+            if one.extension().is_some_and(|e| e == vbrain::lesson::EXTENSION) {
+                return self.open_lesson(ctx, one);
+            }
         }
         self.document.pending = None;
         let title = match paths.as_slice() {
@@ -216,6 +226,11 @@ impl App {
             progress.set(1, 1, "uploading");
             Ok((loaded, database, paths))
         }));
+    }
+
+    /// The lesson panel (the lesson open and its step).
+    pub fn lesson(&self) -> &LessonPanel {
+        &self.lesson
     }
 
     pub fn document(&self) -> &Document {
@@ -268,6 +283,9 @@ impl App {
                     _ => self.document.save_window.open = true,
                 },
                 Action::SaveSceneTo(path) => self.save_scene(&path),
+                Action::OpenLesson(path) => self.open_lesson(ctx, &path),
+                Action::LessonStep(k) => self.lesson_step(k),
+                Action::CloseLesson => self.lesson = LessonPanel::default(),
                 Action::Undo | Action::Redo => {
                     let undo = action == Action::Undo;
                     if let Some(scene) = &mut self.scene {
@@ -379,6 +397,7 @@ impl App {
                 if let Some((path, file)) = self.document.pending.take() {
                     self.apply_scene(&path, &file);
                 }
+                self.open_pending_lesson();
             }
             Err(e) => self.notify(e.to_string(), true),
         }
@@ -404,6 +423,8 @@ impl App {
                 Command::Undo => out.push(Action::Undo),
                 Command::SaveAs => out.push(Action::SaveScene { as_new: true }),
                 Command::Save => out.push(Action::SaveScene { as_new: false }),
+                Command::NextStep => out.extend(self.lesson.step_by(1).map(Action::LessonStep)),
+                Command::PreviousStep => out.extend(self.lesson.step_by(-1).map(Action::LessonStep)),
                 Command::Redo | Command::RedoY => out.push(Action::Redo),
                 Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
                 Command::ToggleTransparency => {
@@ -510,6 +531,11 @@ impl eframe::App for App {
             .show(ui, |ui| panel.show(ui, scene, selected))
             .inner;
         self.perform(&ctx, actions);
+        if self.lesson.is_open() {
+            let actions =
+                Panel::right("lesson").default_size(320.0).resizable(true).show(ui, |ui| self.lesson.show(ui)).inner;
+            self.perform(&ctx, actions);
+        }
         if self.settings.show_inspector && self.selected.is_some() {
             let (scene, selected) = (self.scene.as_ref(), self.selected);
             let actions = Panel::right("inspector")

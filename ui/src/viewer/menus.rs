@@ -1,5 +1,5 @@
 //! The menu bar: File, Edit (undo, redo), View (camera, culling, transparency, panels,
-//! background), Organs and Help, with the running job's progress at the end. One function per menu; each reads the scene and
+//! background), Organs, Lessons and Help, with the running job's progress at the end. One function per menu; each reads the scene and
 //! pushes [`Action`]s. The viewer's settings (culling, transparency, panels, background) are
 //! edited in place: they are preferences, not part of the scene.
 
@@ -36,6 +36,7 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -
         ui.menu_button("Edit", |ui| edit_menu(ui, state.scene, &mut out));
         ui.menu_button("View", |ui| view_menu(ui, state, settings, &mut out));
         ui.menu_button("Organs", |ui| organs_menu(ui, state.scene, settings, &mut out));
+        ui.menu_button("Lessons", |ui| lessons_menu(ui, state.scene, &mut out));
         ui.menu_button("Help", shortcuts::help);
         if let Some(job) = &state.job {
             progress(ui, job);
@@ -201,6 +202,23 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
     accessible(&r, "Neighbourhood error compensation K");
     if ui.button("Defaults").clicked() {
         *t = TransparencySettings::default();
+    }
+}
+
+/// The lessons in the `lessons` folder beside the open set.
+fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>) {
+    let lessons = match scene.map(Scene::source) {
+        Some([set]) => super::lesson_panel::lessons_beside(set),
+        _ => Vec::new(),
+    };
+    if lessons.is_empty() {
+        ui.label("This set has no lessons (a lessons folder of .vblesson files beside it).");
+    }
+    for path in lessons {
+        let title = vbrain::lesson::Lesson::load(&path).map_or_else(|e| e.to_string(), |l| l.title);
+        if ui.button(title).clicked() {
+            out.push(Action::OpenLesson(path));
+        }
     }
 }
 

@@ -20,6 +20,7 @@ pub mod export;
 pub mod files;
 pub mod inspector;
 pub mod jobs;
+pub mod lesson_panel;
 pub mod menus;
 pub mod panels;
 pub mod scene;

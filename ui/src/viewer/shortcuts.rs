@@ -26,6 +26,8 @@ pub enum Command {
     Undo,
     SaveAs,
     Save,
+    NextStep,
+    PreviousStep,
     Open,
     Export,
 }
@@ -77,7 +79,7 @@ pub const MOUSE: [(&str, &str); 7] = [
 ];
 
 /// The keyboard shortcuts, in the order they are handled within a frame.
-pub const SHORTCUTS: [Shortcut; 16] = {
+pub const SHORTCUTS: [Shortcut; 18] = {
     use Command::*;
     [
         Shortcut::new(
@@ -114,6 +116,8 @@ pub const SHORTCUTS: [Shortcut; 16] = {
         Shortcut::new(&[Key::S], Save, "Ctrl+S", "save the scene (organs, camera, render settings) as a .vbscene file")
             .command()
             .while_typing(),
+        Shortcut::new(&[Key::PageDown], NextStep, "PageDown", "next step of the open lesson"),
+        Shortcut::new(&[Key::PageUp], PreviousStep, "PageUp", "previous step of the open lesson"),
         Shortcut::new(&[Key::O], Open, "Ctrl+O", "open an organ set or a scene").command().while_typing(),
         Shortcut::new(&[Key::E], Export, "Ctrl+E", "export a screenshot").command().while_typing(),
     ]

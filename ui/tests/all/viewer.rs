@@ -354,3 +354,42 @@ fn unsaved_changes_are_asked_about_and_recovered() {
     assert!(!h.state().scene().unwrap().layout().organs[gyrus].visible, "the hidden gyrus is back");
     assert!(h.state().document().unsaved(h.state().scene()), "restored changes are not saved anywhere yet");
 }
+
+#[test]
+fn play_a_shipped_lesson_step_by_step() {
+    use vbrain_ui::viewer::action::Action;
+    let mut h = harness_of(egui::Vec2::new(900.0, 560.0));
+    h.get_by_label("Lessons").click();
+    h.run_steps(2);
+    h.get_by_label("The ventricular system").click();
+    h.run_steps(3);
+    let path = h.state().lesson().lesson.as_ref().map(|(p, _)| p.clone()).expect("the Lessons menu opens it");
+    let lesson = vbrain::lesson::Lesson::load(&path).unwrap();
+    let layout_of = |k: usize, h: &Harness<'static, App>| lesson.steps[k].view(h.state().scene().unwrap().set()).layout;
+    assert_eq!(h.state().scene().unwrap().layout(), &layout_of(0, &h), "it opens at step 1");
+    let first = h.state().read_image().unwrap();
+
+    h.key_press(Key::PageDown);
+    h.run_steps(2);
+    assert_eq!(h.state().lesson().step, 1);
+    assert_eq!(h.state().scene().unwrap().layout(), &layout_of(1, &h), "Page Down shows step 2");
+    assert_ne!(h.state().read_image().unwrap(), first);
+    assert!(h.query_by_label_contains("interventricular foramina").is_some(), "the caption is shown");
+
+    h.get_by_label("< Previous").click();
+    h.run_steps(2);
+    assert_eq!(h.state().lesson().step, 0);
+    assert_eq!(h.state().read_image().unwrap(), first, "back at step 1, the same picture");
+    h.get_by_label("5. The flow of cerebrospinal fluid").click();
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &layout_of(4, &h));
+
+    // A step's layout is an undoable change like any other.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &layout_of(0, &h));
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.run_steps(2);
+    assert!(!h.state().lesson().is_open());
+}

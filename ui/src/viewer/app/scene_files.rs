@@ -2,10 +2,11 @@
 //! it, saving it, and what happens to unsaved changes (the question before they are lost, the
 //! recovery file kept and offered back). A child module of the app, so it reaches its state.
 
-use super::{Action, App, Notification};
+use super::{Action, App, LessonPanel, Notification};
 use crate::viewer::document;
 use eframe::egui;
 use std::path::Path;
+use vbrain::edit::{Edit, Organs};
 
 impl App {
     /// Opens a scene file: applied at once over the set it names if that is open, else once that
@@ -135,5 +136,57 @@ impl App {
             document::Pending::Quit => self.perform(ctx, vec![Action::Quit]),
             document::Pending::Open(paths) => self.perform(ctx, vec![Action::Open(paths)]),
         }
+    }
+
+    /// Opens a lesson at its first step, over its set (loading that first if another is open).
+    pub(super) fn open_lesson(&mut self, ctx: &egui::Context, path: &Path) {
+        let lesson = match vbrain::lesson::Lesson::load(path) {
+            Ok(l) => l,
+            Err(e) => return self.notify(e.to_string(), true),
+        };
+        if self.has_set_of(&lesson, path) {
+            self.start_lesson(path, lesson);
+        } else {
+            self.pending_lesson = Some(path.to_path_buf());
+            self.perform(ctx, vec![Action::Open(vec![lesson.set_path(path)])]);
+        }
+    }
+
+    /// The lesson waiting for its set, now that a set is installed.
+    pub(super) fn open_pending_lesson(&mut self) {
+        let Some(path) = self.pending_lesson.take() else { return };
+        match vbrain::lesson::Lesson::load(&path) {
+            Ok(lesson) if self.has_set_of(&lesson, &path) => self.start_lesson(&path, lesson),
+            Ok(_) => {}
+            Err(e) => self.notify(e.to_string(), true),
+        }
+    }
+
+    /// Is the lesson's set the one open?
+    fn has_set_of(&self, lesson: &vbrain::lesson::Lesson, path: &Path) -> bool {
+        let set = std::fs::canonicalize(lesson.set_path(path)).ok();
+        self.scene.as_ref().is_some_and(|s| matches!(s.source(), [one] if std::fs::canonicalize(one).ok() == set))
+    }
+
+    fn start_lesson(&mut self, path: &Path, lesson: vbrain::lesson::Lesson) {
+        if let Some(scene) = &self.scene {
+            let unknown = lesson.unknown_names(scene.set());
+            if !unknown.is_empty() {
+                self.notify(format!("{}: the set has no organ or group {}", path.display(), unknown.join(", ")), false);
+            }
+        }
+        self.lesson = LessonPanel { lesson: Some((path.to_path_buf(), lesson)), step: 0 };
+        self.lesson_step(0);
+    }
+
+    /// Shows step `k` of the open lesson: its layout (one undoable step) and camera.
+    pub(super) fn lesson_step(&mut self, k: usize) {
+        let (Some((_, lesson)), Some(scene)) = (&self.lesson.lesson, &mut self.scene) else { return };
+        let Some(step) = lesson.steps.get(k) else { return };
+        let view = step.view(scene.set());
+        let edit = Edit::Restore { organs: Organs::All, states: view.layout.organs };
+        scene.apply(&edit, false);
+        self.viewport.set_navigator(view.navigator, false);
+        self.lesson.step = k;
     }
 }
