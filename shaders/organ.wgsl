@@ -2,7 +2,8 @@
 // Entry points: vs_main (all organ pipelines), fs_shade (opaque, blended and layer pipelines),
 // fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the "leaf pick"
 // pipeline writing the instance index, which the benchmark sets to a leaf number), fs_screendoor
-// (transparent organs through their sub-sample masks) and fs_weighted (weighted blended OIT).
+// (transparent organs through their sub-sample masks), fs_weighted (weighted blended OIT) and
+// fs_mask (the outline mask: the organ's colour slot holds its mask channels).
 // Keep in sync with FrameUniform, OrganUniform and ScreendoorUniform in src/render/.
 
 struct Frame {
@@ -128,6 +129,11 @@ fn fs_weighted(in: VsOut) -> Weighted {
 @fragment
 fn fs_pick(in: VsOut) -> @location(0) u32 {
     return organ.id.x;
+}
+
+@fragment
+fn fs_mask(in: VsOut) -> @location(0) vec4<f32> {
+    return organ.colour;
 }
 
 @fragment

@@ -4,6 +4,10 @@
 //! A continuous gesture (a slider or mouse drag) is one step: edits recorded with the same
 //! [`Gesture`] key while it lasts merge into the step it began, which keeps the state from before
 //! the gesture. Camera moves are not edits and never enter the history.
+//!
+//! Steps made outside the layout (a lesson's steps edited) take their place in the same order:
+//! [`History::record_outside`] records one by its label, undo and redo of it leave the layout
+//! alone, and [`History::undo_is_outside`] tells the owner to undo its own change too.
 
 use crate::edit::{apply, Edit, Organs};
 use crate::layout::Layout;
@@ -39,6 +43,13 @@ struct Step {
     /// Applied to undo: restores the state from before the step.
     undo: Edit,
     gesture: Option<Gesture>,
+    /// A step made outside the layout: its owner undoes and redoes it.
+    outside: bool,
+}
+
+/// An edit that changes nothing (an outside step's part in the layout).
+fn nothing() -> Edit {
+    Edit::Restore { organs: Organs::List(Vec::new()), states: Vec::new() }
 }
 
 #[derive(Clone, Debug)]
@@ -95,14 +106,40 @@ impl History {
             if !changed {
                 return false;
             }
-            self.done.push(Step { label, redo: edit, undo: inverse, gesture });
-            if self.done.len() > self.limit {
-                self.done.remove(0);
-            }
+            self.push(Step { label, redo: edit, undo: inverse, gesture, outside: false });
         }
         self.undone.clear();
         self.open = gesture.is_some();
         changed
+    }
+
+    fn push(&mut self, step: Step) {
+        self.done.push(step);
+        if self.done.len() > self.limit {
+            self.done.remove(0);
+        }
+    }
+
+    /// Records a step made outside the layout, by its label; what was undone cannot be redone.
+    pub fn record_outside(&mut self, label: String) {
+        self.push(Step { label, redo: nothing(), undo: nothing(), gesture: None, outside: true });
+        self.undone.clear();
+        self.open = false;
+    }
+
+    /// Is the step [`History::undo`] would undo one made outside the layout?
+    pub fn undo_is_outside(&self) -> bool {
+        self.done.last().is_some_and(|s| s.outside)
+    }
+
+    pub fn redo_is_outside(&self) -> bool {
+        self.undone.last().is_some_and(|s| s.outside)
+    }
+
+    /// Forgets the steps made outside the layout (their owner is gone: a lesson was closed).
+    pub fn forget_outside(&mut self) {
+        self.done.retain(|s| !s.outside);
+        self.undone.retain(|s| !s.outside);
     }
 
     /// Ends the current gesture (the drag was released): the next edit is a new step.

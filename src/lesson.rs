@@ -5,7 +5,10 @@
 //! the anterior view, toward the subject's right and upward, and a distance relative to the framed
 //! one), a caption in simple markup (`**bold**`, `*italics*`, lines starting `- ` as a list) and
 //! the organs to highlight. Steps are applied in order to the default layout each time, so each
-//! step stands alone.
+//! step stands alone. A step made in the viewer ([`Step::capture`]) says everything that differs
+//! from the default layout, colours and placements (millimetres and degrees, world space) too, and
+//! holds the camera exactly where it is not the framed view of an angle. [`LessonEdit`]s change a
+//! lesson one undoable step at a time.
 //!
 //! Reading never panics: a file that is not JSON names itself and the line; a newer format says
 //! so; ids and groups the set does not have are collected as warnings, once each.
@@ -14,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;
+use crate::scene_file::{CameraMode, CameraState};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -51,13 +55,54 @@ pub struct Step {
     /// Opacity by id or group, applied in key order after `show` and `hide`.
     #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
     pub opacity: BTreeMap<String, f32>,
+    /// Colour by id (sRGB, 0..=1), where it differs from the set's.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub colour: BTreeMap<String, [f32; 3]>,
+    /// Placement by id, where an organ is moved.
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub place: BTreeMap<String, Placement>,
+    /// The camera exactly (instead of `view` and `zoom`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera: Option<CameraState>,
     /// Organ ids or groups the step points at.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub highlight: Vec<String>,
 }
 
+/// Where an organ is moved: millimetres (world space), degrees about x, y, z about its centre, and
+/// a scale.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    pub translation: [f32; 3],
+    pub rotation: [f32; 3],
+    pub scale: f32,
+}
+
 fn one() -> f32 {
     1.0
+}
+
+/// One undoable change to a lesson.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LessonEdit {
+    /// Insert a step before index `at` (at the end if past it).
+    Insert {
+        at: usize,
+        step: Box<Step>,
+    },
+    Remove(usize),
+    /// Move step `from` to index `to`.
+    Move {
+        from: usize,
+        to: usize,
+    },
+    /// Replace step `at`.
+    Replace {
+        at: usize,
+        step: Box<Step>,
+    },
+    Retitle(String),
 }
 
 /// A step over a set: its layout, camera and highlighted organs.
@@ -65,6 +110,8 @@ fn one() -> f32 {
 pub struct StepView {
     pub layout: Layout,
     pub navigator: Navigator,
+    /// The camera walks through rather than orbits.
+    pub fly: bool,
     pub highlight: Vec<usize>,
 }
 
@@ -92,6 +139,64 @@ impl Lesson {
         Ok(lesson)
     }
 
+    /// A new lesson over the set at `set_path`, to be saved at `lesson_path`.
+    pub fn new(title: &str, set_path: &Path, lesson_path: &Path, steps: Vec<Step>) -> Lesson {
+        let base = lesson_path.parent().unwrap_or(Path::new(""));
+        let set = crate::scene_file::relative_to(set_path, base);
+        Lesson { format: FORMAT.into(), title: title.into(), set, steps }
+    }
+
+    /// The JSON text (keys in a fixed order, two-space indents, a final newline).
+    pub fn to_json(&self, path: &Path) -> Result<String> {
+        let mut s = serde_json::to_string_pretty(self)
+            .map_err(|e| Error::Encode { path: path.into(), message: e.to_string() })?;
+        s.push('\n');
+        Ok(s)
+    }
+
+    /// Writes the lesson atomically.
+    pub fn save(&self, path: &Path) -> Result<()> {
+        let text = self.to_json(path)?;
+        crate::atomic::write(path, |w| std::io::Write::write_all(w, text.as_bytes()))
+    }
+
+    /// This lesson to be saved at `to` instead of `from`: its set path made relative to the new
+    /// folder.
+    pub fn moved(&self, from: &Path, to: &Path) -> Lesson {
+        Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone())
+    }
+
+    /// Applies an edit; returns what it did, for the Edit menu ("add step 3"), or `None` if it
+    /// changed nothing (an index out of range, a lesson's last step removed).
+    pub fn edit(&mut self, edit: &LessonEdit) -> Option<String> {
+        let n = self.steps.len();
+        match edit {
+            LessonEdit::Insert { at, step } => {
+                let at = (*at).min(n);
+                self.steps.insert(at, (**step).clone());
+                Some(format!("add step {}", at + 1))
+            }
+            LessonEdit::Remove(at) if *at < n && n > 1 => {
+                self.steps.remove(*at);
+                Some(format!("delete step {}", at + 1))
+            }
+            LessonEdit::Move { from, to } if *from < n && *to < n && from != to => {
+                let step = self.steps.remove(*from);
+                self.steps.insert(*to, step);
+                Some(format!("move step {} to {}", from + 1, to + 1))
+            }
+            LessonEdit::Replace { at, step } if *at < n && self.steps[*at] != **step => {
+                self.steps[*at] = (**step).clone();
+                Some(format!("change step {}", at + 1))
+            }
+            LessonEdit::Retitle(t) if *t != self.title => {
+                self.title = t.clone();
+                Some("rename the lesson".into())
+            }
+            _ => None,
+        }
+    }
+
     pub fn load(path: &Path) -> Result<Lesson> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
         Lesson::parse(&text, path)
@@ -111,6 +216,7 @@ impl Lesson {
         let mut unknown: Vec<String> = Vec::new();
         for s in &self.steps {
             let names = s.show.iter().chain(&s.hide).chain(s.opacity.keys()).chain(&s.highlight);
+            let names = names.chain(s.colour.keys()).chain(s.place.keys());
             for n in names {
                 if set.select(n).is_empty() && !unknown.contains(n) {
                     unknown.push(n.clone());
@@ -122,6 +228,62 @@ impl Lesson {
 }
 
 impl Step {
+    /// A step showing `layout` over `set` from `camera`: everything that differs from the set's
+    /// default layout, by group where a whole group (as [`OrganSet::select`] reads a group path)
+    /// shares a change, else by id; the camera as a view and zoom where it frames the default
+    /// layout's centre from an orbit, else exactly.
+    pub fn capture(set: &OrganSet, layout: &Layout, camera: CameraState, title: &str, highlight: &[usize]) -> Step {
+        let default = Layout::new(set);
+        let n = set.organs.len().min(layout.organs.len());
+        let (mut show, mut hide, mut opacity, mut colour, mut place) =
+            (Vec::new(), Vec::new(), BTreeMap::new(), BTreeMap::new(), BTreeMap::new());
+        let visible: Vec<Option<bool>> = (0..n)
+            .map(|i| (layout.organs[i].visible != default.organs[i].visible).then_some(layout.organs[i].visible))
+            .collect();
+        for (key, v) in by_group(set, &visible) {
+            if v {
+                show.push(key)
+            } else {
+                hide.push(key)
+            }
+        }
+        let faded: Vec<Option<u32>> = (0..n)
+            .map(|i| {
+                (layout.organs[i].opacity != default.organs[i].opacity).then_some(layout.organs[i].opacity.to_bits())
+            })
+            .collect();
+        for (key, bits) in by_group(set, &faded) {
+            opacity.insert(key, f32::from_bits(bits));
+        }
+        for i in 0..n {
+            let (s, id) = (&layout.organs[i], &set.organs[i].id);
+            if s.colour != default.organs[i].colour {
+                colour.insert(id.clone(), s.colour);
+            }
+            if !s.transform.is_identity() {
+                let t = &s.transform;
+                let p =
+                    Placement { translation: t.translation.into(), rotation: t.rotation_deg.into(), scale: t.scale };
+                place.insert(id.clone(), p);
+            }
+        }
+        let framed = Navigator::framing(&default.bounds(set), camera.azimuth, camera.elevation);
+        let orbit = camera.mode == CameraMode::Orbit && framed.target == glam::Vec3::from(camera.target);
+        Step {
+            title: title.into(),
+            caption: String::new(),
+            view: [camera.azimuth, camera.elevation],
+            zoom: if orbit { camera.distance / framed.distance } else { 1.0 },
+            show,
+            hide,
+            opacity,
+            colour,
+            place,
+            camera: (!orbit).then_some(camera),
+            highlight: highlight.iter().filter_map(|&i| set.organs.get(i).map(|o| o.id.clone())).collect(),
+        }
+    }
+
     /// This step over `set`: the default layout changed as it says, the camera framing the set's
     /// default layout from its view, and the highlighted organs. Names the set lacks are skipped
     /// (see [`Lesson::unknown_names`]).
@@ -139,14 +301,69 @@ impl Step {
                 layout.organs[i].opacity = if a.is_finite() { a.clamp(0.0, 1.0) } else { 1.0 };
             }
         }
-        let mut navigator = Navigator::framing(&Layout::new(set).bounds(set), self.view[0], self.view[1]);
-        if self.zoom.is_finite() && self.zoom > 0.0 {
-            navigator.distance *= self.zoom;
+        for (id, c) in &self.colour {
+            for i in set.select(id) {
+                layout.organs[i].colour = c.map(|v| if v.is_finite() { v.clamp(0.0, 1.0) } else { 0.5 });
+            }
         }
+        for (id, p) in &self.place {
+            for i in set.select(id) {
+                let t = &mut layout.organs[i].transform;
+                let finite = |v: [f32; 3]| glam::Vec3::from(v.map(|x| if x.is_finite() { x } else { 0.0 }));
+                t.translation = finite(p.translation);
+                t.rotation_deg = finite(p.rotation);
+                t.scale = if p.scale.is_finite() && p.scale > 0.0 { p.scale } else { 1.0 };
+            }
+        }
+        let (navigator, fly) = match &self.camera {
+            Some(c) => (c.navigator(), c.mode == CameraMode::Walk),
+            None => {
+                let mut navigator = Navigator::framing(&Layout::new(set).bounds(set), self.view[0], self.view[1]);
+                if self.zoom.is_finite() && self.zoom > 0.0 {
+                    navigator.distance *= self.zoom;
+                }
+                (navigator, false)
+            }
+        };
         let mut highlight: Vec<usize> = self.highlight.iter().flat_map(|n| set.select(n)).collect();
+        highlight.sort_unstable();
         highlight.dedup();
-        StepView { layout, navigator, highlight }
+        StepView { layout, navigator, fly, highlight }
     }
+}
+
+/// Per-organ changes (`None`: unchanged) as keys: the largest groups whose organs all share one
+/// change, then ids for the rest, in the set's order.
+fn by_group<T: Copy + PartialEq>(set: &OrganSet, changes: &[Option<T>]) -> Vec<(String, T)> {
+    let mut groups: Vec<String> = Vec::new();
+    for o in &set.organs {
+        let parts: Vec<&str> = o.group.split('/').filter(|p| !p.is_empty()).collect();
+        for k in 1..=parts.len() {
+            let g = parts[..k].join("/");
+            if !groups.contains(&g) && set.find(&g).is_none() {
+                groups.push(g);
+            }
+        }
+    }
+    let members: Vec<(String, Vec<usize>)> =
+        groups.into_iter().map(|g| (set.select(&g), g)).map(|(m, g)| (g, m)).collect();
+    let mut order: Vec<&(String, Vec<usize>)> = members.iter().filter(|(_, m)| m.len() > 1).collect();
+    order.sort_by_key(|(_, m)| std::cmp::Reverse(m.len()));
+    let mut covered = vec![false; changes.len()];
+    let mut out = Vec::new();
+    for (g, m) in order {
+        let Some(&Some(v)) = m.first().and_then(|&i| changes.get(i)) else { continue };
+        if m.iter().all(|&i| !covered.get(i).copied().unwrap_or(true) && changes.get(i) == Some(&Some(v))) {
+            m.iter().for_each(|&i| covered[i] = true);
+            out.push((g.clone(), v));
+        }
+    }
+    for (i, c) in changes.iter().enumerate() {
+        if let (Some(v), false) = (c, covered[i]) {
+            out.push((set.organs[i].id.clone(), *v));
+        }
+    }
+    out
 }
 
 #[cfg(test)]
@@ -180,6 +397,59 @@ mod tests {
         assert!((v.navigator.distance - framed.distance * 0.5).abs() < 1e-3);
         assert_eq!(lesson.unknown_names(&set), vec!["zz".to_string()]);
         assert_eq!(lesson.set_path(Path::new("/x/lessons/l.vblesson")), Path::new("/x/lessons/../set"));
+    }
+
+    #[test]
+    fn a_captured_step_shows_the_same_layout_and_camera_and_names_groups() {
+        let set = set();
+        let mut layout = Layout::new(&set);
+        layout.organs[0].visible = false;
+        layout.organs[1].visible = false;
+        layout.organs[2].opacity = 0.3;
+        layout.organs[2].colour = [0.1, 0.2, 0.3];
+        layout.organs[1].transform.translation = glam::Vec3::new(5.0, 0.0, -2.5);
+        layout.organs[1].transform.rotation_deg = glam::Vec3::new(0.0, 30.0, 0.0);
+        let framed = Navigator::framing(&Layout::new(&set).bounds(&set), 40.0, -15.0);
+        let mut orbit = CameraState::of(&framed, CameraMode::Orbit);
+        orbit.distance *= 0.75;
+        let step = Step::capture(&set, &layout, orbit, "t", &[2]);
+        assert_eq!(step.hide, vec!["G".to_string()], "a whole group is named once");
+        assert_eq!(step.opacity.keys().collect::<Vec<_>>(), ["c"]);
+        assert!(step.camera.is_none() && step.view == [40.0, -15.0]);
+        let v = step.view(&set);
+        assert_eq!(v.layout, layout);
+        assert!((v.navigator.distance - orbit.distance).abs() < 1e-4);
+        assert_eq!(v.highlight, vec![2]);
+        let walk = CameraState { mode: CameraMode::Walk, target: [1.0, 2.0, 3.0], ..orbit };
+        let step = Step::capture(&set, &layout, walk, "t", &[]);
+        let v = step.view(&set);
+        assert_eq!((CameraState::of(&v.navigator, CameraMode::Walk), v.fly), (walk, true));
+        let text = Lesson::new("L", Path::new("/s/set"), Path::new("/s/l/x.vblesson"), vec![step.clone()]);
+        let text = text.to_json(Path::new("x")).unwrap();
+        let back = Lesson::parse(&text, Path::new("x")).unwrap();
+        assert_eq!((back.steps[0].clone(), back.set), (step, PathBuf::from("../set")));
+    }
+
+    #[test]
+    fn lesson_edits_insert_move_replace_and_remove() {
+        let step = |t: &str| {
+            Step::capture(
+                &set(),
+                &Layout::new(&set()),
+                CameraState::of(&Navigator::framing(&Layout::new(&set()).bounds(&set()), 0.0, 0.0), CameraMode::Orbit),
+                t,
+                &[],
+            )
+        };
+        let mut l = Lesson::new("L", Path::new("set"), Path::new("x.vblesson"), vec![step("a")]);
+        assert_eq!(l.edit(&LessonEdit::Insert { at: 9, step: Box::new(step("b")) }).as_deref(), Some("add step 2"));
+        assert!(l.edit(&LessonEdit::Move { from: 1, to: 0 }).is_some());
+        let titles = |l: &Lesson| l.steps.iter().map(|s| s.title.clone()).collect::<Vec<_>>();
+        assert_eq!(titles(&l), ["b", "a"]);
+        assert!(l.edit(&LessonEdit::Replace { at: 1, step: Box::new(step("a")) }).is_none(), "no change");
+        assert!(l.edit(&LessonEdit::Remove(0)).is_some());
+        assert!(l.edit(&LessonEdit::Remove(0)).is_none(), "a lesson keeps one step");
+        assert_eq!(titles(&l), ["a"]);
     }
 
     #[test]

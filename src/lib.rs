@@ -39,6 +39,7 @@ pub mod render;
 pub mod rng;
 pub mod scene_file;
 pub mod surface;
+pub mod transition;
 pub mod transparency;
 
 pub use error::{Error, Result};

@@ -257,7 +257,7 @@ fn list(ids: &[&str]) -> String {
 
 /// `path` relative to the folder `base` where both are relative or both absolute (after making
 /// them absolute against the working directory); else `path` as given.
-fn relative_to(path: &Path, base: &Path) -> PathBuf {
+pub(crate) fn relative_to(path: &Path, base: &Path) -> PathBuf {
     let absolute = |p: &Path| std::path::absolute(p).ok();
     let (Some(p), Some(b)) = (absolute(path), absolute(base)) else {
         return path.to_path_buf();

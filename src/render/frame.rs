@@ -27,6 +27,10 @@ pub struct FrameInput<'a> {
     pub moving: bool,
     /// Order in which organs are drawn (a permutation of organ indices); `None` is index order.
     pub draw_order: Option<&'a [usize]>,
+    /// Organs outlined as highlighted (a lesson step's), seen through whatever is in front.
+    pub highlight: &'a [usize],
+    /// The selected organ, outlined in its own colour.
+    pub selection: Option<usize>,
 }
 
 impl<'a> FrameInput<'a> {
@@ -41,6 +45,8 @@ impl<'a> FrameInput<'a> {
             transparency: TransparencySettings::default(),
             moving: false,
             draw_order: None,
+            highlight: &[],
+            selection: None,
         }
     }
 

@@ -9,7 +9,8 @@
 //! each its own module with its pipelines and per-frame data, called through one interface
 //! (`frame::Technique`): `blend` (opaque, and sorted or unsorted alpha blending), `screendoor`
 //! (thesis chapter 4), `weighted` (weighted blended OIT), `exact` (the reference), `debug` (the
-//! culling view, thesis Figure 21) and `ids` (picking and leaf visibility). `uniforms` holds the
+//! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
+//! and selected organs, over the finished frame). `uniforms` holds the
 //! structs shared with WGSL, `pipelines` what the techniques build them with.
 
 mod blend;
@@ -18,6 +19,7 @@ mod debug;
 mod exact;
 mod frame;
 mod ids;
+mod outline;
 mod pipelines;
 mod renderer;
 mod scene;
@@ -28,6 +30,7 @@ mod weighted;
 
 pub use context::{GpuContext, NO_ADAPTER_HELP};
 pub use frame::{FrameInput, RenderStats};
+pub use outline::WIDTH as OUTLINE_WIDTH;
 pub use pipelines::SAMPLE_COUNT;
 pub use renderer::Renderer;
 pub use target::{Target, COLOR_FORMAT};

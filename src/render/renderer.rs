@@ -7,6 +7,7 @@ use super::debug::CullDebug;
 use super::exact::Exact;
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::ids::{IdKind, Ids};
+use super::outline::Outline;
 use super::pipelines::{module, Composite, PipelineFactory};
 use super::scene::GpuScene;
 use super::screendoor::{opaque_hdr, Screendoor, ScreendoorFrame};
@@ -25,6 +26,7 @@ pub struct Renderer {
     exact: Exact,
     composite: Composite,
     ids: Ids,
+    outline: Outline,
 }
 
 impl Renderer {
@@ -39,11 +41,12 @@ impl Renderer {
         let weighted = Weighted::new(device, &factory, &scene.layout, &composite, hdr);
         let exact = Exact::new(&factory, &scene.layout);
         let ids = Ids::new(&factory, &scene.layout);
-        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, exact, composite, ids })
+        let outline = Outline::new(device, &factory, &scene.layout, &composite);
+        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, exact, composite, ids, outline })
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones
-    /// as `frame.transparency` says.
+    /// as `frame.transparency` says, then the outlines of highlighted and selected organs.
     pub fn render(
         &self,
         device: &wgpu::Device,
@@ -91,6 +94,12 @@ impl Renderer {
         let frame = Frame { device, queue, scene: &self.scene, input, target };
         let mut stats = technique.record(&frame, &mut encoder)?;
         queue.submit([encoder.finish()]);
+        if !input.highlight.is_empty() || input.selection.is_some() {
+            // Its own submission: it rewrites the organ uniforms the technique drew with.
+            let mut encoder = device.create_command_encoder(&Default::default());
+            self.outline.record(device, queue, (&self.scene, &self.composite), (input, target), &mut encoder);
+            queue.submit([encoder.finish()]);
+        }
         let states = &input.layout.organs;
         for i in (0..self.scene.organ_count().min(states.len())).filter(|&i| states[i].is_drawn()) {
             let triangles: u32 = self.scene.ranges(i, input.draw).iter().map(|r| (r.end - r.start) / 3).sum();

@@ -9,6 +9,9 @@ use crate::error::{Error, Result};
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 pub(crate) const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// The outline mask: the nearest highlighted organ's index + 1 in red, 1 for the selected one in
+/// green.
+pub(crate) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 pub struct Target {
     /// Unique among the process's targets: techniques keep bind groups of the last one drawn into.
@@ -28,6 +31,8 @@ pub struct Target {
     pub(crate) ids_depth: wgpu::TextureView,
     /// Float images for the transparency modes, made on first use.
     hdr: std::sync::OnceLock<Hdr>,
+    /// The outline mask, made on first use.
+    mask: std::sync::OnceLock<wgpu::TextureView>,
 }
 
 /// Float images of a target's size for screen-door accumulation and weighted blended OIT.
@@ -88,6 +93,7 @@ impl Target {
             ids,
             ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
             hdr: std::sync::OnceLock::new(),
+            mask: std::sync::OnceLock::new(),
         })
     }
 
@@ -125,6 +131,24 @@ impl Target {
                 reveal_msaa: make("reveal msaa", REVEAL_FORMAT, samples),
                 reveal: make("reveal", REVEAL_FORMAT, 1),
             }
+        })
+    }
+
+    /// The outline mask (single-sampled, [`MASK_FORMAT`]), made on first use.
+    pub(crate) fn mask(&self, device: &wgpu::Device) -> &wgpu::TextureView {
+        self.mask.get_or_init(|| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("outline mask"),
+                    size: wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: MASK_FORMAT,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&wgpu::TextureViewDescriptor::default())
         })
     }
 

@@ -68,7 +68,7 @@ pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hi
 }
 
 /// The organs `key` names: an id or a group ([`OrganSet::select`]).
-fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
+pub fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
     let found = set.select(key);
     if found.is_empty() {
         bail!("no organ with id \"{key}\" and no group of that name (see `vbrain info`)");

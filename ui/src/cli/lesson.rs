@@ -34,6 +34,7 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
         let frame = FrameInput {
             draw: Some(&draw),
             background: crate::background_linear(crate::background_srgb(), false),
+            highlight: &view.highlight,
             ..FrameInput::new(&set, &camera, &view.layout)
         };
         renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;

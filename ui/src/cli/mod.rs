@@ -144,6 +144,9 @@ pub struct RenderArgs {
     pub camera: CameraArgs,
     #[command(flatten)]
     pub layout: LayoutArgs,
+    /// Outline organs by id or group, seen through what is in front (as a lesson step highlights)
+    #[arg(long, num_args = 1..)]
+    pub highlight: Vec<String>,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,

@@ -4,7 +4,7 @@
 //! (and over the same bounds: what is drawn and the set's default layout), so a scene renders
 //! alike here and in the viewer.
 
-use super::common::{apply_layout_args, database, open_reporting};
+use super::common::{apply_layout_args, database, open_reporting, organs};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
 use anyhow::{anyhow, bail, Result};
@@ -41,6 +41,10 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         (layout, selection) = (applied.layout, applied.selection);
     }
     apply_layout_args(&set, &mut layout, &args.layout)?;
+    let mut highlight = Vec::new();
+    for key in &args.highlight {
+        highlight.extend(organs(&set, key)?);
+    }
 
     // The camera: the options' view or orbit, else the scene's, else the anterior view.
     let bounds = layout.bounds(&set).union(Layout::new(&set).bounds(&set));
@@ -93,6 +97,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         background,
         transparency,
         draw_order: order.as_deref(),
+        highlight: &highlight,
+        selection,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {

@@ -6,6 +6,7 @@
 use std::path::PathBuf;
 use vbrain::camera::View;
 use vbrain::edit::Edit;
+use vbrain::lesson::LessonEdit;
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action {
@@ -24,7 +25,22 @@ pub enum Action {
     OpenLesson(PathBuf),
     /// Show step k (0-based) of the open lesson.
     LessonStep(usize),
+    /// Close the lesson (asking first if it has unsaved changes).
     CloseLesson,
+    /// A new lesson over the open set, its first step the current view.
+    NewLesson,
+    /// Change the lesson (one undoable step).
+    LessonEdit(LessonEdit),
+    /// A step from the current view after the current one, or (`replace`) into the current one.
+    AddLessonStep {
+        replace: bool,
+    },
+    /// Save the lesson: to its file, or (`as_new`, or a new lesson) ask where.
+    SaveLesson {
+        as_new: bool,
+    },
+    /// Save the lesson to this file (`.vblesson`).
+    SaveLessonTo(PathBuf),
     Select(Option<usize>),
     /// Open a set (one folder or file), a scene file (`.vbscene`, then its set) or several mesh
     /// files, off the UI thread.

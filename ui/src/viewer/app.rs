@@ -29,6 +29,7 @@ use vbrain::edit::{Edit, Organs};
 use vbrain::organ_set::{self, Loaded};
 use vbrain::render::{FrameInput, Renderer};
 
+mod lessons;
 mod scene_files;
 
 /// How the viewer starts.
@@ -182,6 +183,7 @@ impl App {
             gpu: self.gpu.as_ref(),
             settings: &self.settings,
             selected: self.selected,
+            highlight: &self.lesson.highlight,
         }
     }
 
@@ -283,12 +285,27 @@ impl App {
                     _ => self.document.save_window.open = true,
                 },
                 Action::SaveSceneTo(path) => self.save_scene(&path),
+                Action::OpenLesson(path) if self.lesson.unsaved() => {
+                    self.document.confirm = Some(document::Pending::Open(vec![path]));
+                }
                 Action::OpenLesson(path) => self.open_lesson(ctx, &path),
-                Action::LessonStep(k) => self.lesson_step(k),
-                Action::CloseLesson => self.lesson = LessonPanel::default(),
+                Action::LessonStep(k) => self.lesson_step(ctx, k),
+                Action::CloseLesson => self.ask_close_lesson(),
+                Action::NewLesson if self.lesson.unsaved() => {
+                    self.document.confirm = Some(document::Pending::CloseLesson);
+                }
+                Action::NewLesson => self.new_lesson(),
+                Action::LessonEdit(edit) => self.edit_lesson(&edit),
+                Action::AddLessonStep { replace } => self.add_lesson_step(replace),
+                Action::SaveLesson { as_new } => self.save_lesson(as_new, None),
+                Action::SaveLessonTo(path) => self.save_lesson(false, Some(&path)),
                 Action::Undo | Action::Redo => {
                     let undo = action == Action::Undo;
                     if let Some(scene) = &mut self.scene {
+                        let history = scene.history();
+                        if (undo && history.undo_is_outside()) || (!undo && history.redo_is_outside()) {
+                            self.lesson.undo(!undo);
+                        }
                         let done = if undo { scene.undo() } else { scene.redo() };
                         if done.is_none() {
                             self.notify(if undo { "nothing to undo" } else { "nothing to redo" }, false);
@@ -297,7 +314,7 @@ impl App {
                     }
                 }
                 Action::Select(organ) => self.selected = organ,
-                Action::Open(paths) if self.document.unsaved(self.scene.as_ref()) => {
+                Action::Open(paths) if self.unsaved(&document::Pending::Open(Vec::new())) => {
                     self.document.confirm = Some(document::Pending::Open(paths));
                 }
                 Action::Open(paths) => self.open(ctx, paths),
@@ -337,7 +354,7 @@ impl App {
                         self.notifications.remove(i);
                     }
                 }
-                Action::Quit if self.document.unsaved(self.scene.as_ref()) => {
+                Action::Quit if self.unsaved(&document::Pending::Quit) => {
                     self.document.confirm = Some(document::Pending::Quit);
                 }
                 Action::Quit => {
@@ -363,13 +380,13 @@ impl App {
         let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
         self.loading = None;
         match result {
-            Ok((loaded, database, paths)) => self.install(loaded, database, paths),
+            Ok((loaded, database, paths)) => self.install(ctx, loaded, database, paths),
             Err(e) => self.notify(e.to_string(), true),
         }
     }
 
     /// Makes a loaded set the scene (the previous one stays if this one has no organs).
-    fn install(&mut self, loaded: Loaded, database: Option<Database>, paths: Vec<PathBuf>) {
+    fn install(&mut self, ctx: &egui::Context, loaded: Loaded, database: Option<Database>, paths: Vec<PathBuf>) {
         for w in loaded.warnings {
             self.notify(w, false);
         }
@@ -397,7 +414,7 @@ impl App {
                 if let Some((path, file)) = self.document.pending.take() {
                     self.apply_scene(&path, &file);
                 }
-                self.open_pending_lesson();
+                self.open_pending_lesson(ctx);
             }
             Err(e) => self.notify(e.to_string(), true),
         }
@@ -461,6 +478,8 @@ impl App {
         let frame = FrameInput {
             background: self.settings.background_linear(self.settings.export.transparent),
             transparency: self.settings.transparency,
+            highlight: &self.lesson.highlight,
+            selection: self.selected,
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
         export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path)
@@ -505,6 +524,7 @@ impl eframe::App for App {
             }
         }
         self.poll_jobs(&ctx);
+        self.ease_lesson_step(&ctx);
         self.perform(&ctx, files::dropped(&ctx));
         let keys = self.key_actions(&ctx);
         self.perform(&ctx, keys);
@@ -555,6 +575,7 @@ impl eframe::App for App {
                 gpu: self.gpu.as_ref(),
                 settings: &self.settings,
                 selected: self.selected,
+                highlight: &self.lesson.highlight,
             };
             let actions = self.viewport.input(ui, &response, &input);
             self.perform(&ctx, actions);
@@ -563,6 +584,7 @@ impl eframe::App for App {
                 gpu: self.gpu.as_ref(),
                 settings: &self.settings,
                 selected: self.selected,
+                highlight: &self.lesson.highlight,
             };
             let actions = self.viewport.draw(ui, rect, &input);
             self.perform(&ctx, actions);

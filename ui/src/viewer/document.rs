@@ -42,6 +42,8 @@ pub const RECOVERY_SECONDS: f64 = 3.0;
 pub enum Pending {
     Quit,
     Open(Vec<PathBuf>),
+    /// Close the lesson (only the lesson's changes matter).
+    CloseLesson,
 }
 
 #[derive(Default)]
@@ -194,10 +196,11 @@ pub fn confirm_window(ctx: &egui::Context, pending: &Pending, name: &str) -> Opt
     let what = match pending {
         Pending::Quit => "before quitting",
         Pending::Open(_) => "before opening another",
+        Pending::CloseLesson => "before closing it",
     };
     egui::Modal::new(egui::Id::unique("unsaved changes")).show(ctx, |ui| {
         ui.heading("Save changes?");
-        ui.label(format!("{name} has changes that are not saved. Save them {what}?"));
+        ui.label(format!("Unsaved changes in {name}. Save them {what}?"));
         ui.horizontal(|ui| {
             if ui.button("Save").clicked() {
                 answer = Some(Answer::Save);

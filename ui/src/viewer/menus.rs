@@ -211,6 +211,11 @@ fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>)
         Some([set]) => super::lesson_panel::lessons_beside(set),
         _ => Vec::new(),
     };
+    let new = ui.add_enabled(scene.is_some(), egui::Button::new("New lesson"));
+    if new.on_hover_text("A lesson whose first step is the current view; add steps in the Lesson panel").clicked() {
+        out.push(Action::NewLesson);
+    }
+    ui.separator();
     if lessons.is_empty() {
         ui.label("This set has no lessons (a lessons folder of .vblesson files beside it).");
     }

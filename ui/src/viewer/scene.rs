@@ -24,6 +24,8 @@ pub struct Scene {
     history: History,
     /// Changes to the layout so far (edits, undos, redos, a scene applied): what "unsaved" compares.
     changes: u64,
+    /// What is drawn instead of the layout while a lesson step eases in.
+    shown: Option<Layout>,
 }
 
 impl Scene {
@@ -32,7 +34,17 @@ impl Scene {
         let layout = Layout::new(&set);
         let home = layout.bounds(&set);
         let last_translucent = set.organs.iter().map(|o| if o.opacity < 1.0 { o.opacity } else { 0.4 }).collect();
-        Scene { set, source, layout, renderer, home, last_translucent, history: History::default(), changes: 0 }
+        Scene {
+            set,
+            source,
+            layout,
+            renderer,
+            home,
+            last_translucent,
+            history: History::default(),
+            changes: 0,
+            shown: None,
+        }
     }
 
     pub fn set(&self) -> &OrganSet {
@@ -45,6 +57,16 @@ impl Scene {
 
     pub fn layout(&self) -> &Layout {
         &self.layout
+    }
+
+    /// The layout as drawn: the layout, or the eased state of a step change under way.
+    pub fn shown(&self) -> &Layout {
+        self.shown.as_ref().unwrap_or(&self.layout)
+    }
+
+    /// Draws `layout` instead of the layout (a transition's state); `None` draws the layout.
+    pub fn show_instead(&mut self, layout: Option<Layout>) {
+        self.shown = layout.filter(|l| l.organs.len() == self.layout.organs.len());
     }
 
     pub fn renderer(&self) -> &Renderer {
@@ -99,6 +121,17 @@ impl Scene {
         let done = self.history.redo(&mut self.layout);
         self.changes += u64::from(done.is_some());
         done
+    }
+
+    /// Records a change made outside the layout (a lesson edited) as an undoable step, in order
+    /// with layout edits.
+    pub fn record_outside(&mut self, label: String) {
+        self.history.record_outside(label);
+    }
+
+    /// Forgets the outside steps (their lesson was closed).
+    pub fn forget_outside(&mut self) {
+        self.history.forget_outside();
     }
 
     /// How many changes the layout has seen (compare two values to tell whether it changed).

@@ -33,6 +33,8 @@ pub struct Input<'a> {
     pub gpu: Option<&'a egui_wgpu::RenderState>,
     pub settings: &'a Settings,
     pub selected: Option<usize>,
+    /// Organs the lesson step highlights.
+    pub highlight: &'a [usize],
 }
 
 pub struct Viewport {
@@ -250,7 +252,7 @@ impl Viewport {
     fn draw_ids<'a>(&'a self, input: &Input<'a>) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
         let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
         let camera = self.camera(scene);
-        let frame = FrameInput::new(scene.set(), &camera, scene.layout());
+        let frame = FrameInput::new(scene.set(), &camera, scene.shown());
         scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, input.settings.pick_min_opacity);
         Some((target, rs))
     }
@@ -294,13 +296,15 @@ impl Viewport {
         }
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
-        let (draw, cull) = self.culler.cull(scene.set(), scene.layout(), &camera, target.aspect(), &settings.cull);
+        let (draw, cull) = self.culler.cull(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull);
         let frame = FrameInput {
             draw: Some(&draw),
             background: settings.background_linear(false),
             transparency: settings.transparency,
             moving: self.moving,
-            ..FrameInput::new(scene.set(), &camera, scene.layout())
+            highlight: input.highlight,
+            selection: input.selected,
+            ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
         let stats = if settings.cull_debug {
             scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame)

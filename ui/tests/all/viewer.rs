@@ -309,6 +309,112 @@ fn save_a_scene_then_reopen_it() {
     assert_eq!(h.state().selected(), Some(gyrus));
     assert_eq!(h.state().read_image().unwrap(), shown, "the reopened scene shows the same pixels");
     assert!(!h.state().document().unsaved(h.state().scene()));
+
+    // The scene rendered headless at the viewport's size is what the viewer exports.
+    let exported = dir.path().join("export.png");
+    let ctx = h.ctx.clone();
+    let size = [shown.width(), shown.height()];
+    let export = vbrain_ui::viewer::action::Action::Export { path: exported.display().to_string(), size };
+    h.state_mut().perform(&ctx, vec![export]);
+    h.run_steps(2);
+    let headless = dir.path().join("headless.png");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vbrain"))
+        .args(["render", "--scene", &file.display().to_string(), "--out", &headless.display().to_string()])
+        .args(["--size", &format!("{}x{}", size[0], size[1])])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let (a, b) = (image::open(&exported).unwrap().to_rgba8(), image::open(&headless).unwrap().to_rgba8());
+    assert!(a == b, "vbrain render --scene matches the viewer's export ({} pixels differ)", differing(&a, &b));
+}
+
+fn differing(a: &image::RgbaImage, b: &image::RgbaImage) -> usize {
+    a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count()
+}
+
+#[test]
+fn author_a_lesson_step_and_undo_it() {
+    use vbrain::edit::{Edit, Organs};
+    use vbrain_ui::viewer::action::Action;
+    let mut h = harness_of(egui::Vec2::new(900.0, 640.0));
+    let ctx = h.ctx.clone();
+    h.get_by_label("Lessons").click();
+    h.run_steps(2);
+    h.get_by_label("New lesson").click();
+    h.run_steps(2);
+    let steps = |h: &Harness<'static, App>| h.state().lesson().lesson.as_ref().map_or(0, |l| l.steps.len());
+    assert_eq!(steps(&h), 1, "a new lesson starts with the current view");
+    let start = h.state().scene().unwrap().layout().clone();
+
+    // Fade a gyrus, then add a step from the view: the step shows exactly that layout.
+    let gyrus = organ(&h, "precentral_l");
+    h.state_mut().perform(&ctx, vec![Action::Edit(Edit::Opacity { organs: Organs::One(gyrus), opacity: 0.3 })]);
+    h.run_steps(1);
+    h.get_by_label("+ Add step from view").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h), 2);
+    let faded = h.state().scene().unwrap().layout().clone();
+    let set = h.state().scene().unwrap().set().clone();
+    assert_eq!(h.state().lesson().lesson.as_ref().unwrap().steps[1].view(&set).layout, faded);
+    assert_eq!(h.state().lesson().step, 1, "the new step is the current one");
+
+    // Undo takes back the step, then the fade; redo brings both back, from the Edit menu too.
+    h.get_by_label("Edit").click();
+    h.run_steps(2);
+    let undo: Vec<String> = h.query_all_by_label_contains("Undo").map(|n| format!("{n:?}")).collect();
+    assert!(undo.iter().any(|l| l.contains("Undo add step 2")), "the Edit menu names the lesson edit: {undo:?}");
+    h.key_press(Key::Escape);
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(steps(&h), 1);
+    assert_eq!(h.state().scene().unwrap().layout(), &faded, "undoing the step leaves the organs");
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().layout(), &start);
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, Key::Z);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Y);
+    h.run_steps(2);
+    assert_eq!((steps(&h), h.state().scene().unwrap().layout()), (2, &faded));
+
+    // Caption, reorder, delete.
+    h.get_by_label("2. Step 2").click();
+    h.run_steps(3);
+    h.get_by_label("Caption").click();
+    h.run_steps(1);
+    h.get_by_label("Caption").type_text("The **precentral** gyrus, faded.");
+    h.run_steps(1);
+    h.get_by_label("Step title").click();
+    h.run_steps(2);
+    let lesson = |h: &Harness<'static, App>| h.state().lesson().lesson.clone().unwrap();
+    assert_eq!(lesson(&h).steps[1].caption, "The **precentral** gyrus, faded.");
+    h.get_by_label("Move step 2 up").click();
+    h.run_steps(2);
+    assert_eq!(lesson(&h).steps[0].caption, "The **precentral** gyrus, faded.");
+    h.get_by_label("Delete step 2").click();
+    h.run_steps(2);
+    assert_eq!(steps(&h), 1);
+    h.key_press_modifiers(Modifiers::COMMAND, Key::Z);
+    h.run_steps(2);
+    assert_eq!(steps(&h), 2, "a delete is undone like any edit");
+
+    // Closing an unsaved lesson asks; saving writes a lesson that reads back the same.
+    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.run_steps(2);
+    assert!(h.query_by_label("Save changes?").is_some(), "closing an unsaved lesson asks");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("mine.vblesson");
+    h.state_mut().perform(&ctx, vec![Action::SaveLessonTo(file.clone())]);
+    h.run_steps(2);
+    let saved = vbrain::lesson::Lesson::load(&file).unwrap_or_else(|e| panic!("{e}: {:?}", messages(&h)));
+    assert_eq!(saved.steps, lesson(&h).steps);
+    assert_eq!(saved.set_path(&file).canonicalize().unwrap(), brain().canonicalize().unwrap());
+    assert!(!h.state().lesson().unsaved());
+    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.run_steps(2);
+    assert!(!h.state().lesson().is_open(), "a saved lesson closes without asking");
 }
 
 #[test]
@@ -335,6 +441,13 @@ fn unsaved_changes_are_asked_about_and_recovered() {
     h.run_steps(2);
     assert!(h.query_by_label("Save changes?").is_none());
     assert!(!h.state().scene().unwrap().layout().organs[gyrus].visible);
+
+    // So does closing the window.
+    h.input_mut().viewports.entry(egui::ViewportId::ROOT).or_default().events.push(egui::ViewportEvent::Close);
+    h.run_steps(2);
+    assert!(h.query_by_label("Save changes?").is_some(), "closing the window with unsaved changes asks");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
 
     // Opening another set asks too; Don't save goes on and removes the recovery file.
     h.state_mut().perform(&ctx, vec![Action::Open(vec![brain()])]);
@@ -363,25 +476,29 @@ fn play_a_shipped_lesson_step_by_step() {
     h.run_steps(2);
     h.get_by_label("The ventricular system").click();
     h.run_steps(3);
-    let path = h.state().lesson().lesson.as_ref().map(|(p, _)| p.clone()).expect("the Lessons menu opens it");
+    let path = h.state().lesson().path.clone().expect("the Lessons menu opens it");
     let lesson = vbrain::lesson::Lesson::load(&path).unwrap();
     let layout_of = |k: usize, h: &Harness<'static, App>| lesson.steps[k].view(h.state().scene().unwrap().set()).layout;
     assert_eq!(h.state().scene().unwrap().layout(), &layout_of(0, &h), "it opens at step 1");
     let first = h.state().read_image().unwrap();
 
     h.key_press(Key::PageDown);
+    h.run_steps(1);
+    let halfway = h.state().scene().unwrap().shown().clone();
+    assert!(halfway != layout_of(0, &h) && halfway != layout_of(1, &h), "the step eases in");
     h.run_steps(2);
+    assert_eq!(h.state().scene().unwrap().shown(), &layout_of(1, &h), "and ends at the step");
     assert_eq!(h.state().lesson().step, 1);
     assert_eq!(h.state().scene().unwrap().layout(), &layout_of(1, &h), "Page Down shows step 2");
     assert_ne!(h.state().read_image().unwrap(), first);
     assert!(h.query_by_label_contains("interventricular foramina").is_some(), "the caption is shown");
 
     h.get_by_label("< Previous").click();
-    h.run_steps(2);
+    h.run_steps(3);
     assert_eq!(h.state().lesson().step, 0);
     assert_eq!(h.state().read_image().unwrap(), first, "back at step 1, the same picture");
     h.get_by_label("5. The flow of cerebrospinal fluid").click();
-    h.run_steps(2);
+    h.run_steps(3);
     assert_eq!(h.state().scene().unwrap().layout(), &layout_of(4, &h));
 
     // A step's layout is an undoable change like any other.

@@ -2,11 +2,10 @@
 //! it, saving it, and what happens to unsaved changes (the question before they are lost, the
 //! recovery file kept and offered back). A child module of the app, so it reaches its state.
 
-use super::{Action, App, LessonPanel, Notification};
+use super::{Action, App, Notification};
 use crate::viewer::document;
 use eframe::egui;
 use std::path::Path;
-use vbrain::edit::{Edit, Organs};
 
 impl App {
     /// Opens a scene file: applied at once over the set it names if that is open, else once that
@@ -75,7 +74,7 @@ impl App {
     /// and a recovery file offered back.
     pub(super) fn unsaved_changes(&mut self, ctx: &egui::Context) {
         if ctx.input(|i| i.viewport().close_requested()) && !self.closing {
-            if self.document.unsaved(self.scene.as_ref()) {
+            if self.unsaved(&document::Pending::Quit) {
                 ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
                 self.document.confirm = Some(document::Pending::Quit);
             } else {
@@ -83,22 +82,37 @@ impl App {
             }
         }
         if let Some(pending) = self.document.confirm.clone() {
-            let name = self.document.title(None);
-            match document::confirm_window(ctx, &pending, &name) {
+            let scene_too = pending != document::Pending::CloseLesson && self.document.unsaved(self.scene.as_ref());
+            let mut names = Vec::new();
+            if scene_too {
+                names.push(self.document.title(None));
+            }
+            if self.lesson.unsaved() {
+                names.push(format!("the lesson {}", self.lesson.name().trim_end_matches(" *")));
+            }
+            match document::confirm_window(ctx, &pending, &names.join(" and ")) {
                 Some(document::Answer::Save) => {
                     self.document.confirm = None;
-                    self.perform(ctx, vec![Action::SaveScene { as_new: false }]);
-                    // Saved to its file: go on; asked where (a new scene): the user goes on after.
-                    if !self.document.unsaved(self.scene.as_ref()) {
+                    if scene_too {
+                        self.perform(ctx, vec![Action::SaveScene { as_new: false }]);
+                    }
+                    if self.lesson.unsaved() {
+                        self.perform(ctx, vec![Action::SaveLesson { as_new: false }]);
+                    }
+                    // Saved to their files: go on; asked where (a new one): the user goes on after.
+                    if !self.unsaved(&pending) {
                         self.go_on(ctx, pending);
                     }
                 }
                 Some(document::Answer::Discard) => {
                     self.document.confirm = None;
-                    self.document.remove_recovery();
-                    if let Some(scene) = &self.scene {
-                        self.document.mark_saved(scene, self.document.path.clone());
+                    if scene_too {
+                        self.document.remove_recovery();
+                        if let Some(scene) = &self.scene {
+                            self.document.mark_saved(scene, self.document.path.clone());
+                        }
                     }
+                    self.lesson.discard_changes();
                     self.go_on(ctx, pending);
                 }
                 Some(document::Answer::Cancel) => self.document.confirm = None,
@@ -130,63 +144,20 @@ impl App {
         }
     }
 
+    /// Is anything unsaved that `pending` would lose: the scene (unless only the lesson closes)
+    /// or the lesson?
+    pub(super) fn unsaved(&self, pending: &document::Pending) -> bool {
+        let scene = *pending != document::Pending::CloseLesson && self.document.unsaved(self.scene.as_ref());
+        scene || self.lesson.unsaved()
+    }
+
     /// Carries out what waited for the answer.
     pub(super) fn go_on(&mut self, ctx: &egui::Context, pending: document::Pending) {
-        match pending {
-            document::Pending::Quit => self.perform(ctx, vec![Action::Quit]),
-            document::Pending::Open(paths) => self.perform(ctx, vec![Action::Open(paths)]),
-        }
-    }
-
-    /// Opens a lesson at its first step, over its set (loading that first if another is open).
-    pub(super) fn open_lesson(&mut self, ctx: &egui::Context, path: &Path) {
-        let lesson = match vbrain::lesson::Lesson::load(path) {
-            Ok(l) => l,
-            Err(e) => return self.notify(e.to_string(), true),
+        let action = match pending {
+            document::Pending::Quit => Action::Quit,
+            document::Pending::Open(paths) => Action::Open(paths),
+            document::Pending::CloseLesson => Action::CloseLesson,
         };
-        if self.has_set_of(&lesson, path) {
-            self.start_lesson(path, lesson);
-        } else {
-            self.pending_lesson = Some(path.to_path_buf());
-            self.perform(ctx, vec![Action::Open(vec![lesson.set_path(path)])]);
-        }
-    }
-
-    /// The lesson waiting for its set, now that a set is installed.
-    pub(super) fn open_pending_lesson(&mut self) {
-        let Some(path) = self.pending_lesson.take() else { return };
-        match vbrain::lesson::Lesson::load(&path) {
-            Ok(lesson) if self.has_set_of(&lesson, &path) => self.start_lesson(&path, lesson),
-            Ok(_) => {}
-            Err(e) => self.notify(e.to_string(), true),
-        }
-    }
-
-    /// Is the lesson's set the one open?
-    fn has_set_of(&self, lesson: &vbrain::lesson::Lesson, path: &Path) -> bool {
-        let set = std::fs::canonicalize(lesson.set_path(path)).ok();
-        self.scene.as_ref().is_some_and(|s| matches!(s.source(), [one] if std::fs::canonicalize(one).ok() == set))
-    }
-
-    fn start_lesson(&mut self, path: &Path, lesson: vbrain::lesson::Lesson) {
-        if let Some(scene) = &self.scene {
-            let unknown = lesson.unknown_names(scene.set());
-            if !unknown.is_empty() {
-                self.notify(format!("{}: the set has no organ or group {}", path.display(), unknown.join(", ")), false);
-            }
-        }
-        self.lesson = LessonPanel { lesson: Some((path.to_path_buf(), lesson)), step: 0 };
-        self.lesson_step(0);
-    }
-
-    /// Shows step `k` of the open lesson: its layout (one undoable step) and camera.
-    pub(super) fn lesson_step(&mut self, k: usize) {
-        let (Some((_, lesson)), Some(scene)) = (&self.lesson.lesson, &mut self.scene) else { return };
-        let Some(step) = lesson.steps.get(k) else { return };
-        let view = step.view(scene.set());
-        let edit = Edit::Restore { organs: Organs::All, states: view.layout.organs };
-        scene.apply(&edit, false);
-        self.viewport.set_navigator(view.navigator, false);
-        self.lesson.step = k;
+        self.perform(ctx, vec![action]);
     }
 }
