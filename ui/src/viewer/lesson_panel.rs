@@ -272,7 +272,9 @@ impl LessonPanel {
             done |= r.lost_focus();
         });
         ui.label("Caption (**bold**, *italics*, lines starting \"- \" for a list):");
-        let r = ui.add(egui::TextEdit::multiline(&mut self.texts.caption).desired_rows(5).desired_width(ui.available_width()));
+        let r = ui.add(
+            egui::TextEdit::multiline(&mut self.texts.caption).desired_rows(5).desired_width(ui.available_width()),
+        );
         accessible(&r, "Caption");
         typing |= r.has_focus();
         done |= r.lost_focus();
