@@ -12,6 +12,8 @@ struct Frame {
     eye: vec4<f32>,
     // xy: sub-pixel shift of this pass in NDC units (multiplied by w); zw unused.
     jitter: vec4<f32>,
+    // Clip planes: xyz the unit normal, w the offset; a point p is removed where dot(n, p) > w.
+    clip: array<vec4<f32>, 4>,
 };
 
 struct Organ {
@@ -21,7 +23,7 @@ struct Organ {
     normal_matrix: mat4x4<f32>,
     // Linear RGB and opacity.
     colour: vec4<f32>,
-    // x: organ index + 1 (0 = background in the ID buffer).
+    // x: organ index + 1 (0 = background in the ID buffer); y: flags, CLIPPED | CAPPED.
     id: vec4<u32>,
 };
 
@@ -52,6 +54,29 @@ fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
     return out;
 }
 
+const CLIPPED: u32 = 1u;
+const CAPPED: u32 = 2u;
+
+// Discards what the clip planes remove (organs they cut only).
+fn clip(in: VsOut) {
+    if (organ.id.y & CLIPPED) != 0u {
+        for (var k = 0; k < 4; k++) {
+            if dot(frame.clip[k].xyz, in.world) > frame.clip[k].w {
+                discard;
+            }
+        }
+    }
+}
+
+// The colour of a fragment: lit, or for a capped organ's face turned away (its inside, seen
+// through the cut) the flat colour of a cut face.
+fn surface(in: VsOut, front: bool) -> vec3<f32> {
+    if !front && (organ.id.y & CAPPED) != 0u {
+        return organ.colour.rgb * 0.82;
+    }
+    return shade(in);
+}
+
 // Headlight: the light sits at the eye. Two-sided, so cut-open or inner faces are lit too.
 fn shade(in: VsOut) -> vec3<f32> {
     let n = normalize(in.normal);
@@ -63,8 +88,9 @@ fn shade(in: VsOut) -> vec3<f32> {
 }
 
 @fragment
-fn fs_shade(in: VsOut) -> @location(0) vec4<f32> {
-    return vec4<f32>(shade(in), organ.colour.a);
+fn fs_shade(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    clip(in);
+    return vec4<f32>(surface(in, front), organ.colour.a);
 }
 
 // Screen-door masks of this frame: per screen region a configuration, per configuration and organ
@@ -91,7 +117,8 @@ struct Masked {
 };
 
 @fragment
-fn fs_screendoor(in: VsOut) -> Masked {
+fn fs_screendoor(in: VsOut, @builtin(front_facing) front: bool) -> Masked {
+    clip(in);
     let px = vec2<u32>(in.clip.xy);
     let col = min(px.x / screendoor.region_px, screendoor.cols - 1u);
     let row = min(px.y / screendoor.region_px, screendoor.rows - 1u);
@@ -103,7 +130,7 @@ fn fs_screendoor(in: VsOut) -> Masked {
         discard;
     }
     var out: Masked;
-    out.colour = vec4<f32>(shade(in), 1.0);
+    out.colour = vec4<f32>(surface(in, front), 1.0);
     out.mask = bits;
     return out;
 }
@@ -116,27 +143,31 @@ struct Weighted {
 };
 
 @fragment
-fn fs_weighted(in: VsOut) -> Weighted {
+fn fs_weighted(in: VsOut, @builtin(front_facing) front: bool) -> Weighted {
+    clip(in);
     let a = organ.colour.a;
     let d = 1.0 - in.clip.z;
     let w = a * max(0.01, 3000.0 * d * d * d);
     var out: Weighted;
-    out.accum = vec4<f32>(shade(in) * a, a) * w;
+    out.accum = vec4<f32>(surface(in, front) * a, a) * w;
     out.reveal = vec4<f32>(a);
     return out;
 }
 
 @fragment
 fn fs_pick(in: VsOut) -> @location(0) u32 {
+    clip(in);
     return organ.id.x;
 }
 
 @fragment
 fn fs_mask(in: VsOut) -> @location(0) vec4<f32> {
+    clip(in);
     return organ.colour;
 }
 
 @fragment
 fn fs_pick_instance(in: VsOut) -> @location(0) u32 {
+    clip(in);
     return in.instance;
 }

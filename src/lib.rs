@@ -23,6 +23,7 @@
 pub mod atomic;
 pub mod bvh;
 pub mod camera;
+pub mod clip;
 pub mod cull;
 pub mod edit;
 pub mod error;

@@ -31,6 +31,12 @@ pub struct FrameInput<'a> {
     pub highlight: &'a [usize],
     /// The selected organ, outlined in its own colour.
     pub selection: Option<usize>,
+    /// Clip planes (world space); the first [`crate::clip::MAX_PLANES`] apply.
+    pub clip: &'a [crate::clip::ClipPlane],
+    /// Closed organs the planes cut show solid cut faces.
+    pub caps: bool,
+    /// Organs the planes never cut ("do not cut").
+    pub whole: &'a [usize],
 }
 
 impl<'a> FrameInput<'a> {
@@ -47,6 +53,9 @@ impl<'a> FrameInput<'a> {
             draw_order: None,
             highlight: &[],
             selection: None,
+            clip: &[],
+            caps: true,
+            whole: &[],
         }
     }
 

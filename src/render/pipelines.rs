@@ -42,6 +42,10 @@ pub(super) fn target(
 pub(super) struct OrganPipelines {
     closed: wgpu::RenderPipeline,
     open: wgpu::RenderPipeline,
+    /// A closed organ's back faces only, pulled slightly toward the eye: its cut faces where clip
+    /// planes open it (a back face seen through the cut wins the tie with the front face of the
+    /// neighbour it touches, so the cut shows this organ's inside).
+    pub caps: wgpu::RenderPipeline,
 }
 
 impl OrganPipelines {
@@ -54,6 +58,9 @@ impl OrganPipelines {
     }
 }
 
+/// How far cut faces are pulled toward the eye (depth units; slope-scaled for oblique faces).
+const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 };
+
 /// Builds organ pipelines from organ.wgsl.
 pub(super) struct PipelineFactory<'a> {
     pub device: &'a wgpu::Device,
@@ -62,10 +69,19 @@ pub(super) struct PipelineFactory<'a> {
 
 impl PipelineFactory<'_> {
     pub fn build(&self, spec: OrganPipeline) -> OrganPipelines {
-        OrganPipelines { closed: self.build_one(&spec, Some(wgpu::Face::Back)), open: self.build_one(&spec, None) }
+        OrganPipelines {
+            closed: self.build_one(&spec, Some(wgpu::Face::Back), Default::default()),
+            open: self.build_one(&spec, None, Default::default()),
+            caps: self.build_one(&spec, Some(wgpu::Face::Front), CAP_BIAS),
+        }
     }
 
-    fn build_one(&self, spec: &OrganPipeline, cull: Option<wgpu::Face>) -> wgpu::RenderPipeline {
+    fn build_one(
+        &self,
+        spec: &OrganPipeline,
+        cull: Option<wgpu::Face>,
+        bias: wgpu::DepthBiasState,
+    ) -> wgpu::RenderPipeline {
         let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
         self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(spec.label),
@@ -86,7 +102,7 @@ impl PipelineFactory<'_> {
                 depth_write_enabled: Some(spec.depth_write),
                 depth_compare: Some(wgpu::CompareFunction::Less),
                 stencil: Default::default(),
-                bias: Default::default(),
+                bias,
             }),
             multisample: wgpu::MultisampleState { count: spec.samples, ..Default::default() },
             fragment: Some(wgpu::FragmentState {

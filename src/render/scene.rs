@@ -3,7 +3,7 @@
 
 use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
-use super::uniforms::{FrameUniform, OrganUniform, FRAME_SLOTS, SLOT};
+use super::uniforms::{FrameUniform, OrganUniform, CAPPED, CLIPPED, FRAME_SLOTS, SLOT};
 use super::FrameInput;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -26,6 +26,8 @@ struct GpuMesh {
     center: Vec3,
     /// Drawn with back faces culled ([`crate::organ_set::Organ::closed`]).
     closed: bool,
+    /// Organ-space bounds, to tell which organs the clip planes cut.
+    bounds: crate::mesh::Bounds,
 }
 
 pub(super) struct GpuScene {
@@ -38,6 +40,8 @@ pub(super) struct GpuScene {
     pub organ_layout: wgpu::BindGroupLayout,
     /// The pipeline layout of organ pipelines: frame, then organ.
     pub layout: wgpu::PipelineLayout,
+    /// Per organ, whether the last upload made it capped (drawn again for its cut faces).
+    capped: std::sync::Mutex<Vec<bool>>,
 }
 
 /// A uniform-buffer bind group layout entry at binding 0, with a dynamic offset.
@@ -85,6 +89,7 @@ impl GpuScene {
                 index_count: o.mesh.indices.len() as u32,
                 center: o.mesh.bounds().center(),
                 closed: o.closed(),
+                bounds: o.mesh.bounds(),
             });
         }
         let layout_of = |label| {
@@ -127,7 +132,18 @@ impl GpuScene {
             bind_group_layouts: &[Some(&frame_layout), Some(&organ_layout)],
             immediate_size: 0,
         });
-        Ok(GpuScene { meshes, frame_buffer, frame_bind, organ_buffer, organ_bind, frame_layout, organ_layout, layout })
+        let capped = std::sync::Mutex::new(vec![false; meshes.len()]);
+        Ok(GpuScene {
+            meshes,
+            frame_buffer,
+            frame_bind,
+            organ_buffer,
+            organ_bind,
+            frame_layout,
+            organ_layout,
+            layout,
+            capped,
+        })
     }
 
     pub fn organ_count(&self) -> usize {
@@ -160,6 +176,7 @@ impl GpuScene {
             view_proj: vp.to_cols_array_2d(),
             eye: frame.camera.eye.extend(1.0).to_array(),
             jitter: [jitter[0], jitter[1], 0.0, 0.0],
+            clip: crate::clip::uniform(frame.clip),
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));
     }
@@ -173,14 +190,27 @@ impl GpuScene {
         colour: impl Fn(usize, &OrganState) -> [f32; 4],
     ) {
         let mut data = vec![0u8; SLOT as usize * self.meshes.len()];
+        let planes = &frame.clip[..frame.clip.len().min(crate::clip::MAX_PLANES)];
+        let mut capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
+        capped.iter_mut().for_each(|c| *c = false);
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
+            let mut flags = 0;
+            if !planes.is_empty() && !frame.whole.contains(&i) {
+                flags |= CLIPPED;
+                let bounds = self.meshes[i].bounds.transformed(&model);
+                let cut = crate::clip::side(planes, &bounds) == crate::clip::Side::Cut;
+                if frame.caps && cut && self.meshes[i].closed {
+                    flags |= CAPPED;
+                    capped[i] = true;
+                }
+            }
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
             let u = OrganUniform {
                 model: model.to_cols_array_2d(),
                 normal_matrix: normal.to_cols_array_2d(),
                 colour: Vec4::from(colour(i, s)).to_array(),
-                id: [i as u32 + 1, 0, 0, 0],
+                id: [i as u32 + 1, flags, 0, 0],
             };
             let at = i * SLOT as usize;
             data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
@@ -221,6 +251,13 @@ impl GpuScene {
         self.bind_organ(pass, pipelines, section, organ);
         for r in ranges {
             pass.draw_indexed(r.clone(), 0, 0..1);
+        }
+        if self.capped.lock().map_or(false, |c| c.get(organ).copied().unwrap_or(false)) {
+            // The faces turned away, seen through the cut: the solid cut face.
+            pass.set_pipeline(&pipelines.caps);
+            for r in ranges {
+                pass.draw_indexed(r.clone(), 0, 0..1);
+            }
         }
     }
 

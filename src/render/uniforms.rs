@@ -22,6 +22,8 @@ pub(super) struct FrameUniform {
     pub view_proj: [[f32; 4]; 4],
     pub eye: [f32; 4],
     pub jitter: [f32; 4],
+    /// Clip planes (normal, offset), removing `n . p > d`; unused ones remove nothing.
+    pub clip: [[f32; 4]; crate::clip::MAX_PLANES],
 }
 
 /// `Organ` in shaders/organ.wgsl.
@@ -31,8 +33,14 @@ pub(super) struct OrganUniform {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 4],
     pub colour: [f32; 4],
+    /// x: organ index + 1; y: [`CLIPPED`] | [`CAPPED`].
     pub id: [u32; 4],
 }
+
+/// Organ flag: the clip planes cut it.
+pub(super) const CLIPPED: u32 = 1;
+/// Organ flag: closed and cut, its inside seen through the cut is drawn as a solid face.
+pub(super) const CAPPED: u32 = 2;
 
 /// `Screendoor` in shaders/organ.wgsl.
 #[repr(C)]

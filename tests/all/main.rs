@@ -11,5 +11,6 @@ mod default_set;
 mod loading;
 mod occluders;
 mod render;
+mod sections;
 mod shaders;
 mod transparency;

@@ -147,6 +147,14 @@ pub struct RenderArgs {
     /// Outline organs by id or group, seen through what is in front (as a lesson step highlights)
     #[arg(long, num_args = 1..)]
     pub highlight: Vec<String>,
+    /// Cut the set: axial=MM, coronal=MM or sagittal=MM remove what lies superior, anterior or right
+    /// of that position (world RAS, millimetres; add :flip to keep that side), NX,NY,NZ,D removes
+    /// points where n.p > D (repeatable, up to 4)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
+    pub clip: Vec<vbrain::clip::ClipPlane>,
+    /// Solid cut faces where a plane cuts a closed organ: on or off
+    #[arg(long, default_value = "on", value_parser = values::on_off)]
+    pub caps: bool,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,

@@ -85,6 +85,21 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         SceneFile::capture(&set, &path, out, &layout, nav, render, selection).save(out).map_err(|e| anyhow!(e))?;
     }
 
+    if args.clip.len() > vbrain::clip::MAX_PLANES {
+        bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
+    }
+    let set_bounds = Layout::new(&set).bounds(&set);
+    for p in &args.clip {
+        if vbrain::clip::side(std::slice::from_ref(p), &set_bounds) != vbrain::clip::Side::Cut {
+            let [x, y, z] = set_bounds.min.map(|v| v.round());
+            let [a, b, c] = set_bounds.max.map(|v| v.round());
+            bail!("--clip: the plane {:?}, {} lies outside the set ({x}..{a}, {y}..{b}, {z}..{c} mm)", p.normal, p.d);
+        }
+    }
+    // Culling does not know the planes yet: a cut organ must not hide what the cut reveals, so
+    // only the frustum is culled while planes are on.
+    let mode = if args.clip.is_empty() { mode } else { CullMode::Frustum };
+
     let started = std::time::Instant::now();
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
@@ -99,6 +114,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         draw_order: order.as_deref(),
         highlight: &highlight,
         selection,
+        clip: &args.clip,
+        caps: args.caps,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {

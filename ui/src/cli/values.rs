@@ -228,3 +228,18 @@ mod tests {
         assert!(subsamples("12").is_err());
     }
 }
+
+/// A clip plane: `axial=MM`, `coronal=MM`, `sagittal=MM` (`:flip` keeps the other side) or
+/// `NX,NY,NZ,D`.
+pub fn clip_plane(s: &str) -> Result<vbrain::clip::ClipPlane> {
+    vbrain::clip::ClipPlane::parse(s).map_err(|e| anyhow!(e))
+}
+
+/// `on` or `off`.
+pub fn on_off(s: &str) -> Result<bool> {
+    match s.to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => bail!("\"{s}\": give on or off"),
+    }
+}

@@ -81,6 +81,7 @@ pub enum Window {
     OpenMeshes,
     Import,
     Export,
+    Sections,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.

@@ -16,6 +16,7 @@ use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
 use super::panels::OrganPanel;
 use super::scene::Scene;
+use super::sections::Sections;
 use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
@@ -104,6 +105,8 @@ pub struct App {
     title: String,
     /// The lesson being followed, if any.
     lesson: LessonPanel,
+    /// The Sections window: clip planes and cut faces.
+    sections: Sections,
     /// A lesson whose set is loading: opened once the set is installed.
     pending_lesson: Option<PathBuf>,
     /// The user chose to close (nothing unsaved, or discarded): let the window close.
@@ -126,6 +129,7 @@ impl App {
             document: Document::default(),
             title: String::new(),
             lesson: LessonPanel::default(),
+            sections: Sections::default(),
             pending_lesson: None,
             closing: false,
             settings,
@@ -184,6 +188,8 @@ impl App {
             settings: &self.settings,
             selected: self.selected,
             highlight: &self.lesson.highlight,
+            clip: &self.sections.current,
+            caps: self.sections.caps,
         }
     }
 
@@ -323,6 +329,7 @@ impl App {
                     Window::OpenMeshes => self.dialogs.open_meshes.open = true,
                     Window::Import => self.dialogs.import.open = true,
                     Window::Export => self.dialogs.export.open = true,
+                    Window::Sections => self.sections.open = true,
                 },
                 Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
                 Action::Import(request) => {
@@ -480,6 +487,8 @@ impl App {
             transparency: self.settings.transparency,
             highlight: &self.lesson.highlight,
             selection: self.selected,
+            clip: &self.sections.current,
+            caps: self.sections.caps,
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
         export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path)
@@ -493,6 +502,8 @@ impl App {
         self.perform(ctx, actions);
         let actions = self.dialogs.import.show(ctx, self.importing.is_some());
         self.perform(ctx, actions);
+        let home = self.scene.as_ref().map(Scene::home);
+        self.sections.show(ctx, home);
         let actions = self.document.save_window.show(ctx);
         self.perform(ctx, actions);
         self.unsaved_changes(ctx);
@@ -576,6 +587,8 @@ impl eframe::App for App {
                 settings: &self.settings,
                 selected: self.selected,
                 highlight: &self.lesson.highlight,
+                clip: &self.sections.current,
+                caps: self.sections.caps,
             };
             let actions = self.viewport.input(ui, &response, &input);
             self.perform(&ctx, actions);
@@ -585,6 +598,8 @@ impl eframe::App for App {
                 settings: &self.settings,
                 selected: self.selected,
                 highlight: &self.lesson.highlight,
+                clip: &self.sections.current,
+                caps: self.sections.caps,
             };
             let actions = self.viewport.draw(ui, rect, &input);
             self.perform(&ctx, actions);

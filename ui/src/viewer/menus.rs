@@ -123,6 +123,9 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
     if ui.checkbox(&mut fly, label).changed() {
         out.push(Action::ToggleFly);
     }
+    if ui.button("Sections...").on_hover_text("Cut the set along the axial, coronal and sagittal planes").clicked() {
+        out.push(Action::Show(Window::Sections));
+    }
     ui.separator();
     let has_db = state.has_database;
     ui.menu_button("Culling of hidden tissue", |ui| culling_menu(ui, has_db, settings));

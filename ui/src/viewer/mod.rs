@@ -24,6 +24,7 @@ pub mod lesson_panel;
 pub mod menus;
 pub mod panels;
 pub mod scene;
+pub mod sections;
 pub mod settings;
 pub mod shortcuts;
 pub mod status;

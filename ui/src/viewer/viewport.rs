@@ -35,6 +35,9 @@ pub struct Input<'a> {
     pub selected: Option<usize>,
     /// Organs the lesson step highlights.
     pub highlight: &'a [usize],
+    /// The Sections window's planes, and whether cut faces are solid.
+    pub clip: &'a [vbrain::clip::ClipPlane],
+    pub caps: bool,
 }
 
 pub struct Viewport {
@@ -252,7 +255,8 @@ impl Viewport {
     fn draw_ids<'a>(&'a self, input: &Input<'a>) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
         let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
         let camera = self.camera(scene);
-        let frame = FrameInput::new(scene.set(), &camera, scene.shown());
+        let frame =
+            FrameInput { clip: input.clip, caps: input.caps, ..FrameInput::new(scene.set(), &camera, scene.shown()) };
         scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, input.settings.pick_min_opacity);
         Some((target, rs))
     }
@@ -296,7 +300,13 @@ impl Viewport {
         }
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
-        let (draw, cull) = self.culler.cull(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull);
+        // Culling does not know the planes yet: a cut organ must not hide what the cut reveals, so
+        // only the frustum is culled while planes are on.
+        let mut cull_settings = settings.cull;
+        if !input.clip.is_empty() {
+            cull_settings.mode = vbrain::cull::CullMode::Frustum;
+        }
+        let (draw, cull) = self.culler.cull(scene.set(), scene.shown(), &camera, target.aspect(), &cull_settings);
         let frame = FrameInput {
             draw: Some(&draw),
             background: settings.background_linear(false),
@@ -304,6 +314,8 @@ impl Viewport {
             moving: self.moving,
             highlight: input.highlight,
             selection: input.selected,
+            clip: input.clip,
+            caps: input.caps,
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
         let stats = if settings.cull_debug {

@@ -408,6 +408,41 @@ fn bench_transparency_compares_every_mode_with_exact() {
 }
 
 #[test]
+fn render_rejects_bad_clip_planes_and_cuts_with_good_ones() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.png");
+    let render =
+        |clip: &str| vbrain(&["render", &brain(), "--out", out.to_str().unwrap(), "--size", "96x96", "--clip", clip]);
+    for (clip, says) in [
+        ("0,0,0,1", "zero"),
+        ("axial=NaN", "millimetres"),
+        ("axial=500", "outside the set"),
+        ("oblique=3", "unknown plane"),
+    ] {
+        let o = render(clip);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(says), "--clip {clip}: {err}");
+    }
+    let whole = vbrain(&["render", &brain(), "--out", out.to_str().unwrap(), "--size", "96x96", "--view", "left"]);
+    assert!(whole.status.success());
+    let before = image::open(&out).unwrap().to_rgba8();
+    let o = vbrain(&[
+        "render",
+        &brain(),
+        "--out",
+        out.to_str().unwrap(),
+        "--size",
+        "96x96",
+        "--view",
+        "left",
+        "--clip",
+        "sagittal=-20:flip",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_ne!(image::open(&out).unwrap().to_rgba8(), before, "the cut shows the inside");
+}
+
+#[test]
 fn render_rejects_an_unknown_transparency_mode() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");

@@ -1,0 +1,150 @@
+//! Clip planes (issue: cross-sections): each removes the points `p` of world space (millimetres,
+//! RAS) where `n · p > d`. The anatomical planes are named by the side they cut away: `axial`
+//! removes what lies superior of z = mm, `coronal` what lies anterior of y = mm, `sagittal` what
+//! lies right of x = mm; `:flip` keeps that side instead. At most [`MAX_PLANES`] at once; an organ
+//! marked "do not cut" is never clipped. Normals are stored unit length.
+
+use crate::mesh::Bounds;
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// Planes at once (the shaders' uniform array).
+pub const MAX_PLANES: usize = 4;
+
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ClipPlane {
+    /// Unit normal, pointing into the removed side.
+    pub normal: [f32; 3],
+    /// Millimetres along the normal from the origin.
+    pub d: f32,
+}
+
+/// Where a box lies against the planes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    /// Wholly kept by every plane.
+    Kept,
+    /// Wholly removed by some plane.
+    Removed,
+    /// Some plane passes through it.
+    Cut,
+}
+
+impl ClipPlane {
+    /// A plane removing `n · p > d`; `None` for a zero or non-finite normal or offset.
+    pub fn new(normal: Vec3, d: f32) -> Option<ClipPlane> {
+        let len = normal.length();
+        if !(len.is_finite() && len > 1e-6 && d.is_finite()) {
+            return None;
+        }
+        Some(ClipPlane { normal: (normal / len).to_array(), d: d / len })
+    }
+
+    /// Parses `axial=MM`, `coronal=MM`, `sagittal=MM` (each optionally `:flip`) or `NX,NY,NZ,D`.
+    pub fn parse(text: &str) -> Result<ClipPlane, String> {
+        let (body, flip) = match text.trim().strip_suffix(":flip") {
+            Some(b) => (b, true),
+            None => (text.trim(), false),
+        };
+        let number = |s: &str| s.trim().parse::<f32>().ok().filter(|v| v.is_finite());
+        let plane = if let Some((name, mm)) = body.split_once('=') {
+            let normal = match name.trim().to_ascii_lowercase().as_str() {
+                "axial" => Vec3::Z,
+                "coronal" => Vec3::Y,
+                "sagittal" => Vec3::X,
+                other => return Err(format!("unknown plane \"{other}\" (axial, coronal, sagittal or NX,NY,NZ,D)")),
+            };
+            let mm = number(mm).ok_or_else(|| format!("\"{mm}\" is not a position in millimetres"))?;
+            ClipPlane::new(normal, mm)
+        } else {
+            let v: Vec<f32> = body.split(',').filter_map(number).collect();
+            if v.len() != 4 || body.split(',').count() != 4 {
+                return Err(format!("\"{text}\": give axial=MM, coronal=MM, sagittal=MM or NX,NY,NZ,D"));
+            }
+            Some(ClipPlane::new(Vec3::new(v[0], v[1], v[2]), v[3]).ok_or("a plane's normal cannot be zero")?)
+        };
+        let plane = plane.ok_or_else(|| format!("\"{text}\" is not a plane"))?;
+        Ok(if flip { plane.flipped() } else { plane })
+    }
+
+    /// The same plane keeping the other side.
+    pub fn flipped(self) -> ClipPlane {
+        ClipPlane { normal: self.normal.map(|c| -c), d: -self.d }
+    }
+
+    pub fn normal(&self) -> Vec3 {
+        Vec3::from(self.normal)
+    }
+
+    /// Does it remove this point?
+    pub fn removes(&self, p: Vec3) -> bool {
+        self.normal().dot(p) > self.d
+    }
+
+    /// Does it pass through these bounds (some corner kept, some removed)?
+    pub fn crosses(&self, b: &Bounds) -> bool {
+        let c = b.corners();
+        c.iter().any(|&p| self.removes(p)) && c.iter().any(|&p| !self.removes(p))
+    }
+
+    /// The plane as the shaders read it: normal and offset.
+    pub fn to_vec4(&self) -> [f32; 4] {
+        [self.normal[0], self.normal[1], self.normal[2], self.d]
+    }
+}
+
+/// Where `b` lies against `planes`.
+pub fn side(planes: &[ClipPlane], b: &Bounds) -> Side {
+    let mut cut = false;
+    for p in planes {
+        let removed = b.corners().iter().filter(|&&c| p.removes(c)).count();
+        if removed == 8 {
+            return Side::Removed;
+        }
+        cut |= removed > 0;
+    }
+    if cut {
+        Side::Cut
+    } else {
+        Side::Kept
+    }
+}
+
+/// The planes for the shaders: the first [`MAX_PLANES`], the rest removing nothing.
+pub fn uniform(planes: &[ClipPlane]) -> [[f32; 4]; MAX_PLANES] {
+    let mut out = [[0.0, 0.0, 0.0, f32::MAX]; MAX_PLANES];
+    for (o, p) in out.iter_mut().zip(planes) {
+        *o = p.to_vec4();
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn named_planes_remove_the_side_they_name() {
+        let axial = ClipPlane::parse("axial=10").unwrap();
+        assert!(axial.removes(Vec3::new(0.0, 0.0, 11.0)) && !axial.removes(Vec3::new(0.0, 0.0, 9.0)));
+        let coronal = ClipPlane::parse("coronal=-5:flip").unwrap();
+        assert!(coronal.removes(Vec3::new(0.0, -6.0, 0.0)) && !coronal.removes(Vec3::ZERO));
+        let sagittal = ClipPlane::parse("Sagittal=0").unwrap();
+        assert!(sagittal.removes(Vec3::X));
+        let general = ClipPlane::parse("0,0,2,4").unwrap();
+        assert_eq!((general.normal, general.d), ([0.0, 0.0, 1.0], 2.0), "normalised");
+        for bad in ["axial=x", "axial=NaN", "0,0,0,1", "1,2,3", "oblique=3", "1,2,3,inf"] {
+            assert!(ClipPlane::parse(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn boxes_are_kept_removed_or_cut() {
+        let b = Bounds { min: [0.0; 3], max: [1.0; 3] };
+        let at = |mm| [ClipPlane::parse(&format!("axial={mm}")).unwrap()];
+        assert_eq!(side(&at(2.0), &b), Side::Kept);
+        assert_eq!(side(&at(-1.0), &b), Side::Removed);
+        assert_eq!(side(&at(0.5), &b), Side::Cut);
+        assert_eq!(uniform(&at(0.5))[1], [0.0, 0.0, 0.0, f32::MAX]);
+    }
+}

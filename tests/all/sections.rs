@@ -1,0 +1,87 @@
+//! Cross-sections on a real adapter: a closed sphere cut through its centre shows a solid disc of
+//! its own colour (the cut face), picked as the sphere; with caps off, or for a faded sphere, the
+//! disc is what those should be.
+
+use crate::common::gpu;
+use glam::Vec3;
+use vbrain::camera::{Camera, View};
+use vbrain::clip::ClipPlane;
+use vbrain::layout::Layout;
+use vbrain::mesh::Mesh;
+use vbrain::organ_set::{Organ, OrganSet};
+use vbrain::render::{linear_to_srgb, FrameInput, Renderer, Target};
+
+/// A closed UV sphere of `radius` at the origin, wound outward, vertices shared.
+fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
+    let mut positions = vec![[0.0, 0.0, radius]];
+    for r in 1..rings {
+        let theta = std::f32::consts::PI * r as f32 / rings as f32;
+        for s in 0..segments {
+            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+            positions
+                .push((Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()) * radius).to_array());
+        }
+    }
+    positions.push([0.0, 0.0, -radius]);
+    let (ring, south) = (|r: u32, s: u32| 1 + (r - 1) * segments + s % segments, positions.len() as u32 - 1);
+    let mut indices = Vec::new();
+    for s in 0..segments {
+        indices.extend([0, ring(1, s), ring(1, s + 1)]);
+        indices.extend([south, ring(rings - 1, s + 1), ring(rings - 1, s)]);
+        for r in 1..rings - 1 {
+            let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
+            indices.extend([a, c, d, a, d, b]);
+        }
+    }
+    let mut m = Mesh { positions, normals: vec![], indices };
+    m.compute_normals();
+    m
+}
+
+#[test]
+fn a_sphere_cut_through_its_centre_shows_a_solid_disc() {
+    let gpu = gpu();
+    let colour = [0.8, 0.3, 0.2];
+    let set = OrganSet {
+        organs: vec![Organ::new("ball".into(), "Ball".into(), colour, sphere(20.0, 24, 48))],
+        ..Default::default()
+    };
+    assert!(set.organs[0].closed(), "the test sphere is closed");
+    let renderer = Renderer::new(&gpu.device, &set).unwrap();
+    let target = Target::new(&gpu.device, 128, 128).unwrap();
+    let camera = Camera::view(&Layout::new(&set).bounds(&set), View::Superior);
+    let axial = [ClipPlane::parse("axial=0").unwrap()];
+    let shoot = |layout: &Layout, caps: bool| {
+        let frame = FrameInput {
+            background: [0.0, 0.0, 0.0, 1.0],
+            clip: &axial,
+            caps,
+            ..FrameInput::new(&set, &camera, layout)
+        };
+        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
+        (target.read_color(&gpu.device, &gpu.queue).unwrap(), target.read_ids(&gpu.device, &gpu.queue).unwrap())
+    };
+    // The cut face: flat, 0.82 of the organ's colour (in linear light), over the whole disc.
+    let cap = colour.map(|c| (linear_to_srgb(vbrain::render::srgb_to_linear(c) * 0.82) * 255.0).round() as i32);
+    let is_cap = |p: &image::Rgba<u8>| (0..3).all(|k| (p[k] as i32 - cap[k]).abs() <= 2);
+    let layout = Layout::new(&set);
+    let (image, ids) = shoot(&layout, true);
+    let centre = image.get_pixel(64, 64);
+    assert!(is_cap(centre), "the centre shows the cut face {cap:?}, not {centre:?}");
+    let disc = image.pixels().filter(|p| is_cap(p)).count();
+    let lit = image.pixels().filter(|p| p[0] > 8 || p[1] > 8 || p[2] > 8).count();
+    assert!(disc as f64 > 0.97 * lit as f64, "{disc} of {lit} lit pixels are the cut face: a solid disc");
+    assert_eq!(ids[64 * 128 + 64], 1, "clicking the cut face picks the sphere");
+
+    // Without caps the cut sphere is a hollow shell: seen from above, the background shows.
+    let (hollow, _) = shoot(&layout, false);
+    assert_eq!(hollow.get_pixel(64, 64).0, [0, 0, 0, 255]);
+
+    // Faded, the cut face is faded too (screen-door): neither the solid face nor the background.
+    let mut faded = layout.clone();
+    faded.organs[0].opacity = 0.5;
+    let (image, _) = shoot(&faded, true);
+    let p = image.get_pixel(64, 64);
+    assert!(!is_cap(p) && p[0] > 40, "a faded cut face lets the background through: {p:?}");
+}
