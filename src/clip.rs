@@ -93,15 +93,21 @@ impl ClipPlane {
     }
 }
 
-/// Where `b` lies against `planes`.
+/// How far (millimetres along a unit normal) a box must lie from a plane to count as wholly on
+/// one side: the shaders test interpolated points, a little off the triangles' own arithmetic, so
+/// a box closer than this counts as cut.
+pub const SIDE_MARGIN_MM: f32 = 0.01;
+
+/// Where `b` lies against `planes` (within [`SIDE_MARGIN_MM`] of a plane counts as cut).
 pub fn side(planes: &[ClipPlane], b: &Bounds) -> Side {
     let mut cut = false;
     for p in planes {
-        let removed = b.corners().iter().filter(|&&c| p.removes(c)).count();
-        if removed == 8 {
+        let margin = SIDE_MARGIN_MM * p.normal().length();
+        let along = b.corners().map(|c| p.normal().dot(c));
+        if along.iter().all(|&a| a > p.d + margin) {
             return Side::Removed;
         }
-        cut |= removed > 0;
+        cut |= along.iter().any(|&a| a > p.d - margin);
     }
     if cut {
         Side::Cut

@@ -97,11 +97,28 @@ impl Culler {
         aspect: f32,
         settings: &CullSettings,
     ) -> (DrawList, CullStats) {
-        self.cull_with(set, layout, camera, aspect, settings, None)
+        self.cull_with(set, layout, camera, aspect, settings, None, Clip::NONE)
+    }
+
+    /// Culls one frame of a set cut by clip planes. While planes are on, only the view frustum is
+    /// culled: a cut organ's solid faces tie in depth with the neighbours they touch (the renderer
+    /// breaks the tie toward the cut face), and the occlusion tests cannot break ties the same way,
+    /// so occlusion culling would change pixels. What the planes remove is discarded by the shaders.
+    pub fn cull_clipped(
+        &mut self,
+        set: &OrganSet,
+        layout: &Layout,
+        camera: &Camera,
+        aspect: f32,
+        settings: &CullSettings,
+        clip: Clip,
+    ) -> (DrawList, CullStats) {
+        self.cull_with(set, layout, camera, aspect, settings, None, clip)
     }
 
     /// Culls one frame with the occluders given (`Some`, in place of the settings' selection):
     /// for the occluder-selection experiments.
+    #[allow(clippy::too_many_arguments)]
     pub fn cull_with(
         &mut self,
         set: &OrganSet,
@@ -110,9 +127,13 @@ impl Culler {
         aspect: f32,
         settings: &CullSettings,
         given: Option<&[LeafRef]>,
+        clip: Clip,
     ) -> (DrawList, CullStats) {
         let started = std::time::Instant::now();
-        let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
+        let mut settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
+        if !clip.planes.is_empty() && settings.mode == CullMode::Occlusion {
+            settings.mode = CullMode::Frustum;
+        }
         self.cuts.resize_with(set.organs.len(), Cut::default);
         self.witnesses.resize_with(set.organs.len(), Witnesses::default);
         for (w, organ) in self.witnesses.iter_mut().zip(&set.organs) {
@@ -139,6 +160,16 @@ impl Culler {
         stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
         (list, stats)
     }
+}
+
+/// Clip planes cutting a frame (world space).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Clip<'a> {
+    pub planes: &'a [crate::clip::ClipPlane],
+}
+
+impl Clip<'_> {
+    pub const NONE: Clip<'static> = Clip { planes: &[] };
 }
 
 /// Where a frame's occluders come from: given by the caller, or chosen with the database.

@@ -83,7 +83,15 @@ pub fn run(
             lengths[m] += list.len();
             for (c, &n) in counts.iter().enumerate() {
                 let given = &list[..n.min(list.len())];
-                let (_, stats) = Culler::default().cull_with(set, layout, camera, 1.0, &settings, Some(given));
+                let (_, stats) = Culler::default().cull_with(
+                    set,
+                    layout,
+                    camera,
+                    1.0,
+                    &settings,
+                    Some(given),
+                    crate::cull::Clip::NONE,
+                );
                 sums[m][c] += stats.culled_percent();
             }
         }

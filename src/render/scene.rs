@@ -252,7 +252,7 @@ impl GpuScene {
         for r in ranges {
             pass.draw_indexed(r.clone(), 0, 0..1);
         }
-        if self.capped.lock().map_or(false, |c| c.get(organ).copied().unwrap_or(false)) {
+        if self.capped.lock().is_ok_and(|c| c.get(organ).copied().unwrap_or(false)) {
             // The faces turned away, seen through the cut: the solid cut face.
             pass.set_pipeline(&pipelines.caps);
             for r in ranges {

@@ -11,8 +11,9 @@
 use crate::common::{cube, default_database, default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::Camera;
+use vbrain::clip::ClipPlane;
 use vbrain::cull::database::Database;
-use vbrain::cull::{cull, CullMode, CullSettings, Culler, Selection};
+use vbrain::cull::{Clip, CullMode, CullSettings, Culler, Selection};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
@@ -87,6 +88,30 @@ fn random_camera(set: &OrganSet, layout: &Layout, rng: &mut Rng) -> Camera {
     nav.camera(&layout.bounds(set).union(home))
 }
 
+/// One to three planes through the set's middle part, axis-aligned or oblique, either side kept.
+fn random_planes(set: &OrganSet, rng: &mut Rng) -> Vec<ClipPlane> {
+    let home = Layout::new(set).bounds(set);
+    let (centre, size) = (home.center(), home.size());
+    let count = 1 + (rng.next() * 3.0) as usize % 3;
+    (0..count)
+        .map(|_| {
+            let normal = match (rng.next() * 4.0) as usize {
+                0 => Vec3::X,
+                1 => Vec3::Y,
+                2 => Vec3::Z,
+                _ => Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) + Vec3::splat(0.01),
+            };
+            let at = centre + Vec3::new(rng.range(-0.3, 0.3), rng.range(-0.3, 0.3), rng.range(-0.3, 0.3)) * size;
+            let plane = ClipPlane::new(normal, normal.dot(at)).unwrap();
+            if rng.next() < 0.5 {
+                plane.flipped()
+            } else {
+                plane
+            }
+        })
+        .collect()
+}
+
 /// Lone samples a run may see through a closed surface with culling off, of what culling then
 /// removes behind it. Lavapipe (Mesa 22.3) lets one 4x MSAA sample of the default brain through the
 /// skull in one pose of 160: all four sample positions lie at least 0.02 pixels inside the skull's
@@ -96,7 +121,9 @@ fn random_camera(set: &OrganSet, layout: &Layout, rng: &mut Rng) -> Camera {
 const RASTER_CRACKS: usize = 1;
 
 /// Renders every pose with culling off and on and checks the images are identical (but for
-/// [`RASTER_CRACKS`]); returns the share of triangles occlusion culling removed.
+/// [`RASTER_CRACKS`]); three poses in four are cut by random clip planes (with solid cut faces,
+/// culled by the frustum only). Returns the share of triangles occlusion culling removed in the
+/// poses without planes.
 fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, seed: u64, skull_opaque: bool) -> f64 {
     let gpu = gpu();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
@@ -108,6 +135,8 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
         // Every fifth pose keeps the set's own layout, for which its occluder database was made.
         let layout = if pose % 5 == 4 { Layout::new(set) } else { random_layout(set, &mut rng, skull_opaque) };
         let camera = random_camera(set, &layout, &mut rng);
+        let planes = if pose % 4 == 3 { Vec::new() } else { random_planes(set, &mut rng) };
+        let clip = Clip { planes: &planes };
         let settings = CullSettings {
             width: 64 + (pose % 3) * 32,
             height: 64 + (pose % 2) * 64,
@@ -118,10 +147,10 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
         for mode in [CullMode::None, CullMode::Occlusion] {
             let settings = CullSettings { mode, ..settings };
             let (draw, stats) = match mode {
-                CullMode::Occlusion => culler.cull(set, &layout, &camera, target.aspect(), &settings),
-                _ => cull(set, &layout, &camera, target.aspect(), &settings),
+                CullMode::Occlusion => culler.cull_clipped(set, &layout, &camera, target.aspect(), &settings, clip),
+                _ => Culler::default().cull(set, &layout, &camera, target.aspect(), &settings),
             };
-            if mode == CullMode::Occlusion {
+            if mode == CullMode::Occlusion && planes.is_empty() {
                 culled += stats.occlusion_culled;
                 total += stats.triangles;
             }
@@ -131,6 +160,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
                 draw: Some(&draw),
                 background: [0.0, 0.0, 0.0, 1.0],
                 transparency,
+                clip: &planes,
                 ..FrameInput::new(set, &camera, &layout)
             };
             renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();

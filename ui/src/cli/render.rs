@@ -96,16 +96,15 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
             bail!("--clip: the plane {:?}, {} lies outside the set ({x}..{a}, {y}..{b}, {z}..{c} mm)", p.normal, p.d);
         }
     }
-    // Culling does not know the planes yet: a cut organ must not hide what the cut reveals, so
-    // only the frustum is culled while planes are on.
-    let mode = if args.clip.is_empty() { mode } else { CullMode::Frustum };
 
     let started = std::time::Instant::now();
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let (draw, cull) = Culler::new(database(&path, &set)).cull(&set, &layout, &camera, target.aspect(), &settings);
+    let clip = vbrain::cull::Clip { planes: &args.clip };
+    let mut culler = Culler::new(database(&path, &set));
+    let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
     let input = FrameInput {
         draw: Some(&draw),

@@ -187,6 +187,21 @@ pub fn subsamples(s: &str) -> Result<usize> {
     Ok(n)
 }
 
+/// A clip plane: `axial=MM`, `coronal=MM`, `sagittal=MM` (`:flip` keeps the other side) or
+/// `NX,NY,NZ,D`.
+pub fn clip_plane(s: &str) -> Result<vbrain::clip::ClipPlane> {
+    vbrain::clip::ClipPlane::parse(s).map_err(|e| anyhow!(e))
+}
+
+/// `on` or `off`.
+pub fn on_off(s: &str) -> Result<bool> {
+    match s.to_ascii_lowercase().as_str() {
+        "on" => Ok(true),
+        "off" => Ok(false),
+        _ => bail!("\"{s}\": give on or off"),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -226,20 +241,5 @@ mod tests {
         }
         assert_eq!(subsamples("16").ok(), Some(16));
         assert!(subsamples("12").is_err());
-    }
-}
-
-/// A clip plane: `axial=MM`, `coronal=MM`, `sagittal=MM` (`:flip` keeps the other side) or
-/// `NX,NY,NZ,D`.
-pub fn clip_plane(s: &str) -> Result<vbrain::clip::ClipPlane> {
-    vbrain::clip::ClipPlane::parse(s).map_err(|e| anyhow!(e))
-}
-
-/// `on` or `off`.
-pub fn on_off(s: &str) -> Result<bool> {
-    match s.to_ascii_lowercase().as_str() {
-        "on" => Ok(true),
-        "off" => Ok(false),
-        _ => bail!("\"{s}\": give on or off"),
     }
 }

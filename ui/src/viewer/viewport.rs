@@ -300,13 +300,9 @@ impl Viewport {
         }
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
-        // Culling does not know the planes yet: a cut organ must not hide what the cut reveals, so
-        // only the frustum is culled while planes are on.
-        let mut cull_settings = settings.cull;
-        if !input.clip.is_empty() {
-            cull_settings.mode = vbrain::cull::CullMode::Frustum;
-        }
-        let (draw, cull) = self.culler.cull(scene.set(), scene.shown(), &camera, target.aspect(), &cull_settings);
+        let clip = vbrain::cull::Clip { planes: input.clip };
+        let (draw, cull) =
+            self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
         let frame = FrameInput {
             draw: Some(&draw),
             background: settings.background_linear(false),
