@@ -11,6 +11,7 @@ trap 'rm -rf "$TMP"' EXIT
 "$VBRAIN" render organs/brain --out "$TMP/coronal.png" --size 480x400 --clip coronal=-8 --orbit=-20,10 >/dev/null
 "$VBRAIN" render organs/brain --out "$TMP/sagittal.png" --size 480x400 --clip sagittal=-4 --view right >/dev/null
 convert "$TMP/coronal.png" "$TMP/sagittal.png" +append docs/sections.png
+"$VBRAIN" render organs/brain --out docs/labels.png --size 960x720 --clip sagittal=-4 --view right --labels all >/dev/null
 "$VBRAIN" render organs/brain --out docs/cull-debug.png --size 768x768 --orbit 30,15 --show skull --debug-culled >/dev/null
 FADED=(--orbit=-90,5 --hide brainstem --opacity "Left hemisphere/Frontal lobe=0.35" "Left hemisphere/Parietal lobe=0.5"
     "Left hemisphere/Temporal lobe=0.45" "Left hemisphere/Occipital lobe=0.55")

@@ -29,6 +29,7 @@ pub mod edit;
 pub mod error;
 pub mod history;
 pub mod lab;
+pub mod labels;
 pub mod layout;
 pub mod lesson;
 pub mod mesh;

@@ -5,6 +5,7 @@
 //! (the desktop app), [`cli`] (the headless commands) and [`lab`] (the experiments the commands
 //! report: benchmarks, mask and occluder experiments, plots).
 
+pub mod annotate;
 pub mod cli;
 pub mod lab;
 pub mod viewer;

@@ -155,6 +155,10 @@ pub struct RenderArgs {
     /// Solid cut faces where a plane cuts a closed organ: on or off
     #[arg(long, default_value = "on", value_parser = values::on_off)]
     pub caps: bool,
+    /// Name organs with leader-line labels beside the brain: none, selected (a scene's selection),
+    /// all (every organ seen) or ID,ID,... (ids or groups)
+    #[arg(long, default_value = "none")]
+    pub labels: String,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,

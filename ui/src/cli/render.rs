@@ -7,6 +7,7 @@
 use super::common::{apply_layout_args, database, open_reporting, organs};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
+use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::PathBuf;
@@ -122,7 +123,25 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     } else {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
-    let image = target.read_color(&gpu.device, &gpu.queue)?;
+    let mut image = target.read_color(&gpu.device, &gpu.queue)?;
+    let labels = match args.labels.trim() {
+        "none" => Labels::None,
+        "all" => Labels::All,
+        "selected" => Labels::Chosen(selection.into_iter().collect()),
+        list => {
+            let mut chosen = Vec::new();
+            for key in list.split(',').map(str::trim).filter(|k| !k.is_empty()) {
+                chosen.extend(organs(&set, key)?);
+            }
+            Labels::Chosen(chosen)
+        }
+    };
+    if labels != Labels::None {
+        // Labels name what is seen, through faded organs as clicks reach through them.
+        renderer.render_ids(&gpu.device, &gpu.queue, &target, &input, 0.5);
+        let ids = target.read_ids(&gpu.device, &gpu.queue)?;
+        crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
+    }
     vbrain::atomic::write_png(&args.out, &image, true)?;
     if args.json {
         let out = json!({

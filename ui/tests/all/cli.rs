@@ -443,6 +443,46 @@ fn render_rejects_bad_clip_planes_and_cuts_with_good_ones() {
 }
 
 #[test]
+fn labels_keep_their_share_of_the_image_at_any_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let share = |size: u32| {
+        let mut images = Vec::new();
+        for labels in ["none", "all"] {
+            let out = dir.path().join(format!("{labels}-{size}.png"));
+            let s = format!("{size}x{size}");
+            let o = vbrain(&[
+                "render",
+                &brain(),
+                "--out",
+                out.to_str().unwrap(),
+                "--size",
+                &s,
+                "--clip",
+                "sagittal=-4",
+                "--view",
+                "right",
+                "--labels",
+                labels,
+                "--subsamples",
+                "4",
+            ]);
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            images.push(image::open(&out).unwrap().to_rgba8());
+        }
+        let changed = images[0].pixels().zip(images[1].pixels()).filter(|(a, b)| a != b).count();
+        changed as f64 / (size * size) as f64
+    };
+    let (small, large) = (share(512), share(2048));
+    assert!(small > 0.02, "labels drawn at 512: {:.1} % of the image", small * 100.0);
+    assert!(
+        (large / small - 1.0).abs() < 0.3,
+        "labels cover {:.1} % at 512 but {:.1} % at 2048",
+        small * 100.0,
+        large * 100.0
+    );
+}
+
+#[test]
 fn render_rejects_an_unknown_transparency_mode() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("x.png");

@@ -1,0 +1,213 @@
+//! Labels for figures (pure functions, screen pixels, origin top left, y down): an anchor per
+//! organ on its visible surface, chosen from the organ-ID buffer as the pixel farthest from any
+//! other organ or the background (so it sits well inside what is seen and moves little when the
+//! camera does), and a placement of the label texts in two columns beside the brain's silhouette,
+//! left of it for anchors in its left half and right of it for the others, each column in the
+//! order of its anchors from top to bottom. Placed labels never overlap each other, stay within
+//! the image and, where the image leaves room beside the silhouette, never cover it or an anchor;
+//! labels that do not fit (too many for a column, or columns that meet in a narrow image) are
+//! left out, the smallest organs first.
+
+/// An organ's anchor: where its label points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Anchor {
+    pub organ: usize,
+    /// Pixel centre.
+    pub at: [f32; 2],
+    /// How many pixels of the organ are visible.
+    pub pixels: usize,
+}
+
+/// A placed label: its organ, anchor and text rectangle (min x, min y, max x, max y).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placed {
+    pub organ: usize,
+    pub anchor: [f32; 2],
+    pub rect: [f32; 4],
+}
+
+/// Per visible organ of an ID buffer (organ index + 1 per pixel, 0 background), the pixel farthest
+/// (in chessboard steps) from a pixel of another organ, the background or the image's edge;
+/// ties go to the first in reading order. Organs in the set's order.
+pub fn anchors(ids: &[u32], width: usize, height: usize) -> Vec<Anchor> {
+    if ids.len() != width * height || ids.is_empty() {
+        return Vec::new();
+    }
+    // Two-pass chamfer distance to the nearest pixel with another id (outside counts as other).
+    let mut d = vec![u32::MAX / 2; ids.len()];
+    let at = |x: usize, y: usize| y * width + x;
+    for pass in 0..2 {
+        let ys: Vec<usize> = if pass == 0 { (0..height).collect() } else { (0..height).rev().collect() };
+        let xs: Vec<usize> = if pass == 0 { (0..width).collect() } else { (0..width).rev().collect() };
+        for &y in &ys {
+            for &x in &xs {
+                let i = at(x, y);
+                if ids[i] == 0 {
+                    d[i] = 0;
+                    continue;
+                }
+                let edge = x == 0 || y == 0 || x + 1 == width || y + 1 == height;
+                let mut best = if edge { 1 } else { d[i] };
+                let (dx, dy): (isize, isize) = if pass == 0 { (-1, -1) } else { (1, 1) };
+                for (ox, oy) in [(dx, 0), (0, dy), (dx, dy), (-dx, dy)] {
+                    let (nx, ny) = (x as isize + ox, y as isize + oy);
+                    if nx < 0 || ny < 0 || nx >= width as isize || ny >= height as isize {
+                        continue;
+                    }
+                    let n = at(nx as usize, ny as usize);
+                    let step = if ids[n] == ids[i] { d[n] + 1 } else { 1 };
+                    best = best.min(step);
+                }
+                d[i] = best;
+            }
+        }
+    }
+    let organs = ids.iter().copied().max().unwrap_or(0) as usize;
+    let mut best: Vec<Option<(u32, usize)>> = vec![None; organs];
+    let mut count = vec![0usize; organs];
+    for (i, &id) in ids.iter().enumerate() {
+        if id == 0 {
+            continue;
+        }
+        let o = id as usize - 1;
+        count[o] += 1;
+        if best[o].is_none_or(|(bd, _)| d[i] > bd) {
+            best[o] = Some((d[i], i));
+        }
+    }
+    best.iter()
+        .enumerate()
+        .filter_map(|(o, b)| {
+            b.map(|(_, i)| Anchor {
+                organ: o,
+                at: [(i % width) as f32 + 0.5, (i / width) as f32 + 0.5],
+                pixels: count[o],
+            })
+        })
+        .collect()
+}
+
+/// Places labels of text sizes `sizes[k]` (width, height in pixels) for `anchors[k]` beside
+/// `silhouette` (min x, min y, max x, max y) in an image of `image` pixels, `gap` pixels from the
+/// silhouette and apart from each other.
+pub fn place(anchors: &[Anchor], sizes: &[[f32; 2]], silhouette: [f32; 4], image: [f32; 2], gap: f32) -> Vec<Placed> {
+    let centre = (silhouette[0] + silhouette[2]) / 2.0;
+    let mut out = Vec::new();
+    for left in [true, false] {
+        let mut column: Vec<(Anchor, [f32; 2])> = anchors
+            .iter()
+            .zip(sizes)
+            .filter(|(a, s)| (a.at[0] < centre) == left && s[0] > 0.0 && s[1] > 0.0 && s[0] <= image[0])
+            .map(|(a, s)| (*a, *s))
+            .collect();
+        // Too many for the column's height: the smallest organs go first.
+        let fits = |c: &[(Anchor, [f32; 2])]| c.iter().map(|(_, s)| s[1] + gap).sum::<f32>() <= image[1];
+        while !fits(&column) {
+            let smallest = column.iter().enumerate().min_by_key(|(_, (a, _))| a.pixels).map(|(k, _)| k);
+            column.remove(smallest.unwrap_or(0));
+        }
+        column.sort_by(|a, b| a.0.at[1].total_cmp(&b.0.at[1]).then(a.0.organ.cmp(&b.0.organ)));
+        // Top to bottom at the anchors' heights, pushed down to clear the one above, then up from
+        // the image's bottom edge.
+        let mut tops: Vec<f32> = Vec::with_capacity(column.len());
+        for (k, (a, s)) in column.iter().enumerate() {
+            let wanted = (a.at[1] - s[1] / 2.0).max(gap / 2.0);
+            let below = if k == 0 { wanted } else { wanted.max(tops[k - 1] + column[k - 1].1[1] + gap) };
+            tops.push(below);
+        }
+        let mut limit = image[1] - gap / 2.0;
+        for k in (0..column.len()).rev() {
+            let h = column[k].1[1];
+            tops[k] = tops[k].min(limit - h).max(0.0);
+            limit = tops[k] - gap;
+        }
+        for ((a, s), top) in column.iter().zip(tops) {
+            let x =
+                if left { (silhouette[0] - gap - s[0]).max(0.0) } else { (silhouette[2] + gap).min(image[0] - s[0]) };
+            out.push(Placed { organ: a.organ, anchor: a.at, rect: [x, top, x + s[0], top + s[1]] });
+        }
+    }
+    // Where the image is too narrow for both columns beside the silhouette they may meet: of two
+    // labels that overlap, the smaller organ's goes.
+    let pixels = |organ: usize| anchors.iter().find(|a| a.organ == organ).map_or(0, |a| a.pixels);
+    let mut keep = vec![true; out.len()];
+    for i in 0..out.len() {
+        for j in i + 1..out.len() {
+            if keep[i] && keep[j] && overlap(&out[i].rect, &out[j].rect) {
+                let drop = if pixels(out[i].organ) < pixels(out[j].organ) { i } else { j };
+                keep[drop] = false;
+            }
+        }
+    }
+    out.into_iter().zip(keep).filter_map(|(p, k)| k.then_some(p)).collect()
+}
+
+/// Do two rectangles overlap (touching edges do not)?
+pub fn overlap(a: &[f32; 4], b: &[f32; 4]) -> bool {
+    a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::rng::XorShift;
+
+    #[test]
+    fn anchors_sit_deep_inside_what_is_seen() {
+        // A 9x5 organ 1 with a 3x3 organ 2 inside at its right.
+        let (w, h) = (11, 7);
+        let mut ids = vec![0u32; w * h];
+        for y in 1..6 {
+            for x in 1..10 {
+                ids[y * w + x] = 1;
+            }
+        }
+        for y in 2..5 {
+            for x in 6..9 {
+                ids[y * w + x] = 2;
+            }
+        }
+        let a = anchors(&ids, w, h);
+        assert_eq!(a.len(), 2);
+        assert_eq!(a[1].at, [7.5, 3.5], "the middle of organ 2");
+        assert_eq!(a[0].pixels, 45 - 9);
+        assert!(a[0].at[0] < 6.0, "organ 1's anchor is away from organ 2: {:?}", a[0].at);
+    }
+
+    #[test]
+    fn placed_labels_never_overlap_and_stay_in_the_image() {
+        let mut rng = XorShift(7);
+        let mut r = |a: f32, b: f32| a + (b - a) * (rng.next_u64() % 10_000) as f32 / 10_000.0;
+        for _ in 0..200 {
+            let image = [r(300.0, 2400.0), r(200.0, 1800.0)];
+            let sil =
+                [image[0] * r(0.2, 0.4), image[1] * r(0.05, 0.3), image[0] * r(0.6, 0.8), image[1] * r(0.7, 0.95)];
+            let n = r(1.0, 60.0) as usize;
+            let anchors: Vec<Anchor> = (0..n)
+                .map(|organ| Anchor {
+                    organ,
+                    at: [r(sil[0], sil[2]), r(sil[1], sil[3])],
+                    pixels: r(1.0, 5000.0) as usize,
+                })
+                .collect();
+            let text = image[1] * 0.022;
+            let sizes: Vec<[f32; 2]> = (0..n).map(|_| [text * r(3.0, 14.0), text * 1.3]).collect();
+            let placed = place(&anchors, &sizes, sil, image, text * 0.4);
+            assert!(!placed.is_empty());
+            for (i, a) in placed.iter().enumerate() {
+                let [x0, y0, x1, y1] = a.rect;
+                assert!(x0 >= 0.0 && y0 >= 0.0 && x1 <= image[0] + 1e-3 && y1 <= image[1] + 1e-3, "{a:?} in {image:?}");
+                for b in &placed[i + 1..] {
+                    assert!(!overlap(&a.rect, &b.rect), "{a:?} overlaps {b:?}");
+                }
+                for c in &placed {
+                    let [ax, ay] = c.anchor;
+                    assert!(
+                        !(ax > x0 && ax < x1 && ay > y0 && ay < y1) || x0 <= 0.0 || x1 >= image[0] - 1e-3,
+                        "a label covers an anchor"
+                    );
+                }
+            }
+        }
+    }
+}
