@@ -142,6 +142,18 @@ pub fn place(anchors: &[Anchor], sizes: &[[f32; 2]], silhouette: [f32; 4], image
     out.into_iter().zip(keep).filter_map(|(p, k)| k.then_some(p)).collect()
 }
 
+/// The bounds (min x, min y, max x, max y) of the pixels an ID buffer `width` wide shows organs
+/// in; `None` if it shows none.
+pub fn silhouette(ids: &[u32], width: usize) -> Option<[f32; 4]> {
+    let mut b: Option<[f32; 4]> = None;
+    for (i, _) in ids.iter().enumerate().filter(|(_, &id)| id != 0) {
+        let (x, y) = ((i % width.max(1)) as f32, (i / width.max(1)) as f32);
+        let r = b.get_or_insert([x, y, x + 1.0, y + 1.0]);
+        *r = [r[0].min(x), r[1].min(y), r[2].max(x + 1.0), r[3].max(y + 1.0)];
+    }
+    b
+}
+
 /// Do two rectangles overlap (touching edges do not)?
 pub fn overlap(a: &[f32; 4], b: &[f32; 4]) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]

@@ -19,6 +19,9 @@ pub enum Labels {
     Chosen(Vec<usize>),
 }
 
+/// Labels name what is seen through organs fainter than this, as clicks reach through them.
+pub const PICK_OPACITY: f32 = 0.5;
+
 /// Text height in pixels for an image `height` pixels high.
 pub fn text_px(height: u32) -> f32 {
     (height as f32 * 0.024).max(11.0)
@@ -96,17 +99,7 @@ pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(us
     if found.is_empty() {
         return Vec::new();
     }
-    let (mut sil, mut any) = ([f32::MAX, f32::MAX, f32::MIN, f32::MIN], false);
-    for (i, &id) in ids.iter().enumerate() {
-        if id != 0 {
-            let (x, y) = ((i % w) as f32, (i / w) as f32);
-            sil = [sil[0].min(x), sil[1].min(y), sil[2].max(x + 1.0), sil[3].max(y + 1.0)];
-            any = true;
-        }
-    }
-    if !any {
-        return Vec::new();
-    }
+    let Some(sil) = vbrain::labels::silhouette(ids, w) else { return Vec::new() };
     let fonts = fonts();
     let px = text_px(image.height());
     let pad = px * 0.3;

@@ -138,7 +138,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     };
     if labels != Labels::None {
         // Labels name what is seen, through faded organs as clicks reach through them.
-        renderer.render_ids(&gpu.device, &gpu.queue, &target, &input, 0.5);
+        renderer.render_ids(&gpu.device, &gpu.queue, &target, &input, crate::annotate::PICK_OPACITY);
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
     }

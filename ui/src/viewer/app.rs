@@ -491,7 +491,9 @@ impl App {
             caps: self.sections.caps,
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
-        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path)
+        let labels = self.settings.labels.labels(self.selected);
+        let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
+        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path, &labels, &name)
     }
 
     /// The windows, each one's actions performed before the next draws.

@@ -42,8 +42,10 @@ pub fn unused_path(path: &Path) -> PathBuf {
     (2..).map(|n| path.with_file_name(format!("{stem}-{n}.{ext}"))).find(|p| !p.exists()).unwrap_or_default()
 }
 
-/// Renders `frame` (a still: full screen-door masks) at `size` and writes a PNG to `path` (or, if
-/// that exists, to the next free name, which is returned).
+/// Renders `frame` (a still: full screen-door masks) at `size`, with `labels` (named by `name`)
+/// sized to the image, and writes a PNG to `path` (or, if that exists, to the next free name,
+/// which is returned).
+#[allow(clippy::too_many_arguments)]
 pub fn export(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -51,14 +53,22 @@ pub fn export(
     frame: &FrameInput,
     size: [u32; 2],
     path: &Path,
+    labels: &crate::annotate::Labels,
+    name: &dyn Fn(usize) -> String,
 ) -> Result<PathBuf> {
     let [w, h] = size;
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         bail!("screenshot size {w}x{h} outside 1..={MAX_SIDE}");
     }
     let target = Target::new(device, w, h)?;
-    renderer.render(device, queue, &target, &FrameInput { moving: false, ..*frame })?;
-    let image = target.read_color(device, queue)?;
+    let still = FrameInput { moving: false, ..*frame };
+    renderer.render(device, queue, &target, &still)?;
+    let mut image = target.read_color(device, queue)?;
+    if *labels != crate::annotate::Labels::None {
+        renderer.render_ids(device, queue, &target, &still, crate::annotate::PICK_OPACITY);
+        let ids = target.read_ids(device, queue)?;
+        crate::annotate::draw(&mut image, &ids, labels, name);
+    }
     let path = unused_path(path);
     vbrain::atomic::write_png(&path, &image, false)?;
     Ok(path)

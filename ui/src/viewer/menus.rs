@@ -126,6 +126,11 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
     if ui.button("Sections...").on_hover_text("Cut the set along the axial, coronal and sagittal planes").clicked() {
         out.push(Action::Show(Window::Sections));
     }
+    ui.menu_button("Labels", |ui| {
+        for mode in super::settings::LabelMode::ALL {
+            ui.radio_value(&mut settings.labels, mode, mode.name());
+        }
+    });
     ui.separator();
     let has_db = state.has_database;
     ui.menu_button("Culling of hidden tissue", |ui| culling_menu(ui, has_db, settings));

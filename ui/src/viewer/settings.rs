@@ -30,6 +30,37 @@ pub struct Settings {
     pub cull_debug: bool,
     /// How faded organs are drawn: mode, mask sub-samples, region size, K.
     pub transparency: vbrain::transparency::TransparencySettings,
+    /// Which organs are named with labels, in the viewport and in exports.
+    pub labels: LabelMode,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum LabelMode {
+    #[default]
+    None,
+    Selected,
+    All,
+}
+
+impl LabelMode {
+    pub const ALL: [LabelMode; 3] = [LabelMode::None, LabelMode::Selected, LabelMode::All];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            LabelMode::None => "No labels",
+            LabelMode::Selected => "Label the selected organ",
+            LabelMode::All => "Label every organ seen",
+        }
+    }
+
+    /// The labels this mode draws with `selected` the selection.
+    pub fn labels(self, selected: Option<usize>) -> crate::annotate::Labels {
+        match self {
+            LabelMode::None => crate::annotate::Labels::None,
+            LabelMode::Selected => crate::annotate::Labels::Chosen(selected.into_iter().collect()),
+            LabelMode::All => crate::annotate::Labels::All,
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -70,6 +101,7 @@ impl Default for Settings {
             cull: vbrain::cull::CullSettings::default(),
             cull_debug: false,
             transparency: Default::default(),
+            labels: LabelMode::None,
         }
     }
 }

@@ -184,6 +184,18 @@ fn hide_fade_select_and_export() {
     let second = image::open(dir.path().join("view-2.png")).unwrap();
     assert_eq!((second.width(), second.height()), (shown.width() * 2, shown.height() * 2));
     assert_eq!(image::open(&file).unwrap().to_rgba8(), shown);
+
+    // With the selected organ labelled, the export names it: its plate and line are drawn in.
+    h.state_mut().settings_mut().labels = vbrain_ui::viewer::settings::LabelMode::Selected;
+    h.key_press_modifiers(Modifiers::COMMAND, Key::E);
+    h.run_steps(2);
+    h.state_mut().dialogs_mut().export.path.text = file.display().to_string();
+    h.state_mut().settings_mut().export.size = ExportSize::Viewport;
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    let labelled = image::open(dir.path().join("view-3.png")).unwrap().to_rgba8();
+    let changed = labelled.pixels().zip(shown.pixels()).filter(|(a, b)| a != b).count();
+    assert!(changed > 500, "the label of the selected organ is in the export ({changed} pixels changed)");
 }
 
 #[test]
