@@ -34,8 +34,25 @@ pub struct SceneFile {
     /// The selected organ's id.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub selection: Option<String>,
+    /// Clip planes cutting the set (world RAS, removing `n . p > d`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clip: Vec<crate::clip::ClipPlane>,
+    /// Solid cut faces where planes cut closed organs.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub caps: bool,
+    /// Which organs are labelled: "selected" or "all" (none when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub labels: Option<String>,
     /// Every organ of the set, in the set's order.
     pub organs: Vec<OrganEntry>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -150,6 +167,9 @@ impl SceneFile {
             camera,
             render,
             selection: selection.and_then(|i| set.organs.get(i)).map(|o| o.id.clone()),
+            clip: Vec::new(),
+            caps: true,
+            labels: None,
             organs,
         }
     }
@@ -315,8 +335,11 @@ mod tests {
         layout.organs[2].transform.translation = Vec3::new(0.1, 1e-7, -30.000_002);
         layout.organs[2].transform.rotation_deg = Vec3::new(33.3, 0.0, -1.0);
         layout.organs[2].transform.scale = 1.1;
-        let s = scene(&set, &layout);
+        let mut s = scene(&set, &layout);
         assert_eq!(s.set.path, Path::new("../sets/brain"));
+        assert!(!s.to_json(Path::new("x")).unwrap().contains("clip"), "no planes, no key");
+        s.clip = vec![crate::clip::ClipPlane::parse("coronal=-7.25:flip").unwrap()];
+        (s.caps, s.labels) = (false, Some("all".into()));
         let text = s.to_json(Path::new("x.vbscene")).unwrap();
         let back = SceneFile::parse(&text, Path::new("x.vbscene")).unwrap();
         assert_eq!(back, s);

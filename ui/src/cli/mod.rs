@@ -153,12 +153,12 @@ pub struct RenderArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
     pub clip: Vec<vbrain::clip::ClipPlane>,
     /// Solid cut faces where a plane cuts a closed organ: on or off
-    #[arg(long, default_value = "on", value_parser = values::on_off)]
-    pub caps: bool,
+    #[arg(long, value_parser = values::on_off)]
+    pub caps: Option<bool>,
     /// Name organs with leader-line labels beside the brain: none, selected (a scene's selection),
-    /// all (every organ seen) or ID,ID,... (ids or groups)
-    #[arg(long, default_value = "none")]
-    pub labels: String,
+    /// all (every organ seen) or ID,ID,... (ids or groups) [default: the scene's, else none]
+    #[arg(long)]
+    pub labels: Option<String>,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,

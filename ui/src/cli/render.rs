@@ -80,17 +80,27 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let background_srgb = chosen.map_or_else(crate::background_srgb, |r| r.background);
     let background = if args.transparent { [0.0; 4] } else { crate::background_linear(background_srgb, false) };
 
+    // Sections and labels: the options given, else the scene's.
+    let from_scene = scene.as_ref().map(|(_, s)| s);
+    let clip_planes =
+        if args.clip.is_empty() { from_scene.map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
+    let caps = args.caps.or(from_scene.map(|s| s.caps)).unwrap_or(true);
+    let labels_arg = args.labels.clone().or(from_scene.and_then(|s| s.labels.clone())).unwrap_or("none".into());
+
     if let Some(out) = &args.save_scene {
         let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
         let render = RenderState { transparency, cull: mode, background: background_srgb };
-        SceneFile::capture(&set, &path, out, &layout, nav, render, selection).save(out).map_err(|e| anyhow!(e))?;
+        let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
+        (file.clip, file.caps) = (clip_planes.clone(), caps);
+        file.labels = matches!(labels_arg.as_str(), "selected" | "all").then(|| labels_arg.clone());
+        file.save(out).map_err(|e| anyhow!(e))?;
     }
 
-    if args.clip.len() > vbrain::clip::MAX_PLANES {
+    if clip_planes.len() > vbrain::clip::MAX_PLANES {
         bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
     }
     let set_bounds = Layout::new(&set).bounds(&set);
-    for p in &args.clip {
+    for p in &clip_planes {
         if vbrain::clip::side(std::slice::from_ref(p), &set_bounds) != vbrain::clip::Side::Cut {
             let [x, y, z] = set_bounds.min.map(|v| v.round());
             let [a, b, c] = set_bounds.max.map(|v| v.round());
@@ -103,7 +113,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let clip = vbrain::cull::Clip { planes: &args.clip };
+    let clip = vbrain::cull::Clip { planes: &clip_planes };
     let mut culler = Culler::new(database(&path, &set));
     let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
@@ -114,8 +124,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         draw_order: order.as_deref(),
         highlight: &highlight,
         selection,
-        clip: &args.clip,
-        caps: args.caps,
+        clip: &clip_planes,
+        caps,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {
@@ -124,7 +134,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
     let mut image = target.read_color(&gpu.device, &gpu.queue)?;
-    let labels = match args.labels.trim() {
+    let labels = match labels_arg.trim() {
         "none" => Labels::None,
         "all" => Labels::All,
         "selected" => Labels::Chosen(selection.into_iter().collect()),

@@ -139,7 +139,7 @@ impl Document {
 /// saved (several mesh files opened together have no one path to refer to).
 pub fn capture(
     scene: &Scene,
-    viewport: &Viewport,
+    (viewport, sections): (&Viewport, &super::sections::Sections),
     settings: &Settings,
     selected: Option<usize>,
     path: &Path,
@@ -148,7 +148,7 @@ pub fn capture(
     let mode = if viewport.fly() { CameraMode::Walk } else { CameraMode::Orbit };
     let render =
         RenderState { transparency: settings.transparency, cull: settings.cull.mode, background: settings.background };
-    Some(SceneFile::capture(
+    let mut file = SceneFile::capture(
         scene.set(),
         set_path,
         path,
@@ -156,7 +156,14 @@ pub fn capture(
         CameraState::of(&viewport.navigator(), mode),
         render,
         selected,
-    ))
+    );
+    (file.clip, file.caps) = (sections.clip_planes(), sections.caps);
+    file.labels = match settings.labels {
+        super::settings::LabelMode::None => None,
+        super::settings::LabelMode::Selected => Some("selected".into()),
+        super::settings::LabelMode::All => Some("all".into()),
+    };
+    Some(file)
 }
 
 /// "Save scene as": a path field.

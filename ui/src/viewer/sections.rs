@@ -50,6 +50,27 @@ impl Sections {
             .collect()
     }
 
+    /// Takes a scene's planes: axis-aligned ones into the axial, coronal and sagittal controls
+    /// (the others off). Returns false if some plane is oblique (left out).
+    pub fn set_planes(&mut self, planes: &[ClipPlane], caps: bool) -> bool {
+        self.planes.iter_mut().for_each(|p| p.on = false);
+        self.caps = caps;
+        let mut all = true;
+        for plane in planes {
+            let n = plane.normal;
+            let axis = (0..3).find(|&k| n[k].abs() > 0.9999 && (0..3).all(|j| j == k || n[j].abs() < 1e-4));
+            match axis {
+                Some(k) => {
+                    let flip = n[k] < 0.0;
+                    self.planes[2 - k] = PlaneControl { on: true, mm: if flip { -plane.d } else { plane.d }, flip };
+                }
+                None => all = false,
+            }
+        }
+        self.current = self.clip_planes();
+        all
+    }
+
     /// The window, over a set with these world bounds (positions are kept within them).
     pub fn show(&mut self, ctx: &egui::Context, bounds: Option<Bounds>) {
         let mut open = self.open;

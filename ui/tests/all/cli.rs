@@ -66,6 +66,19 @@ fn a_saved_scene_renders_the_same_picture() {
     ));
     assert_ne!(std::fs::read(&a).unwrap(), std::fs::read(&c).unwrap(), "an option overrides the scene");
 
+    // Planes and labels are saved and rendered again the same.
+    let cut = ["--clip", "sagittal=-4", "--view", "right", "--labels", "all"];
+    json(&vbrain(
+        &[&["render", &set][..], &cut, &["--save-scene", &p(&scene), "--out", &p(&a), "--json"], &size].concat(),
+    ));
+    assert!(std::fs::read_to_string(&scene).unwrap().contains("\"clip\""));
+    json(&vbrain(&[&["render", "--scene", &p(&scene), "--out", &p(&b), "--json"][..], &size].concat()));
+    assert_eq!(
+        std::fs::read(&a).unwrap(),
+        std::fs::read(&b).unwrap(),
+        "the cut, labelled scene renders the same bytes"
+    );
+
     std::fs::write(&scene, text.replacen("\"camera\": {", "\"camera\": {,", 1)).unwrap();
     let r = vbrain(&["render", "--scene", &p(&scene), "--out", &p(&c)]);
     assert!(!r.status.success());

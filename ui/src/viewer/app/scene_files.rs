@@ -39,6 +39,12 @@ impl App {
         self.settings.transparency = file.render.transparency;
         self.settings.cull.mode = file.render.cull;
         self.settings.background = file.render.background;
+        self.settings.labels = match file.labels.as_deref() {
+            Some("all") => crate::viewer::settings::LabelMode::All,
+            Some("selected") => crate::viewer::settings::LabelMode::Selected,
+            _ => crate::viewer::settings::LabelMode::None,
+        };
+        let oblique = !self.sections.set_planes(&file.clip, file.caps);
         if self.document.restoring.as_deref() == Some(path) {
             // Recovered changes are saved nowhere yet.
             self.document.restoring = None;
@@ -51,12 +57,17 @@ impl App {
         for w in applied.warnings {
             self.notify(format!("{}: {w}", path.display()), false);
         }
+        if oblique {
+            self.notify(format!("{}: an oblique clip plane is not shown in the viewer yet", path.display()), false);
+        }
     }
 
     /// Saves the scene to `path` (atomically); it becomes the document.
     pub(super) fn save_scene(&mut self, path: &Path) {
         let Some(scene) = &self.scene else { return };
-        let Some(file) = document::capture(scene, &self.viewport, &self.settings, self.selected, path) else {
+        let Some(file) =
+            document::capture(scene, (&self.viewport, &self.sections), &self.settings, self.selected, path)
+        else {
             return self
                 .notify("mesh files opened together cannot be saved as a scene: save them as a set first", true);
         };
@@ -136,7 +147,7 @@ impl App {
         }
         if let Some(scene) = &self.scene {
             let now = ctx.input(|i| i.time);
-            let (viewport, settings, selected) = (&self.viewport, &self.settings, self.selected);
+            let (viewport, settings, selected) = ((&self.viewport, &self.sections), &self.settings, self.selected);
             let capture = |p: &Path| document::capture(scene, viewport, settings, selected, p);
             if let Some(problem) = self.document.keep_recovery(now, scene, capture) {
                 self.notifications.push(Notification { text: problem, error: true });
