@@ -370,7 +370,7 @@ impl Viewport {
         let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
-            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent());
+            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent(), !input.clip.is_empty());
         }
         let labels = settings.labels.labels(input.selected);
         if labels != crate::annotate::Labels::None {
@@ -418,11 +418,24 @@ impl Viewport {
 }
 
 /// The statistics overlay (top left): culling and transparency figures of the frame.
-fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, stats: &RenderStats, faded: bool) {
+fn overlay(
+    ui: &egui::Ui,
+    rect: Rect,
+    settings: &Settings,
+    cull: &CullStats,
+    stats: &RenderStats,
+    faded: bool,
+    cut: bool,
+) {
     let mut lines = Vec::new();
     if settings.cull.mode != vbrain::cull::CullMode::None {
+        let cut_note = if cut && settings.cull.mode == vbrain::cull::CullMode::Occlusion {
+            " (frustum only while planes cut)"
+        } else {
+            ""
+        };
         lines.push(format!(
-            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles{}\n{} nodes tested, {:.2} ms",
+            "culling: {}{cut_note}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles{}\n{} nodes tested, {:.2} ms",
             settings.cull.mode.name(),
             cull.culled_percent(),
             cull.frustum_culled,
