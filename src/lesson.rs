@@ -118,21 +118,7 @@ pub struct StepView {
 impl Lesson {
     /// Parses a lesson's text; `path` names it in errors.
     pub fn parse(text: &str, path: &Path) -> Result<Lesson> {
-        let value: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
-        match value.get("format").and_then(|f| f.as_str()) {
-            Some(FORMAT) => {}
-            Some(f) if f.starts_with("vbrain-lesson/") => {
-                return Err(Error::parse(
-                    path,
-                    None,
-                    format!("format \"{f}\": written by a newer vbrain (this one reads {FORMAT})"),
-                ))
-            }
-            _ => return Err(Error::parse(path, None, format!("not a vbrain lesson (\"format\": \"{FORMAT}\")"))),
-        }
-        let lesson: Lesson =
-            serde_json::from_str(text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
+        let lesson: Lesson = crate::json_file::parse(text, path, FORMAT, "lesson")?;
         if lesson.steps.is_empty() {
             return Err(Error::parse(path, None, "a lesson needs at least one step"));
         }
@@ -148,16 +134,12 @@ impl Lesson {
 
     /// The JSON text (keys in a fixed order, two-space indents, a final newline).
     pub fn to_json(&self, path: &Path) -> Result<String> {
-        let mut s = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Encode { path: path.into(), message: e.to_string() })?;
-        s.push('\n');
-        Ok(s)
+        crate::json_file::to_json(self, path)
     }
 
     /// Writes the lesson atomically.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let text = self.to_json(path)?;
-        crate::atomic::write(path, |w| std::io::Write::write_all(w, text.as_bytes()))
+        crate::json_file::save(self, path)
     }
 
     /// This lesson to be saved at `to` instead of `from`: its set path made relative to the new

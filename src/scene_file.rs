@@ -174,38 +174,19 @@ impl SceneFile {
         }
     }
 
-    /// The JSON text: keys in the order of the structs, two-space indents, a final newline. (Plain
-    /// data does not fail to encode; if it did, the error would name `path`.)
+    /// The JSON text: keys in the order of the structs, two-space indents, a final newline.
     pub fn to_json(&self, path: &Path) -> Result<String> {
-        let mut s = serde_json::to_string_pretty(self)
-            .map_err(|e| Error::Encode { path: path.into(), message: e.to_string() })?;
-        s.push('\n');
-        Ok(s)
+        crate::json_file::to_json(self, path)
     }
 
     /// Writes the scene atomically.
     pub fn save(&self, path: &Path) -> Result<()> {
-        let text = self.to_json(path)?;
-        crate::atomic::write(path, |w| w.write_all(text.as_bytes()))
+        crate::json_file::save(self, path)
     }
 
     /// Parses a scene file's text; `path` names it in errors.
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-        let value: serde_json::Value =
-            serde_json::from_str(text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
-        match value.get("format").and_then(|f| f.as_str()) {
-            Some(FORMAT) => {}
-            Some(f) if f.starts_with("vbrain-scene/") => {
-                return Err(Error::parse(
-                    path,
-                    None,
-                    format!("format \"{f}\": written by a newer vbrain (this one reads {FORMAT})"),
-                ))
-            }
-            Some(f) => return Err(Error::parse(path, None, format!("format \"{f}\" is not a vbrain scene"))),
-            None => return Err(Error::parse(path, None, "no \"format\": not a vbrain scene")),
-        }
-        serde_json::from_str(text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))
+        crate::json_file::parse(text, path, FORMAT, "scene")
     }
 
     /// Reads a scene file.
