@@ -21,19 +21,6 @@ pub fn is_scene(p: &Path) -> bool {
     p.extension().is_some_and(|e| e.eq_ignore_ascii_case(EXTENSION))
 }
 
-/// `path` as typed, with `.vbscene` added if it has another extension or none.
-pub fn with_extension(path: &str) -> PathBuf {
-    let p = PathBuf::from(path.trim());
-    if is_scene(&p) {
-        p
-    } else {
-        let mut s = p.into_os_string();
-        s.push(".");
-        s.push(EXTENSION);
-        PathBuf::from(s)
-    }
-}
-
 /// Seconds between writes of the recovery file while changes go on.
 pub const RECOVERY_SECONDS: f64 = 3.0;
 
@@ -181,7 +168,7 @@ impl SaveWindow {
             ui.label("The organs, the camera and the render settings, as a .vbscene file (JSON).");
             self.field.ui(ui, "File:", Pick::Save, &[("vbrain scene", &[EXTENSION])]);
             if ui.button("Save").clicked() && !self.field.text.trim().is_empty() {
-                go = Some(with_extension(&self.field.text));
+                go = Some(super::widgets::with_extension(&self.field.text, EXTENSION));
             }
         });
         self.open = open && go.is_none();

@@ -60,19 +60,6 @@ pub fn lessons_beside(set: &Path) -> Vec<PathBuf> {
     found
 }
 
-/// `path` as typed, with `.vblesson` added if it has another extension or none.
-pub fn with_extension(path: &str) -> PathBuf {
-    let p = PathBuf::from(path.trim());
-    if p.extension().is_some_and(|e| e.eq_ignore_ascii_case(EXTENSION)) {
-        p
-    } else {
-        let mut s = p.into_os_string();
-        s.push(".");
-        s.push(EXTENSION);
-        PathBuf::from(s)
-    }
-}
-
 impl LessonPanel {
     /// A panel showing `lesson` (from `path`, or new) at its first step.
     pub fn open(lesson: Lesson, path: Option<PathBuf>) -> LessonPanel {
@@ -305,7 +292,7 @@ impl LessonPanel {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 if ui.button("Save").clicked() && !field.text.trim().is_empty() {
-                    out.push(Action::SaveLessonTo(with_extension(&field.text)));
+                    out.push(Action::SaveLessonTo(super::widgets::with_extension(&field.text, EXTENSION)));
                 }
                 cancel = ui.button("Cancel").clicked();
             });

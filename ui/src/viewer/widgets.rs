@@ -85,3 +85,16 @@ impl PathField {
         self.text.split(';').map(str::trim).filter(|s| !s.is_empty()).map(PathBuf::from).collect()
     }
 }
+
+/// `path` as typed (trimmed), with `.ext` added if it has another extension or none.
+pub fn with_extension(path: &str, ext: &str) -> PathBuf {
+    let p = PathBuf::from(path.trim());
+    if p.extension().is_some_and(|e| e.eq_ignore_ascii_case(ext)) {
+        p
+    } else {
+        let mut s = p.into_os_string();
+        s.push(".");
+        s.push(ext);
+        PathBuf::from(s)
+    }
+}
