@@ -19,6 +19,44 @@ pub enum Labels {
     Chosen(Vec<usize>),
 }
 
+impl Labels {
+    /// Does it label organ `o`?
+    pub fn wants(&self, o: usize) -> bool {
+        match self {
+            Labels::None => false,
+            Labels::All => true,
+            Labels::Chosen(list) => list.contains(&o),
+        }
+    }
+}
+
+/// A label laid out: its placement and where its leader line meets its plate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Laid {
+    pub placed: Placed,
+    pub end: [f32; 2],
+}
+
+/// Padding inside a label's plate, in text heights.
+pub const PAD: f32 = 0.3;
+
+/// Lays out the labels of `which` organs over an ID buffer `size` pixels (organ index + 1 per
+/// pixel): text [`text_px`] of its height, each name `text_width(organ)` pixels wide.
+pub fn lay_out(ids: &[u32], size: [u32; 2], which: &Labels, text_width: impl Fn(usize) -> f32) -> Vec<Laid> {
+    let (w, h) = (size[0] as usize, size[1] as usize);
+    let found: Vec<_> = anchors(ids, w, h).into_iter().filter(|a| which.wants(a.organ) && a.pixels >= 4).collect();
+    let Some(sil) = vbrain::labels::silhouette(ids, w).filter(|_| !found.is_empty()) else { return Vec::new() };
+    let px = text_px(size[1]);
+    let sizes: Vec<[f32; 2]> = found.iter().map(|a| [text_width(a.organ) + 2.0 * PAD * px, px * 1.25]).collect();
+    place(&found, &sizes, sil, [w as f32, h as f32], px * 0.35)
+        .into_iter()
+        .map(|p| {
+            let left = p.rect[2] <= p.anchor[0];
+            Laid { placed: p, end: [if left { p.rect[2] } else { p.rect[0] }, (p.rect[1] + p.rect[3]) / 2.0] }
+        })
+        .collect()
+}
+
 /// Labels name what is seen through organs fainter than this, as clicks reach through them.
 pub const PICK_OPACITY: f32 = 0.5;
 
@@ -89,28 +127,12 @@ fn line(image: &mut RgbaImage, a: [f32; 2], b: [f32; 2], width: f32, colour: [u8
 /// Draws labels of `which` organs, named by `name`, onto `image`, from the ID buffer `ids` of the
 /// same size (organ index + 1 per pixel). Returns the labels placed.
 pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(usize) -> String) -> Vec<Placed> {
-    let (w, h) = (image.width() as usize, image.height() as usize);
-    let wanted = |o: usize| match which {
-        Labels::None => false,
-        Labels::All => true,
-        Labels::Chosen(list) => list.contains(&o),
-    };
-    let found: Vec<_> = anchors(ids, w, h).into_iter().filter(|a| wanted(a.organ) && a.pixels >= 4).collect();
-    if found.is_empty() {
-        return Vec::new();
-    }
-    let Some(sil) = vbrain::labels::silhouette(ids, w) else { return Vec::new() };
     let fonts = fonts();
     let px = text_px(image.height());
-    let pad = px * 0.3;
-    let names: Vec<String> = found.iter().map(|a| name(a.organ)).collect();
-    let sizes: Vec<[f32; 2]> = names.iter().map(|n| [shape(&fonts, n, px).1 + 2.0 * pad, px * 1.25]).collect();
-    let placed = place(&found, &sizes, sil, [w as f32, h as f32], px * 0.35);
+    let laid = lay_out(ids, [image.width(), image.height()], which, |o| shape(&fonts, &name(o), px).1);
     let scale = px / 20.0;
-    for p in &placed {
-        let k = found.iter().position(|a| a.organ == p.organ).unwrap_or(0);
-        let left = p.rect[2] <= p.anchor[0];
-        let end = [if left { p.rect[2] } else { p.rect[0] }, (p.rect[1] + p.rect[3]) / 2.0];
+    for Laid { placed: p, end } in &laid {
+        let (p, end) = (*p, *end);
         line(image, p.anchor, end, 3.0 * scale, [0, 0, 0], 0.6);
         line(image, p.anchor, end, 1.4 * scale, [255, 255, 255], 0.95);
         disc(image, p.anchor, 3.2 * scale, [0, 0, 0], 0.7);
@@ -120,7 +142,8 @@ pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(us
                 blend(image, x, y, [20, 22, 28], 0.78);
             }
         }
-        let (glyphs, _) = shape(&fonts, &names[k], px);
+        let pad = PAD * px;
+        let (glyphs, _) = shape(&fonts, &name(p.organ), px);
         let baseline = p.rect[1] + px * 0.98;
         for (f, id, x) in glyphs {
             let origin = ab_glyph::point(p.rect[0] + pad + x, baseline);
@@ -144,7 +167,7 @@ pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(us
             }
         }
     }
-    placed
+    laid.into_iter().map(|l| l.placed).collect()
 }
 
 #[cfg(test)]

@@ -265,43 +265,29 @@ impl Viewport {
     /// at the same size relative to the viewport.
     fn paint_labels(&self, ui: &egui::Ui, rect: Rect, input: &Input, labels: &crate::annotate::Labels) {
         let Some(scene) = input.scene else { return };
-        let Some((ids, [w, h])) = self.read_ids(input) else { return };
-        let wanted = |o: usize| match labels {
-            crate::annotate::Labels::None => false,
-            crate::annotate::Labels::All => true,
-            crate::annotate::Labels::Chosen(list) => list.contains(&o),
-        };
-        let found: Vec<_> = vbrain::labels::anchors(&ids, w as usize, h as usize)
-            .into_iter()
-            .filter(|a| wanted(a.organ) && a.pixels >= 4)
-            .collect();
-        let Some(silhouette) = vbrain::labels::silhouette(&ids, w as usize) else { return };
+        let Some((ids, size)) = self.read_ids(input) else { return };
         let ppp = ui.ctx().pixels_per_point();
-        let px = crate::annotate::text_px(h);
+        let px = crate::annotate::text_px(size[1]);
         let font = egui::FontId::proportional(px / ppp);
-        let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
-        let galleys: Vec<_> = found
-            .iter()
-            .map(|a| ui.painter().layout_no_wrap(name(a.organ), font.clone(), egui::Color32::from_rgb(245, 245, 240)))
-            .collect();
-        let pad = px * 0.3;
-        let sizes: Vec<[f32; 2]> = galleys.iter().map(|g| [g.size().x * ppp + 2.0 * pad, px * 1.25]).collect();
-        let placed = vbrain::labels::place(&found, &sizes, silhouette, [w as f32, h as f32], px * 0.35);
+        let galley = |o: usize| {
+            let name = scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
+            ui.painter().layout_no_wrap(name, font.clone(), egui::Color32::from_rgb(245, 245, 240))
+        };
+        let laid = crate::annotate::lay_out(&ids, size, labels, |o| galley(o).size().x * ppp);
         let at = |p: [f32; 2]| rect.min + egui::vec2(p[0], p[1]) / ppp;
         let painter = ui.painter_at(rect);
         let s = px / 20.0 / ppp;
-        for p in &placed {
-            let Some(k) = found.iter().position(|a| a.organ == p.organ) else { continue };
-            let left = p.rect[2] <= p.anchor[0];
-            let end = [if left { p.rect[2] } else { p.rect[0] }, (p.rect[1] + p.rect[3]) / 2.0];
-            let black = egui::Color32::from_black_alpha(150);
+        let black = egui::Color32::from_black_alpha(150);
+        for crate::annotate::Laid { placed: p, end } in laid {
             painter.line_segment([at(p.anchor), at(end)], egui::Stroke::new(3.0 * s, black));
             painter.line_segment([at(p.anchor), at(end)], egui::Stroke::new(1.4 * s, egui::Color32::WHITE));
             painter.circle(at(p.anchor), 2.2 * s, egui::Color32::WHITE, egui::Stroke::new(1.0 * s, black));
             let plate = Rect::from_min_max(at([p.rect[0], p.rect[1]]), at([p.rect[2], p.rect[3]]));
             painter.rect_filled(plate, 0.0, egui::Color32::from_rgba_unmultiplied(20, 22, 28, 200));
-            let text_at = plate.min + egui::vec2(pad / ppp, (plate.height() - galleys[k].size().y) / 2.0);
-            painter.galley(text_at, galleys[k].clone(), egui::Color32::WHITE);
+            let text = galley(p.organ);
+            let text_at =
+                plate.min + egui::vec2(crate::annotate::PAD * px / ppp, (plate.height() - text.size().y) / 2.0);
+            painter.galley(text_at, text, egui::Color32::WHITE);
         }
     }
 
