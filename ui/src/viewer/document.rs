@@ -145,11 +145,7 @@ pub fn capture(
         selected,
     );
     (file.clip, file.caps) = (sections.clip_planes(), sections.caps);
-    file.labels = match settings.labels {
-        super::settings::LabelMode::None => None,
-        super::settings::LabelMode::Selected => Some("selected".into()),
-        super::settings::LabelMode::All => Some("all".into()),
-    };
+    file.labels = settings.labels.scene_key().map(str::to_string);
     Some(file)
 }
 

@@ -53,6 +53,20 @@ impl LabelMode {
         }
     }
 
+    /// The scene file's `labels` value for it (none for no labels).
+    pub fn scene_key(self) -> Option<&'static str> {
+        match self {
+            LabelMode::None => None,
+            LabelMode::Selected => Some("selected"),
+            LabelMode::All => Some("all"),
+        }
+    }
+
+    /// The mode of a scene file's `labels` value; anything else is no labels.
+    pub fn of_scene_key(key: Option<&str>) -> LabelMode {
+        LabelMode::ALL.into_iter().find(|m| m.scene_key() == key).unwrap_or(LabelMode::None)
+    }
+
     /// The labels this mode draws with `selected` the selection.
     pub fn labels(self, selected: Option<usize>) -> crate::annotate::Labels {
         match self {

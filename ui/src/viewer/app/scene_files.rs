@@ -39,11 +39,7 @@ impl App {
         self.settings.transparency = file.render.transparency;
         self.settings.cull.mode = file.render.cull;
         self.settings.background = file.render.background;
-        self.settings.labels = match file.labels.as_deref() {
-            Some("all") => crate::viewer::settings::LabelMode::All,
-            Some("selected") => crate::viewer::settings::LabelMode::Selected,
-            _ => crate::viewer::settings::LabelMode::None,
-        };
+        self.settings.labels = crate::viewer::settings::LabelMode::of_scene_key(file.labels.as_deref());
         let oblique = !self.sections.set_planes(&file.clip, file.caps);
         if self.document.restoring.as_deref() == Some(path) {
             // Recovered changes are saved nowhere yet.
