@@ -19,6 +19,21 @@ pub struct ClipPlane {
     pub d: f32,
 }
 
+/// A cross-section as the viewer, scene files and lesson steps keep it: the planes, whether cut
+/// faces are solid, and the organs (indices) kept whole.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Section {
+    pub planes: Vec<ClipPlane>,
+    pub caps: bool,
+    pub whole: Vec<usize>,
+}
+
+impl Default for Section {
+    fn default() -> Self {
+        Section { planes: Vec::new(), caps: true, whole: Vec::new() }
+    }
+}
+
 /// Where a box lies against the planes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {

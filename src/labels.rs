@@ -3,10 +3,65 @@
 //! other organ or the background (so it sits well inside what is seen and moves little when the
 //! camera does), and a placement of the label texts in two columns beside the brain's silhouette,
 //! left of it for anchors in its left half and right of it for the others, each column in the
-//! order of its anchors from top to bottom. Placed labels never overlap each other, stay within
+//! order of its anchors from top to bottom, then reordered where leader lines would cross. Placed labels never overlap each other, stay within
 //! the image and, where the image leaves room beside the silhouette, never cover it or an anchor;
 //! labels that do not fit (too many for a column, or columns that meet in a narrow image) are
-//! left out, the smallest organs first.
+//! left out, the smallest organs first. While the camera moves, each organ keeps its last anchor
+//! as long as that stays deep inside the organ ([`anchors_near`]), so labels do not jump.
+//! [`Which`] names the organs a figure labels, as scene files, lessons and `render --labels` do.
+
+/// Which organs a figure labels: the `labels` key of scene files and lesson steps and the value
+/// of `render --labels` (`none`, `selected`, `all` or ids and groups separated by commas).
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Which {
+    #[default]
+    None,
+    /// The selected organ.
+    Selected,
+    /// Every organ seen.
+    All,
+    /// These ids or groups.
+    Chosen(Vec<String>),
+}
+
+impl Which {
+    pub fn parse(text: &str) -> Which {
+        match text.trim() {
+            "" | "none" => Which::None,
+            "selected" => Which::Selected,
+            "all" => Which::All,
+            list => Which::Chosen(list.split(',').map(str::trim).filter(|k| !k.is_empty()).map(String::from).collect()),
+        }
+    }
+
+    /// The text [`Which::parse`] reads back; `None` for no labels.
+    pub fn key(&self) -> Option<String> {
+        match self {
+            Which::None => None,
+            Which::Selected => Some("selected".into()),
+            Which::All => Some("all".into()),
+            Which::Chosen(list) if list.is_empty() => None,
+            Which::Chosen(list) => Some(list.join(",")),
+        }
+    }
+
+    /// The chosen organs of `set` (indices, in the set's order) for ids and groups; the names the
+    /// set lacks come back apart.
+    pub fn chosen(names: &[String], set: &crate::organ_set::OrganSet) -> (Vec<usize>, Vec<String>) {
+        let mut organs = Vec::new();
+        let mut unknown = Vec::new();
+        for n in names {
+            let found = set.select(n);
+            if found.is_empty() {
+                unknown.push(n.clone());
+            }
+            organs.extend(found);
+        }
+        organs.sort_unstable();
+        organs.dedup();
+        (organs, unknown)
+    }
+}
 
 /// An organ's anchor: where its label points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -30,10 +85,56 @@ pub struct Placed {
 /// (in chessboard steps) from a pixel of another organ, the background or the image's edge;
 /// ties go to the first in reading order. Organs in the set's order.
 pub fn anchors(ids: &[u32], width: usize, height: usize) -> Vec<Anchor> {
+    anchors_near(ids, width, height, &[])
+}
+
+/// How deep (against the deepest pixel of its organ) a previous anchor must still lie to be kept.
+pub const KEEP_DEPTH: f32 = 0.7;
+
+/// As [`anchors`], but an organ's `previous` anchor (the last frame's) is kept where it still lies
+/// on the organ at least [`KEEP_DEPTH`] as deep as its deepest pixel: a label does not jump
+/// between two nearly equally deep places while the camera moves a little.
+pub fn anchors_near(ids: &[u32], width: usize, height: usize, previous: &[Anchor]) -> Vec<Anchor> {
     if ids.len() != width * height || ids.is_empty() {
         return Vec::new();
     }
-    // Two-pass chamfer distance to the nearest pixel with another id (outside counts as other).
+    let d = depth(ids, width, height);
+    let organs = ids.iter().copied().max().unwrap_or(0) as usize;
+    let mut best: Vec<Option<(u32, usize)>> = vec![None; organs];
+    let mut count = vec![0usize; organs];
+    for (i, &id) in ids.iter().enumerate() {
+        if id == 0 {
+            continue;
+        }
+        let o = id as usize - 1;
+        count[o] += 1;
+        if best[o].is_none_or(|(bd, _)| d[i] > bd) {
+            best[o] = Some((d[i], i));
+        }
+    }
+    let kept = |o: usize, deepest: u32| {
+        let p = previous.iter().find(|a| a.organ == o)?;
+        let (x, y) = (p.at[0].floor(), p.at[1].floor());
+        if x < 0.0 || y < 0.0 || x >= width as f32 || y >= height as f32 {
+            return None;
+        }
+        let i = y as usize * width + x as usize;
+        (ids[i] as usize == o + 1 && d[i] as f32 >= KEEP_DEPTH * deepest as f32).then_some(i)
+    };
+    best.iter()
+        .enumerate()
+        .filter_map(|(o, b)| {
+            b.map(|(deepest, i)| {
+                let i = kept(o, deepest).unwrap_or(i);
+                Anchor { organ: o, at: [(i % width) as f32 + 0.5, (i / width) as f32 + 0.5], pixels: count[o] }
+            })
+        })
+        .collect()
+}
+
+/// Two-pass chamfer distance per pixel to the nearest pixel with another id (the image's outside
+/// counts as other); 0 on the background.
+fn depth(ids: &[u32], width: usize, height: usize) -> Vec<u32> {
     let mut d = vec![u32::MAX / 2; ids.len()];
     let at = |x: usize, y: usize| y * width + x;
     for pass in 0..2 {
@@ -62,29 +163,7 @@ pub fn anchors(ids: &[u32], width: usize, height: usize) -> Vec<Anchor> {
             }
         }
     }
-    let organs = ids.iter().copied().max().unwrap_or(0) as usize;
-    let mut best: Vec<Option<(u32, usize)>> = vec![None; organs];
-    let mut count = vec![0usize; organs];
-    for (i, &id) in ids.iter().enumerate() {
-        if id == 0 {
-            continue;
-        }
-        let o = id as usize - 1;
-        count[o] += 1;
-        if best[o].is_none_or(|(bd, _)| d[i] > bd) {
-            best[o] = Some((d[i], i));
-        }
-    }
-    best.iter()
-        .enumerate()
-        .filter_map(|(o, b)| {
-            b.map(|(_, i)| Anchor {
-                organ: o,
-                at: [(i % width) as f32 + 0.5, (i / width) as f32 + 0.5],
-                pixels: count[o],
-            })
-        })
-        .collect()
+    d
 }
 
 /// Places labels of text sizes `sizes[k]` (width, height in pixels) for `anchors[k]` beside
@@ -121,9 +200,38 @@ pub fn place(anchors: &[Anchor], sizes: &[[f32; 2]], silhouette: [f32; 4], image
             tops[k] = tops[k].min(limit - h).max(0.0);
             limit = tops[k] - gap;
         }
+        let x = |s: &[f32; 2]| {
+            if left {
+                (silhouette[0] - gap - s[0]).max(0.0)
+            } else {
+                (silhouette[2] + gap).min(image[0] - s[0])
+            }
+        };
+        // Leader lines that cross swap their labels' places (of labels one height whose lines end
+        // on one vertical, not pushed in by the image's edge): each swap shortens the lines in
+        // all, so this ends.
+        let end = |k: usize, top: f32| {
+            let s = column[k].1;
+            [if left { x(&s) + s[0] } else { x(&s) }, top + s[1] / 2.0]
+        };
+        for _ in 0..column.len() * column.len() {
+            let mut swapped = false;
+            for i in 0..column.len() {
+                for j in i + 1..column.len() {
+                    let (a, b) = (column[i].0.at, column[j].0.at);
+                    let (ei, ej) = (end(i, tops[i]), end(j, tops[j]));
+                    if column[i].1[1] == column[j].1[1] && ei[0] == ej[0] && crosses([a, ei], [b, ej]) {
+                        tops.swap(i, j);
+                        swapped = true;
+                    }
+                }
+            }
+            if !swapped {
+                break;
+            }
+        }
         for ((a, s), top) in column.iter().zip(tops) {
-            let x =
-                if left { (silhouette[0] - gap - s[0]).max(0.0) } else { (silhouette[2] + gap).min(image[0] - s[0]) };
+            let x = x(s);
             out.push(Placed { organ: a.organ, anchor: a.at, rect: [x, top, x + s[0], top + s[1]] });
         }
     }
@@ -154,6 +262,14 @@ pub fn silhouette(ids: &[u32], width: usize) -> Option<[f32; 4]> {
     b
 }
 
+/// Do two segments cross (touching at an end does not count)?
+pub fn crosses(p: [[f32; 2]; 2], q: [[f32; 2]; 2]) -> bool {
+    let side = |a: [f32; 2], b: [f32; 2], c: [f32; 2]| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let (d1, d2) = (side(p[0], p[1], q[0]), side(p[0], p[1], q[1]));
+    let (d3, d4) = (side(q[0], q[1], p[0]), side(q[0], q[1], p[1]));
+    d1 * d2 < 0.0 && d3 * d4 < 0.0
+}
+
 /// Do two rectangles overlap (touching edges do not)?
 pub fn overlap(a: &[f32; 4], b: &[f32; 4]) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
@@ -163,6 +279,16 @@ pub fn overlap(a: &[f32; 4], b: &[f32; 4]) -> bool {
 mod tests {
     use super::*;
     use crate::rng::XorShift;
+
+    #[test]
+    fn label_choices_read_back() {
+        for text in ["selected", "all", "caudate_l,Basal ganglia"] {
+            assert_eq!(Which::parse(text).key().as_deref(), Some(text));
+        }
+        assert_eq!(Which::parse(" none "), Which::None);
+        assert_eq!(Which::parse("a, b,,"), Which::Chosen(vec!["a".into(), "b".into()]));
+        assert_eq!(Which::None.key(), None);
+    }
 
     #[test]
     fn anchors_sit_deep_inside_what_is_seen() {
@@ -184,6 +310,37 @@ mod tests {
         assert_eq!(a[1].at, [7.5, 3.5], "the middle of organ 2");
         assert_eq!(a[0].pixels, 45 - 9);
         assert!(a[0].at[0] < 6.0, "organ 1's anchor is away from organ 2: {:?}", a[0].at);
+    }
+
+    #[test]
+    fn anchors_stay_put_between_two_nearly_equal_places() {
+        // One organ in two blobs, 9x9 and 8x8 pixels; each frame they swap sizes, so the deepest
+        // pixel swaps blobs. With the last frame's anchor kept, the anchor does not jump.
+        let (w, h) = (30, 11);
+        let frame = |right_big: bool| {
+            let mut ids = vec![0u32; w * h];
+            let (left, right) = if right_big { (8, 9) } else { (9, 8) };
+            for y in 1..=left {
+                ids[y * w + 1..y * w + 1 + left].fill(1);
+            }
+            for y in 1..=right {
+                ids[y * w + 15..y * w + 15 + right].fill(1);
+            }
+            ids
+        };
+        let mut last = anchors(&frame(false), w, h);
+        let first = last[0].at;
+        assert_eq!(first, [5.5, 5.5]);
+        for k in 0..6 {
+            let ids = frame(k % 2 == 0);
+            assert_eq!(anchors(&ids, w, h)[0].at[0] > 10.0, k % 2 == 0, "alone, the anchor would jump");
+            last = anchors_near(&ids, w, h, &last);
+            assert_eq!(last[0].at, first, "frame {k}");
+        }
+        // Where the old place is no longer on the organ, the deepest pixel is taken.
+        let mut gone = frame(true);
+        gone.iter_mut().take(w * h).enumerate().filter(|(i, _)| i % w < 10).for_each(|(_, v)| *v = 0);
+        assert!(anchors_near(&gone, w, h, &last)[0].at[0] > 15.0);
     }
 
     #[test]
@@ -211,6 +368,14 @@ mod tests {
                 assert!(x0 >= 0.0 && y0 >= 0.0 && x1 <= image[0] + 1e-3 && y1 <= image[1] + 1e-3, "{a:?} in {image:?}");
                 for b in &placed[i + 1..] {
                     assert!(!overlap(&a.rect, &b.rect), "{a:?} overlaps {b:?}");
+                    let end = |p: &Placed| {
+                        let left = p.rect[2] <= p.anchor[0];
+                        [if left { p.rect[2] } else { p.rect[0] }, (p.rect[1] + p.rect[3]) / 2.0]
+                    };
+                    // Beside the silhouette (not pushed in by the image's edge), lines never cross.
+                    let clear = |p: &Placed| p.rect[2] <= p.anchor[0] || p.rect[0] >= p.anchor[0];
+                    let beside = clear(a) && clear(b) && end(a)[0] == end(b)[0];
+                    assert!(!beside || !crosses([a.anchor, end(a)], [b.anchor, end(b)]), "{a:?} crosses {b:?}");
                 }
                 for c in &placed {
                     let [ax, ay] = c.anchor;

@@ -13,7 +13,9 @@
 //! Reading never panics: a file that is not JSON names itself and the line; a newer format says
 //! so; ids and groups the set does not have are collected as warnings, once each.
 
+use crate::clip::Section;
 use crate::error::{Error, Result};
+use crate::labels::Which;
 use crate::layout::Layout;
 use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;
@@ -67,6 +69,27 @@ pub struct Step {
     /// Organ ids or groups the step points at.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub highlight: Vec<String>,
+    /// Clip planes cutting the set (world RAS, removing `n . p > d`), as scene files keep them.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub clip: Vec<crate::clip::ClipPlane>,
+    /// Solid cut faces where planes cut closed organs.
+    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    pub caps: bool,
+    /// Ids or groups the planes do not cut.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub whole: Vec<String>,
+    /// Which organs are labelled (`none`, `selected`, `all` or ids and groups); absent, the
+    /// viewer's own choice.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub labels: Option<String>,
+}
+
+fn yes() -> bool {
+    true
+}
+
+fn is_true(b: &bool) -> bool {
+    *b
 }
 
 /// Where an organ is moved: millimetres (world space), degrees about x, y, z about its centre, and
@@ -113,6 +136,9 @@ pub struct StepView {
     /// The camera walks through rather than orbits.
     pub fly: bool,
     pub highlight: Vec<usize>,
+    pub section: Section,
+    /// `None`: the step leaves labels to the viewer.
+    pub labels: Option<Which>,
 }
 
 impl Lesson {
@@ -198,7 +224,12 @@ impl Lesson {
         let mut unknown: Vec<String> = Vec::new();
         for s in &self.steps {
             let names = s.show.iter().chain(&s.hide).chain(s.opacity.keys()).chain(&s.highlight);
-            let names = names.chain(s.colour.keys()).chain(s.place.keys());
+            let names = names.chain(s.colour.keys()).chain(s.place.keys()).chain(&s.whole);
+            let labelled = match s.labels.as_deref().map(Which::parse) {
+                Some(Which::Chosen(list)) => list,
+                _ => Vec::new(),
+            };
+            let names = names.chain(&labelled);
             for n in names {
                 if set.select(n).is_empty() && !unknown.contains(n) {
                     unknown.push(n.clone());
@@ -213,8 +244,16 @@ impl Step {
     /// A step showing `layout` over `set` from `camera`: everything that differs from the set's
     /// default layout, by group where a whole group (as [`OrganSet::select`] reads a group path)
     /// shares a change, else by id; the camera as a view and zoom where it frames the default
-    /// layout's centre from an orbit, else exactly.
-    pub fn capture(set: &OrganSet, layout: &Layout, camera: CameraState, title: &str, highlight: &[usize]) -> Step {
+    /// layout's centre from an orbit, else exactly; its highlight, section and labels as given.
+    pub fn capture(
+        set: &OrganSet,
+        layout: &Layout,
+        camera: CameraState,
+        title: &str,
+        highlight: &[usize],
+        section: &Section,
+        labels: &Which,
+    ) -> Step {
         let default = Layout::new(set);
         let n = set.organs.len().min(layout.organs.len());
         let (mut show, mut hide, mut opacity, mut colour, mut place) =
@@ -262,7 +301,11 @@ impl Step {
             colour,
             place,
             camera: (!orbit).then_some(camera),
-            highlight: highlight.iter().filter_map(|&i| set.organs.get(i).map(|o| o.id.clone())).collect(),
+            highlight: ids(set, highlight),
+            clip: section.planes.clone(),
+            caps: section.caps,
+            whole: ids(set, &section.whole),
+            labels: labels.key(),
         }
     }
 
@@ -310,8 +353,16 @@ impl Step {
         let mut highlight: Vec<usize> = self.highlight.iter().flat_map(|n| set.select(n)).collect();
         highlight.sort_unstable();
         highlight.dedup();
-        StepView { layout, navigator, fly, highlight }
+        let whole = Which::chosen(&self.whole, set).0;
+        let section = Section { planes: self.clip.clone(), caps: self.caps, whole };
+        let labels = self.labels.as_deref().map(Which::parse);
+        StepView { layout, navigator, fly, highlight, section, labels }
     }
+}
+
+/// The ids of organs (indices) of `set`.
+fn ids(set: &OrganSet, organs: &[usize]) -> Vec<String> {
+    organs.iter().filter_map(|&i| set.organs.get(i).map(|o| o.id.clone())).collect()
 }
 
 /// Per-organ changes (`None`: unchanged) as keys: the largest groups whose organs all share one
@@ -394,16 +445,23 @@ mod tests {
         let framed = Navigator::framing(&Layout::new(&set).bounds(&set), 40.0, -15.0);
         let mut orbit = CameraState::of(&framed, CameraMode::Orbit);
         orbit.distance *= 0.75;
-        let step = Step::capture(&set, &layout, orbit, "t", &[2]);
+        let section = Section {
+            planes: vec![crate::clip::ClipPlane::parse("coronal=-4:flip").unwrap()],
+            caps: false,
+            whole: vec![1],
+        };
+        let labels = Which::Chosen(vec!["c".into()]);
+        let step = Step::capture(&set, &layout, orbit, "t", &[2], &section, &labels);
+        assert_eq!((step.whole.clone(), step.labels.as_deref()), (vec!["b".to_string()], Some("c")));
         assert_eq!(step.hide, vec!["G".to_string()], "a whole group is named once");
         assert_eq!(step.opacity.keys().collect::<Vec<_>>(), ["c"]);
         assert!(step.camera.is_none() && step.view == [40.0, -15.0]);
         let v = step.view(&set);
         assert_eq!(v.layout, layout);
         assert!((v.navigator.distance - orbit.distance).abs() < 1e-4);
-        assert_eq!(v.highlight, vec![2]);
+        assert_eq!((v.highlight, v.section, v.labels), (vec![2], section, Some(labels)));
         let walk = CameraState { mode: CameraMode::Walk, target: [1.0, 2.0, 3.0], ..orbit };
-        let step = Step::capture(&set, &layout, walk, "t", &[]);
+        let step = Step::capture(&set, &layout, walk, "t", &[], &Section::default(), &Which::None);
         let v = step.view(&set);
         assert_eq!((CameraState::of(&v.navigator, CameraMode::Walk), v.fly), (walk, true));
         let text = Lesson::new("L", Path::new("/s/set"), Path::new("/s/l/x.vblesson"), vec![step.clone()]);
@@ -421,6 +479,8 @@ mod tests {
                 CameraState::of(&Navigator::framing(&Layout::new(&set()).bounds(&set()), 0.0, 0.0), CameraMode::Orbit),
                 t,
                 &[],
+                &Section::default(),
+                &Which::None,
             )
         };
         let mut l = Lesson::new("L", Path::new("set"), Path::new("x.vblesson"), vec![step("a")]);

@@ -40,7 +40,11 @@ pub struct SceneFile {
     /// Solid cut faces where planes cut closed organs.
     #[serde(default = "yes", skip_serializing_if = "is_true")]
     pub caps: bool,
-    /// Which organs are labelled: "selected" or "all" (none when absent).
+    /// Ids or groups the planes do not cut.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub whole: Vec<String>,
+    /// Which organs are labelled: "selected", "all" or ids and groups separated by commas (none
+    /// when absent; see [`crate::labels::Which`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub labels: Option<String>,
     /// Every organ of the set, in the set's order.
@@ -169,6 +173,7 @@ impl SceneFile {
             selection: selection.and_then(|i| set.organs.get(i)).map(|o| o.id.clone()),
             clip: Vec::new(),
             caps: true,
+            whole: Vec::new(),
             labels: None,
             organs,
         }
@@ -320,7 +325,7 @@ mod tests {
         assert_eq!(s.set.path, Path::new("../sets/brain"));
         assert!(!s.to_json(Path::new("x")).unwrap().contains("clip"), "no planes, no key");
         s.clip = vec![crate::clip::ClipPlane::parse("coronal=-7.25:flip").unwrap()];
-        (s.caps, s.labels) = (false, Some("all".into()));
+        (s.caps, s.labels, s.whole) = (false, Some("all".into()), vec!["brainstem".into()]);
         let text = s.to_json(Path::new("x.vbscene")).unwrap();
         let back = SceneFile::parse(&text, Path::new("x.vbscene")).unwrap();
         assert_eq!(back, s);

@@ -58,8 +58,10 @@ impl OrganPipelines {
     }
 }
 
-/// How far cut faces are pulled toward the eye (depth units; slope-scaled for oblique faces).
-const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: -4, slope_scale: -2.0, clamp: 0.0 };
+/// How far cut faces are pulled toward the eye (depth units): enough to win the tie with a
+/// neighbour's coincident face, no slope term (at grazing angles it would pull a cut face through
+/// an uncut organ in front of it).
+const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: -4, slope_scale: 0.0, clamp: 0.0 };
 
 /// Builds organ pipelines from organ.wgsl.
 pub(super) struct PipelineFactory<'a> {

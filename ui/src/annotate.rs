@@ -7,7 +7,7 @@
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use image::RgbaImage;
-use vbrain::labels::{anchors, place, Placed};
+use vbrain::labels::{anchors_near, place, Anchor, Placed, Which};
 
 /// Which organs get labels.
 #[derive(Clone, Debug, PartialEq)]
@@ -20,6 +20,17 @@ pub enum Labels {
 }
 
 impl Labels {
+    /// The organs `which` names in `set`, with `selected` the selection (names the set lacks are
+    /// skipped).
+    pub fn of(which: &Which, set: &vbrain::organ_set::OrganSet, selected: Option<usize>) -> Labels {
+        match which {
+            Which::None => Labels::None,
+            Which::All => Labels::All,
+            Which::Selected => Labels::Chosen(selected.into_iter().collect()),
+            Which::Chosen(names) => Labels::Chosen(Which::chosen(names, set).0),
+        }
+    }
+
     /// Does it label organ `o`?
     pub fn wants(&self, o: usize) -> bool {
         match self {
@@ -41,10 +52,20 @@ pub struct Laid {
 pub const PAD: f32 = 0.3;
 
 /// Lays out the labels of `which` organs over an ID buffer `size` pixels (organ index + 1 per
-/// pixel): text [`text_px`] of its height, each name `text_width(organ)` pixels wide.
-pub fn lay_out(ids: &[u32], size: [u32; 2], which: &Labels, text_width: impl Fn(usize) -> f32) -> Vec<Laid> {
+/// pixel): text [`text_px`] of its height, each name `text_width(organ)` pixels wide; anchors of
+/// the `previous` frame's labels are kept where they still fit (see [`anchors_near`]).
+pub fn lay_out(
+    ids: &[u32],
+    size: [u32; 2],
+    which: &Labels,
+    previous: &[Laid],
+    text_width: impl Fn(usize) -> f32,
+) -> Vec<Laid> {
     let (w, h) = (size[0] as usize, size[1] as usize);
-    let found: Vec<_> = anchors(ids, w, h).into_iter().filter(|a| which.wants(a.organ) && a.pixels >= 4).collect();
+    let previous: Vec<Anchor> =
+        previous.iter().map(|l| Anchor { organ: l.placed.organ, at: l.placed.anchor, pixels: 0 }).collect();
+    let found: Vec<_> =
+        anchors_near(ids, w, h, &previous).into_iter().filter(|a| which.wants(a.organ) && a.pixels >= 4).collect();
     let Some(sil) = vbrain::labels::silhouette(ids, w).filter(|_| !found.is_empty()) else { return Vec::new() };
     let px = text_px(size[1]);
     let sizes: Vec<[f32; 2]> = found.iter().map(|a| [text_width(a.organ) + 2.0 * PAD * px, px * 1.25]).collect();
@@ -129,7 +150,7 @@ fn line(image: &mut RgbaImage, a: [f32; 2], b: [f32; 2], width: f32, colour: [u8
 pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(usize) -> String) -> Vec<Placed> {
     let fonts = fonts();
     let px = text_px(image.height());
-    let laid = lay_out(ids, [image.width(), image.height()], which, |o| shape(&fonts, &name(o), px).1);
+    let laid = lay_out(ids, [image.width(), image.height()], which, &[], |o| shape(&fonts, &name(o), px).1);
     let scale = px / 20.0;
     for Laid { placed: p, end } in &laid {
         let (p, end) = (*p, *end);

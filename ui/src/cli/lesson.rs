@@ -1,12 +1,14 @@
 //! `vbrain lesson render`: a lesson's steps as pictures for slides and worksheets, one PNG per step
 //! (`DIR/01.png`, ...) through the viewer's renderer, and `DIR/lesson.md` with each step's title,
-//! caption and picture.
+//! caption and picture. Steps are drawn with their highlights, sections and labels.
 
 use super::common::{database, open_reporting};
 use super::LessonRenderArgs;
+use crate::annotate::Labels;
 use anyhow::{anyhow, Result};
 use serde_json::json;
 use vbrain::cull::{CullSettings, Culler};
+use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::lesson::Lesson;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
@@ -30,17 +32,35 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     for (k, step) in lesson.steps.iter().enumerate() {
         let view = step.view(&set);
         let camera = view.navigator.camera(&view.layout.bounds(&set).union(home));
-        let (draw, _) = culler.cull(&set, &view.layout, &camera, target.aspect(), &CullSettings::default());
+        let section = &view.section;
+        let clip = vbrain::cull::Clip { planes: &section.planes };
+        let settings = CullSettings::default();
+        let (draw, _) = culler.cull_clipped(&set, &view.layout, &camera, target.aspect(), &settings, clip);
         let frame = FrameInput {
             draw: Some(&draw),
             background: crate::background_linear(crate::background_srgb(), false),
             highlight: &view.highlight,
+            clip: &section.planes,
+            caps: section.caps,
+            whole: &section.whole,
             ..FrameInput::new(&set, &camera, &view.layout)
         };
         renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+        let mut image = target.read_color(&gpu.device, &gpu.queue)?;
+        let labels = match &view.labels {
+            // A step's "selected" organs are the ones it highlights.
+            Some(Which::Selected) => Labels::Chosen(view.highlight.clone()),
+            Some(which) => Labels::of(which, &set, None),
+            None => Labels::None,
+        };
+        if labels != Labels::None {
+            renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
+            let ids = target.read_ids(&gpu.device, &gpu.queue)?;
+            crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
+        }
         let name = format!("{:02}.png", k + 1);
         let file = args.out.join(&name);
-        vbrain::atomic::write_png(&file, &target.read_color(&gpu.device, &gpu.queue)?, true)?;
+        vbrain::atomic::write_png(&file, &image, true)?;
         markdown.push_str(&format!(
             "\n## {}. {}\n\n![{}]({name})\n\n{}\n",
             k + 1,

@@ -155,6 +155,10 @@ pub struct RenderArgs {
     /// Solid cut faces where a plane cuts a closed organ: on or off
     #[arg(long, value_parser = values::on_off)]
     pub caps: Option<bool>,
+    /// Organs (ids or groups, separated by commas) the clip planes do not cut [default: the
+    /// scene's, else none]
+    #[arg(long, value_delimiter = ',')]
+    pub whole: Vec<String>,
     /// Name organs with leader-line labels beside the brain: none, selected (a scene's selection),
     /// all (every organ seen) or ID,ID,... (ids or groups) [default: the scene's, else none]
     #[arg(long)]

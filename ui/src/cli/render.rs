@@ -13,6 +13,7 @@ use serde_json::json;
 use std::path::PathBuf;
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Culler};
+use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::navigation::Navigator;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
@@ -85,14 +86,20 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let clip_planes =
         if args.clip.is_empty() { from_scene.map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
     let caps = args.caps.or(from_scene.map(|s| s.caps)).unwrap_or(true);
-    let labels_arg = args.labels.clone().or(from_scene.and_then(|s| s.labels.clone())).unwrap_or("none".into());
+    let which = Which::parse(args.labels.as_deref().or(from_scene.and_then(|s| s.labels.as_deref())).unwrap_or(""));
+    let whole_names =
+        if args.whole.is_empty() { from_scene.map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
+    let mut whole = Vec::new();
+    for key in &whole_names {
+        whole.extend(organs(&set, key).map_err(|e| anyhow!("--whole: {e}"))?);
+    }
 
     if let Some(out) = &args.save_scene {
         let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
         let render = RenderState { transparency, cull: mode, background: background_srgb };
         let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
-        (file.clip, file.caps) = (clip_planes.clone(), caps);
-        file.labels = matches!(labels_arg.as_str(), "selected" | "all").then(|| labels_arg.clone());
+        (file.clip, file.caps, file.whole) = (clip_planes.clone(), caps, whole_names.clone());
+        file.labels = which.key();
         file.save(out).map_err(|e| anyhow!(e))?;
     }
 
@@ -126,6 +133,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         selection,
         clip: &clip_planes,
         caps,
+        whole: &whole,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {
@@ -134,18 +142,12 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         renderer.render(&gpu.device, &gpu.queue, &target, &input)?
     };
     let mut image = target.read_color(&gpu.device, &gpu.queue)?;
-    let labels = match labels_arg.trim() {
-        "none" => Labels::None,
-        "all" => Labels::All,
-        "selected" => Labels::Chosen(selection.into_iter().collect()),
-        list => {
-            let mut chosen = Vec::new();
-            for key in list.split(',').map(str::trim).filter(|k| !k.is_empty()) {
-                chosen.extend(organs(&set, key)?);
-            }
-            Labels::Chosen(chosen)
+    if let Which::Chosen(names) = &which {
+        for key in names {
+            organs(&set, key).map_err(|e| anyhow!("--labels: {e}"))?;
         }
-    };
+    }
+    let labels = Labels::of(&which, &set, selection);
     if labels != Labels::None {
         // Labels name what is seen, through faded organs as clicks reach through them.
         renderer.render_ids(&gpu.device, &gpu.queue, &target, &input, crate::annotate::PICK_OPACITY);

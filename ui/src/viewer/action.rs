@@ -42,6 +42,21 @@ pub enum Action {
     /// Save the lesson to this file (`.vblesson`).
     SaveLessonTo(PathBuf),
     Select(Option<usize>),
+    /// Keep an organ whole where clip planes cut (or cut it again).
+    KeepWhole {
+        organ: usize,
+        whole: bool,
+    },
+    /// Label an organ or not (the chosen-labels mode).
+    Label {
+        organ: usize,
+        on: bool,
+    },
+    /// Move a clip plane of the Sections window (its slot) along its normal, millimetres.
+    MovePlane {
+        slot: usize,
+        mm: f32,
+    },
     /// Open a set (one folder or file), a scene file (`.vbscene`, then its set) or several mesh
     /// files, off the UI thread.
     Open(Vec<PathBuf>),

@@ -10,7 +10,7 @@ use super::action::{Action, Window};
 use super::document::{self, Document};
 use super::export::{self, ExportWindow};
 use super::files::{self, ImportWindow, OpenWindow};
-use super::inspector::inspector;
+use super::inspector::{inspector, Marks};
 use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
@@ -30,6 +30,7 @@ use vbrain::edit::{Edit, Organs};
 use vbrain::organ_set::{self, Loaded};
 use vbrain::render::{FrameInput, Renderer};
 
+mod figure;
 mod lessons;
 mod scene_files;
 
@@ -105,8 +106,10 @@ pub struct App {
     title: String,
     /// The lesson being followed, if any.
     lesson: LessonPanel,
-    /// The Sections window: clip planes and cut faces.
+    /// The Sections window: clip planes, cut faces and organs kept whole.
     sections: Sections,
+    /// The organs labelled in the chosen-labels mode (indices, sorted).
+    chosen_labels: Vec<usize>,
     /// A lesson whose set is loading: opened once the set is installed.
     pending_lesson: Option<PathBuf>,
     /// The user chose to close (nothing unsaved, or discarded): let the window close.
@@ -130,6 +133,7 @@ impl App {
             title: String::new(),
             lesson: LessonPanel::default(),
             sections: Sections::default(),
+            chosen_labels: Vec::new(),
             pending_lesson: None,
             closing: false,
             settings,
@@ -172,6 +176,16 @@ impl App {
         &self.viewport
     }
 
+    /// The Sections window: planes, cut faces, organs kept whole.
+    pub fn sections(&self) -> &Sections {
+        &self.sections
+    }
+
+    /// The organs chosen to be labelled.
+    pub fn chosen_labels(&self) -> &[usize] {
+        &self.chosen_labels
+    }
+
     pub fn dialogs(&self) -> &Dialogs {
         &self.dialogs
     }
@@ -188,8 +202,9 @@ impl App {
             settings: &self.settings,
             selected: self.selected,
             highlight: &self.lesson.highlight,
-            clip: &self.sections.current,
-            caps: self.sections.caps,
+            section: &self.sections.current,
+            labels: self.labels(),
+            handles: Vec::new(),
         }
     }
 
@@ -320,6 +335,20 @@ impl App {
                     }
                 }
                 Action::Select(organ) => self.selected = organ,
+                Action::KeepWhole { organ, whole } => {
+                    self.sections.set_whole(organ, whole);
+                    self.touch_scene();
+                }
+                Action::Label { organ, on } => {
+                    self.label_organ(organ, on);
+                    self.touch_scene();
+                }
+                Action::MovePlane { slot, mm } => {
+                    if let Some(scene) = &mut self.scene {
+                        self.sections.move_plane(slot, mm, &scene.home());
+                        scene.touch();
+                    }
+                }
                 Action::Open(paths) if self.unsaved(&document::Pending::Open(Vec::new())) => {
                     self.document.confirm = Some(document::Pending::Open(paths));
                 }
@@ -416,6 +445,11 @@ impl App {
                 let scene = Scene::new(loaded.set, paths, renderer);
                 self.viewport.new_set(&scene.home(), database);
                 self.selected = None;
+                // Organ indices of the last set mean nothing in this one.
+                let planes = self.sections.current.planes.clone();
+                let caps = self.sections.current.caps;
+                self.sections.set_section(&vbrain::clip::Section { planes, caps, whole: Vec::new() });
+                self.chosen_labels.clear();
                 self.document.opened_set(&scene);
                 self.scene = Some(scene);
                 if let Some((path, file)) = self.document.pending.take() {
@@ -487,11 +521,12 @@ impl App {
             transparency: self.settings.transparency,
             highlight: &self.lesson.highlight,
             selection: self.selected,
-            clip: &self.sections.current,
-            caps: self.sections.caps,
+            clip: &self.sections.current.planes,
+            caps: self.sections.current.caps,
+            whole: &self.sections.current.whole,
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
-        let labels = self.settings.labels.labels(self.selected);
+        let labels = self.labels();
         let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
         export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path, &labels, &name)
     }
@@ -504,8 +539,7 @@ impl App {
         self.perform(ctx, actions);
         let actions = self.dialogs.import.show(ctx, self.importing.is_some());
         self.perform(ctx, actions);
-        let home = self.scene.as_ref().map(Scene::home);
-        self.sections.show(ctx, home);
+        self.sections_window(ctx);
         let actions = self.document.save_window.show(ctx);
         self.perform(ctx, actions);
         self.unsaved_changes(ctx);
@@ -547,7 +581,11 @@ impl eframe::App for App {
             fly: self.viewport.fly(),
             job: self.job(),
         };
+        let labels = self.settings.labels;
         let actions = Panel::top("menu").show(ui, |ui| menus::menu_bar(ui, &state, &mut self.settings)).inner;
+        if self.settings.labels != labels {
+            self.touch_scene();
+        }
         self.perform(&ctx, actions);
         let status = Status {
             scene: self.scene.as_ref(),
@@ -571,11 +609,15 @@ impl eframe::App for App {
         }
         if self.settings.show_inspector && self.selected.is_some() {
             let (scene, selected) = (self.scene.as_ref(), self.selected);
+            let marks = self.selected.map_or(Marks::default(), |sel| Marks {
+                whole: self.sections.whole.contains(&sel),
+                labelled: self.labels().wants(sel),
+            });
             let actions = Panel::right("inspector")
                 .default_size(300.0)
                 .resizable(true)
                 .show(ui, |ui| match scene.zip(selected) {
-                    Some((scene, sel)) => inspector(ui, scene, sel),
+                    Some((scene, sel)) => inspector(ui, scene, sel, marks),
                     None => Vec::new(),
                 })
                 .inner;
@@ -583,14 +625,16 @@ impl eframe::App for App {
         }
         CentralPanel::no_frame().show(ui, |ui| {
             let (rect, response) = self.viewport.allocate(ui);
+            let (labels, handles) = (self.labels(), self.plane_handles());
             let input = viewport::Input {
                 scene: self.scene.as_ref(),
                 gpu: self.gpu.as_ref(),
                 settings: &self.settings,
                 selected: self.selected,
                 highlight: &self.lesson.highlight,
-                clip: &self.sections.current,
-                caps: self.sections.caps,
+                section: &self.sections.current,
+                labels: labels.clone(),
+                handles: handles.clone(),
             };
             let actions = self.viewport.input(ui, &response, &input);
             self.perform(&ctx, actions);
@@ -600,8 +644,9 @@ impl eframe::App for App {
                 settings: &self.settings,
                 selected: self.selected,
                 highlight: &self.lesson.highlight,
-                clip: &self.sections.current,
-                caps: self.sections.caps,
+                section: &self.sections.current,
+                labels: labels.clone(),
+                handles: handles.clone(),
             };
             let actions = self.viewport.draw(ui, rect, &input);
             self.perform(&ctx, actions);

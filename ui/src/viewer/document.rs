@@ -126,8 +126,9 @@ impl Document {
 /// saved (several mesh files opened together have no one path to refer to).
 pub fn capture(
     scene: &Scene,
-    (viewport, sections): (&Viewport, &super::sections::Sections),
-    settings: &Settings,
+    viewport: &Viewport,
+    section: &vbrain::clip::Section,
+    (settings, labels): (&Settings, &vbrain::labels::Which),
     selected: Option<usize>,
     path: &Path,
 ) -> Option<SceneFile> {
@@ -144,8 +145,9 @@ pub fn capture(
         render,
         selected,
     );
-    (file.clip, file.caps) = (sections.clip_planes(), sections.caps);
-    file.labels = settings.labels.scene_key().map(str::to_string);
+    (file.clip, file.caps) = (section.planes.clone(), section.caps);
+    file.whole = section.whole.iter().filter_map(|&o| scene.set().organs.get(o)).map(|o| o.id.clone()).collect();
+    file.labels = labels.key();
     Some(file)
 }
 

@@ -1,5 +1,5 @@
 //! The inspector of the selected organ: name, group, info text, triangles, opacity, colour,
-//! visibility and its transform (translate in world millimetres, rotate in degrees, scale), with
+//! visibility, "Do not cut" and "Label", and its transform (translate in world millimetres, rotate in degrees, scale), with
 //! Reset transform, Isolate and Frame. It reads the scene and returns [`Action`]s.
 
 use super::action::Action;
@@ -8,7 +8,15 @@ use super::widgets::accessible;
 use eframe::egui::{self, RichText};
 use vbrain::edit::{Edit, Organs};
 
-pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize) -> Vec<Action> {
+/// What the inspector shows beside the layout: whether the organ is kept whole where planes cut,
+/// and whether it is labelled.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Marks {
+    pub whole: bool,
+    pub labelled: bool,
+}
+
+pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize, marks: Marks) -> Vec<Action> {
     let mut out = Vec::new();
     let organ = &scene.set().organs[sel];
     let state = scene.layout().organs[sel];
@@ -50,6 +58,20 @@ pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize) -> Vec<Action> {
             out.push(Action::Edit(Edit::Colour { organs: one(), colour }));
         }
         ui.label("colour");
+    });
+    ui.horizontal(|ui| {
+        let mut whole = marks.whole;
+        let r = ui.checkbox(&mut whole, "Do not cut").on_hover_text("Keep it whole where clip planes cut the set");
+        accessible(&r, format!("Do not cut {name}"));
+        if r.changed() {
+            out.push(Action::KeepWhole { organ: sel, whole });
+        }
+        let mut on = marks.labelled;
+        let r = ui.checkbox(&mut on, "Label").on_hover_text("Name it with a label (View > Labels: chosen organs)");
+        accessible(&r, format!("Label {name}"));
+        if r.changed() {
+            out.push(Action::Label { organ: sel, on });
+        }
     });
     ui.separator();
     ui.label(RichText::new("Transform").strong());

@@ -139,6 +139,12 @@ impl Scene {
         self.changes
     }
 
+    /// Something saved with the scene besides the layout changed (its clip planes, the organs kept
+    /// whole, its labels): counted as a change, so it is saved or asked about, not undone.
+    pub fn touch(&mut self) {
+        self.changes += 1;
+    }
+
     pub fn history(&self) -> &History {
         &self.history
     }

@@ -4,6 +4,8 @@
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
+use vbrain::labels::Which;
+use vbrain::organ_set::OrganSet;
 
 pub const STORAGE_KEY: &str = "vbrain-settings";
 const MAX_RECENT: usize = 10;
@@ -39,40 +41,52 @@ pub enum LabelMode {
     #[default]
     None,
     Selected,
+    /// The organs chosen with the inspector's "Label".
+    Chosen,
     All,
 }
 
 impl LabelMode {
-    pub const ALL: [LabelMode; 3] = [LabelMode::None, LabelMode::Selected, LabelMode::All];
+    pub const ALL: [LabelMode; 4] = [LabelMode::None, LabelMode::Selected, LabelMode::Chosen, LabelMode::All];
 
     pub fn name(self) -> &'static str {
         match self {
             LabelMode::None => "No labels",
             LabelMode::Selected => "Label the selected organ",
+            LabelMode::Chosen => "Label the chosen organs (inspector: Label)",
             LabelMode::All => "Label every organ seen",
         }
     }
 
-    /// The scene file's `labels` value for it (none for no labels).
-    pub fn scene_key(self) -> Option<&'static str> {
-        match self {
-            LabelMode::None => None,
-            LabelMode::Selected => Some("selected"),
-            LabelMode::All => Some("all"),
-        }
-    }
-
-    /// The mode of a scene file's `labels` value; anything else is no labels.
-    pub fn of_scene_key(key: Option<&str>) -> LabelMode {
-        LabelMode::ALL.into_iter().find(|m| m.scene_key() == key).unwrap_or(LabelMode::None)
-    }
-
-    /// The labels this mode draws with `selected` the selection.
-    pub fn labels(self, selected: Option<usize>) -> crate::annotate::Labels {
+    /// The labels this mode draws, with `selected` the selection and `chosen` the organs chosen.
+    pub fn labels(self, selected: Option<usize>, chosen: &[usize]) -> crate::annotate::Labels {
         match self {
             LabelMode::None => crate::annotate::Labels::None,
             LabelMode::Selected => crate::annotate::Labels::Chosen(selected.into_iter().collect()),
+            LabelMode::Chosen => crate::annotate::Labels::Chosen(chosen.to_vec()),
             LabelMode::All => crate::annotate::Labels::All,
+        }
+    }
+
+    /// The mode as scene files and lesson steps name it, with `chosen` the organs of `set` chosen.
+    pub fn which(self, chosen: &[usize], set: &OrganSet) -> Which {
+        match self {
+            LabelMode::None => Which::None,
+            LabelMode::Selected => Which::Selected,
+            LabelMode::Chosen => {
+                Which::Chosen(chosen.iter().filter_map(|&o| set.organs.get(o)).map(|o| o.id.clone()).collect())
+            }
+            LabelMode::All => Which::All,
+        }
+    }
+
+    /// The mode and chosen organs of what a scene file or lesson step names.
+    pub fn of_which(which: &Which, set: &OrganSet) -> (LabelMode, Vec<usize>) {
+        match which {
+            Which::None => (LabelMode::None, Vec::new()),
+            Which::Selected => (LabelMode::Selected, Vec::new()),
+            Which::All => (LabelMode::All, Vec::new()),
+            Which::Chosen(names) => (LabelMode::Chosen, Which::chosen(names, set).0),
         }
     }
 }

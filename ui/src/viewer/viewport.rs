@@ -27,7 +27,10 @@ use vbrain::navigation::Navigator;
 use vbrain::render::{FrameInput, RenderStats, Target};
 
 /// What the viewport reads each frame.
-#[derive(Clone, Copy)]
+/// How near (points) a press must be to a plane's handle to drag it.
+const HANDLE_REACH: f32 = 10.0;
+
+#[derive(Clone)]
 pub struct Input<'a> {
     pub scene: Option<&'a Scene>,
     pub gpu: Option<&'a egui_wgpu::RenderState>,
@@ -35,9 +38,12 @@ pub struct Input<'a> {
     pub selected: Option<usize>,
     /// Organs the lesson step highlights.
     pub highlight: &'a [usize],
-    /// The Sections window's planes, and whether cut faces are solid.
-    pub clip: &'a [vbrain::clip::ClipPlane],
-    pub caps: bool,
+    /// The Sections window's planes, cut faces and organs kept whole.
+    pub section: &'a vbrain::clip::Section,
+    /// Which organs get labels.
+    pub labels: crate::annotate::Labels,
+    /// Handles to drag planes by (while the Sections window is open).
+    pub handles: Vec<super::sections::Handle>,
 }
 
 pub struct Viewport {
@@ -54,6 +60,10 @@ pub struct Viewport {
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
     frame_times: VecDeque<Instant>,
+    /// The labels last painted: their anchors are kept while they stay deep in their organs.
+    labels: std::cell::RefCell<Vec<crate::annotate::Laid>>,
+    /// The plane whose handle is being dragged.
+    dragging_plane: Option<usize>,
 }
 
 impl Default for Viewport {
@@ -68,6 +78,8 @@ impl Default for Viewport {
             target: None,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
+            labels: Default::default(),
+            dragging_plane: None,
         }
     }
 }
@@ -174,7 +186,21 @@ impl Viewport {
         // The selected organ's transform as this frame's drag and wheel leave it.
         let mut placed: Option<(usize, Transform, Transform)> = None;
         let transform = |scene: &Scene, organ: usize| scene.layout().organs.get(organ).map(|s| s.transform);
-        if response.dragged_by(PointerButton::Primary) && delta != Vec2::ZERO {
+        if response.drag_started_by(PointerButton::Primary) {
+            let from = ui.input(|i| i.pointer.press_origin());
+            self.dragging_plane = from.and_then(|p| self.handle_at(input, p));
+        }
+        if !response.dragged() {
+            self.dragging_plane = None;
+        }
+        if let (Some(slot), Some(scene)) = (self.dragging_plane, input.scene) {
+            if delta != Vec2::ZERO {
+                if let Some(h) = input.handles.iter().find(|h| h.slot == slot) {
+                    let mm = self.drag_along(scene, h, delta);
+                    out.push(Action::MovePlane { slot, mm });
+                }
+            }
+        } else if response.dragged_by(PointerButton::Primary) && delta != Vec2::ZERO {
             let organ = input.selected.filter(|_| modifiers.command || modifiers.shift);
             match (organ, input.scene) {
                 (Some(sel), Some(scene)) => {
@@ -255,8 +281,13 @@ impl Viewport {
     fn draw_ids<'a>(&'a self, input: &Input<'a>) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
         let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
         let camera = self.camera(scene);
-        let frame =
-            FrameInput { clip: input.clip, caps: input.caps, ..FrameInput::new(scene.set(), &camera, scene.shown()) };
+        let section = input.section;
+        let frame = FrameInput {
+            clip: &section.planes,
+            caps: section.caps,
+            whole: &section.whole,
+            ..FrameInput::new(scene.set(), &camera, scene.shown())
+        };
         scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, input.settings.pick_min_opacity);
         Some((target, rs))
     }
@@ -273,7 +304,9 @@ impl Viewport {
             let name = scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
             ui.painter().layout_no_wrap(name, font.clone(), egui::Color32::from_rgb(245, 245, 240))
         };
-        let laid = crate::annotate::lay_out(&ids, size, labels, |o| galley(o).size().x * ppp);
+        let previous = self.labels.take();
+        let laid = crate::annotate::lay_out(&ids, size, labels, &previous, |o| galley(o).size().x * ppp);
+        self.labels.replace(laid.clone());
         let at = |p: [f32; 2]| rect.min + egui::vec2(p[0], p[1]) / ppp;
         let painter = ui.painter_at(rect);
         let s = px / 20.0 / ppp;
@@ -288,6 +321,68 @@ impl Viewport {
             let text_at =
                 plate.min + egui::vec2(crate::annotate::PAD * px / ppp, (plate.height() - text.size().y) / 2.0);
             painter.galley(text_at, text, egui::Color32::WHITE);
+        }
+    }
+
+    /// Where a world point appears in the viewport (points), if in front of the camera.
+    fn project(&self, scene: &Scene, p: Vec3) -> Option<Pos2> {
+        let rect = self.rect;
+        let m = self.camera(scene).view_projection(rect.width() / rect.height().max(1.0));
+        let c = m * p.extend(1.0);
+        (c.w > 1e-6).then(|| {
+            let (x, y) = (c.x / c.w, c.y / c.w);
+            Pos2::new(rect.min.x + (x + 1.0) / 2.0 * rect.width(), rect.min.y + (1.0 - y) / 2.0 * rect.height())
+        })
+    }
+
+    /// A handle's dot and the tip of its arrow (12 mm along the plane's normal), in points.
+    pub fn handle_points(&self, scene: &Scene, h: &super::sections::Handle) -> Option<(Pos2, Pos2)> {
+        Some((self.project(scene, h.at)?, self.project(scene, h.at + h.normal * 12.0)?))
+    }
+
+    /// The plane whose handle is under a point of the viewport (points).
+    fn handle_at(&self, input: &Input, at: Pos2) -> Option<usize> {
+        let scene = input.scene?;
+        input
+            .handles
+            .iter()
+            .filter_map(|h| {
+                let (dot, tip) = self.handle_points(scene, h)?;
+                let d = dot.distance(at).min(tip.distance(at));
+                (d <= HANDLE_REACH).then_some((d, h.slot))
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(_, slot)| slot)
+    }
+
+    /// Millimetres a drag of `delta` points moves a plane: its component along the handle's
+    /// arrow on screen, scaled by the arrow's length.
+    fn drag_along(&self, scene: &Scene, h: &super::sections::Handle, delta: Vec2) -> f32 {
+        let Some((dot, tip)) = self.handle_points(scene, h) else { return 0.0 };
+        let arrow = Vec2::new(tip.x - dot.x, tip.y - dot.y);
+        let len = arrow.length();
+        if len < 2.0 {
+            // The normal points at the eye: move by the vertical drag instead.
+            return -delta.y * 0.25;
+        }
+        delta.dot(arrow / len) * 12.0 / len
+    }
+
+    /// The planes' handles: a dot where each plane crosses the set's middle and an arrow along
+    /// its normal, the one dragged brighter.
+    fn paint_handles(&self, ui: &egui::Ui, rect: Rect, input: &Input) {
+        let Some(scene) = input.scene else { return };
+        let painter = ui.painter_at(rect);
+        for h in &input.handles {
+            let Some((dot, tip)) = self.handle_points(scene, h) else { continue };
+            let hot = self.dragging_plane == Some(h.slot);
+            let colour =
+                if hot { egui::Color32::from_rgb(255, 230, 120) } else { egui::Color32::from_rgb(250, 190, 60) };
+            let dark = egui::Stroke::new(4.0, egui::Color32::from_black_alpha(160));
+            painter.line_segment([dot, tip], dark);
+            painter.line_segment([dot, tip], egui::Stroke::new(2.0, colour));
+            painter.circle(tip, 3.5, colour, egui::Stroke::new(1.0, egui::Color32::BLACK));
+            painter.circle(dot, 6.0, colour, egui::Stroke::new(1.5, egui::Color32::BLACK));
         }
     }
 
@@ -330,7 +425,8 @@ impl Viewport {
         }
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
-        let clip = vbrain::cull::Clip { planes: input.clip };
+        let section = input.section;
+        let clip = vbrain::cull::Clip { planes: &section.planes };
         let (draw, cull) =
             self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
         let frame = FrameInput {
@@ -340,8 +436,9 @@ impl Viewport {
             moving: self.moving,
             highlight: input.highlight,
             selection: input.selected,
-            clip: input.clip,
-            caps: input.caps,
+            clip: &section.planes,
+            caps: section.caps,
+            whole: &section.whole,
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
         let stats = if settings.cull_debug {
@@ -356,12 +453,14 @@ impl Viewport {
         let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
-            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent(), !input.clip.is_empty());
+            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent(), !section.planes.is_empty());
         }
-        let labels = settings.labels.labels(input.selected);
-        if labels != crate::annotate::Labels::None {
-            self.paint_labels(ui, rect, input, &labels);
+        if input.labels != crate::annotate::Labels::None {
+            self.paint_labels(ui, rect, input, &input.labels);
+        } else {
+            self.labels.take();
         }
+        self.paint_handles(ui, rect, input);
         if let Some(text) = failed {
             out.push(Action::NotifyOnce(text));
         }

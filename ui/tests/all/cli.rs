@@ -452,7 +452,22 @@ fn render_rejects_bad_clip_planes_and_cuts_with_good_ones() {
         "sagittal=-20:flip",
     ]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert_ne!(image::open(&out).unwrap().to_rgba8(), before, "the cut shows the inside");
+    let cut = image::open(&out).unwrap().to_rgba8();
+    assert_ne!(cut, before, "the cut shows the inside");
+    // Every organ kept whole: the cut removes nothing.
+    let left = ["--size", "96x96", "--view", "left", "--clip", "sagittal=-20:flip"];
+    let o = vbrain(
+        &[&["render", &brain(), "--out", out.to_str().unwrap(), "--whole", "Cerebrum,Brainstem,Cerebellum"][..], &left]
+            .concat(),
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let kept = image::open(&out).unwrap().to_rgba8();
+    let differ =
+        |a: &image::RgbaImage, b: &image::RgbaImage| a.pixels().zip(b.pixels()).filter(|(x, y)| x != y).count();
+    assert!(differ(&kept, &cut) > 0);
+    assert!(kept == before, "what is seen is kept whole: {} pixels differ", differ(&kept, &before));
+    let o = vbrain(&[&["render", &brain(), "--out", out.to_str().unwrap(), "--whole", "nonesuch"][..], &left].concat());
+    assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains("--whole"));
 }
 
 #[test]

@@ -522,3 +522,70 @@ fn play_a_shipped_lesson_step_by_step() {
     h.run_steps(2);
     assert!(!h.state().lesson().is_open());
 }
+
+#[test]
+fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
+    use vbrain_ui::viewer::action::{Action, Window};
+    use vbrain_ui::viewer::settings::LabelMode;
+    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
+    let dir = tempfile::tempdir().unwrap();
+    let gyrus = organ(&h, "superiorfrontal_l");
+    let name = h.state().scene().unwrap().set().organs[gyrus].name.clone();
+    click(&h, point_on(&h, gyrus));
+    h.run_steps(3);
+    let whole = pixels_of(&h, gyrus);
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::Show(Window::Sections)]);
+    h.run_steps(2);
+
+    // The axial plane at 0 mm takes away the superior half: most of the superior frontal gyrus.
+    h.get_by_label("Axial").click();
+    h.run_steps(3);
+    assert_eq!(h.state().sections().current.planes.len(), 1);
+    let cut = pixels_of(&h, gyrus);
+    assert!(cut * 2 < whole, "cut {cut} of {whole} pixels");
+    assert!(h.state().document().unsaved(h.state().scene()), "a plane is an unsaved change");
+    // (Through accessibility: the Sections window may cover the inspector in a small window.)
+    h.get_by_label(&format!("Do not cut {name}")).click_accesskit();
+    h.run_steps(3);
+    assert_eq!(h.state().sections().current.whole, vec![gyrus]);
+    assert!(pixels_of(&h, gyrus) * 10 > whole * 9, "kept whole, it is all there again");
+
+    // Dragging the plane's handle up (seen from the front, superior is up) moves it superiorly.
+    let handles = h.state().plane_handles();
+    assert_eq!(handles.len(), 1);
+    let (dot, _) = h.state().viewport().handle_points(h.state().scene().unwrap(), &handles[0]).unwrap();
+    let press = |h: &Harness<'static, App>, at: Pos2, pressed| {
+        h.event(Event::PointerButton { pos: at, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE })
+    };
+    h.event(Event::PointerMoved(dot));
+    press(&h, dot, true);
+    h.run_steps(1);
+    for k in 1..=4 {
+        h.event(Event::PointerMoved(dot - egui::vec2(0.0, 10.0 * k as f32)));
+        h.run_steps(1);
+    }
+    press(&h, dot - egui::vec2(0.0, 40.0), false);
+    h.run_steps(2);
+    let mm = h.state().sections().planes[0].mm;
+    assert!(mm > 5.0, "the plane moved up to {mm} mm");
+    assert_eq!(h.state().selected(), Some(gyrus), "a drag on a handle does not orbit or pick");
+
+    // Label it: the chosen-labels mode; the scene saves planes, whole organs and labels.
+    h.get_by_label(&format!("Label {name}")).click_accesskit();
+    h.run_steps(2);
+    assert_eq!((h.state().settings().labels, h.state().chosen_labels()), (LabelMode::Chosen, &[gyrus][..]));
+    let file = dir.path().join("cut.vbscene");
+    h.state_mut().perform(&ctx, vec![Action::SaveSceneTo(file.clone())]);
+    h.run_steps(1);
+    let text = std::fs::read_to_string(&file).unwrap();
+    assert!(text.contains("\"whole\"") && text.contains("\"labels\": \"superiorfrontal_l\""), "{text}");
+    let section = h.state().sections().current.clone();
+    h.state_mut().perform(&ctx, vec![Action::KeepWhole { organ: gyrus, whole: false }]);
+    h.state_mut().perform(&ctx, vec![Action::Open(vec![file.clone()])]);
+    h.run_steps(2);
+    h.get_by_label("Don't save").click();
+    h.run_steps(3);
+    assert_eq!(h.state().sections().current, section, "{:?}", messages(&h));
+    assert_eq!(h.state().chosen_labels(), &[gyrus]);
+}

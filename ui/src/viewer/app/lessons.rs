@@ -5,9 +5,11 @@
 
 use super::{Action, App, LessonPanel};
 use crate::viewer::document;
+use crate::viewer::settings::LabelMode;
 use eframe::egui;
 use std::path::Path;
 use vbrain::edit::{Edit, Organs};
+use vbrain::labels::Which;
 use vbrain::lesson::{Lesson, LessonEdit, Step};
 use vbrain::scene_file::{CameraMode, CameraState};
 use vbrain::transition::Transition;
@@ -70,7 +72,19 @@ impl App {
         self.lesson.transition = Some((transition, scene.changes()));
         self.viewport.set_navigator(self.viewport.navigator(), fly);
         self.lesson.step = k;
+        let left_out = self.sections.set_section(&view.section);
+        match &view.labels {
+            // A step's "selected" organs are the ones it highlights.
+            Some(Which::Selected) => {
+                (self.settings.labels, self.chosen_labels) = (LabelMode::Chosen, view.highlight.clone())
+            }
+            Some(which) => (self.settings.labels, self.chosen_labels) = LabelMode::of_which(which, scene.set()),
+            None => {}
+        }
         self.lesson.highlight = view.highlight;
+        if left_out > 0 {
+            self.notify(format!("step {}: {left_out} clip plane(s) left out", k + 1), false);
+        }
         self.ease_lesson_step(ctx);
     }
 
@@ -110,7 +124,13 @@ impl App {
         let mode = if self.viewport.fly() { CameraMode::Walk } else { CameraMode::Orbit };
         let camera = CameraState::of(&self.viewport.navigator(), mode);
         let highlight: Vec<usize> = self.selected.into_iter().collect();
-        Some(Step::capture(scene.set(), scene.layout(), camera, title, &highlight))
+        let labels = match self.settings.labels {
+            // No labels: the step leaves them to whoever follows it.
+            LabelMode::None => Which::None,
+            mode => mode.which(&self.chosen_labels, scene.set()),
+        };
+        let section = &self.sections.current;
+        Some(Step::capture(scene.set(), scene.layout(), camera, title, &highlight, section, &labels))
     }
 
     /// Applies a lesson edit as one undoable step.

@@ -4,6 +4,7 @@
 
 use super::{Action, App, Notification};
 use crate::viewer::document;
+use crate::viewer::settings::LabelMode;
 use eframe::egui;
 use std::path::Path;
 
@@ -39,8 +40,17 @@ impl App {
         self.settings.transparency = file.render.transparency;
         self.settings.cull.mode = file.render.cull;
         self.settings.background = file.render.background;
-        self.settings.labels = crate::viewer::settings::LabelMode::of_scene_key(file.labels.as_deref());
-        let oblique = !self.sections.set_planes(&file.clip, file.caps);
+        let which = vbrain::labels::Which::parse(file.labels.as_deref().unwrap_or(""));
+        (self.settings.labels, self.chosen_labels) = LabelMode::of_which(&which, scene.set());
+        let (whole, unknown) = vbrain::labels::Which::chosen(&file.whole, scene.set());
+        for name in unknown {
+            self.notifications.push(Notification {
+                text: format!("{}: \"whole\" names no organ or group {name}", path.display()),
+                error: false,
+            });
+        }
+        let section = vbrain::clip::Section { planes: file.clip.clone(), caps: file.caps, whole };
+        let left_out = self.sections.set_section(&section);
         if self.document.restoring.as_deref() == Some(path) {
             // Recovered changes are saved nowhere yet.
             self.document.restoring = None;
@@ -53,16 +63,21 @@ impl App {
         for w in applied.warnings {
             self.notify(format!("{}: {w}", path.display()), false);
         }
-        if oblique {
-            self.notify(format!("{}: an oblique clip plane is not shown in the viewer yet", path.display()), false);
+        if left_out > 0 {
+            let text = format!(
+                "{}: {left_out} clip plane(s) left out: the viewer cuts with one plane per anatomical axis and one oblique",
+                path.display()
+            );
+            self.notify(text, false);
         }
     }
 
     /// Saves the scene to `path` (atomically); it becomes the document.
     pub(super) fn save_scene(&mut self, path: &Path) {
         let Some(scene) = &self.scene else { return };
-        let Some(file) =
-            document::capture(scene, (&self.viewport, &self.sections), &self.settings, self.selected, path)
+        let which = self.settings.labels.which(&self.chosen_labels, scene.set());
+        let marks = (&self.settings, &which);
+        let Some(file) = document::capture(scene, &self.viewport, &self.sections.current, marks, self.selected, path)
         else {
             return self
                 .notify("mesh files opened together cannot be saved as a scene: save them as a set first", true);
@@ -143,8 +158,10 @@ impl App {
         }
         if let Some(scene) = &self.scene {
             let now = ctx.input(|i| i.time);
-            let (viewport, settings, selected) = ((&self.viewport, &self.sections), &self.settings, self.selected);
-            let capture = |p: &Path| document::capture(scene, viewport, settings, selected, p);
+            let which = self.settings.labels.which(&self.chosen_labels, scene.set());
+            let (viewport, section, selected) = (&self.viewport, &self.sections.current, self.selected);
+            let marks = (&self.settings, &which);
+            let capture = |p: &Path| document::capture(scene, viewport, section, marks, selected, p);
             if let Some(problem) = self.document.keep_recovery(now, scene, capture) {
                 self.notifications.push(Notification { text: problem, error: true });
             }

@@ -1,0 +1,60 @@
+//! The app's figure: the Sections window (clip planes, cut faces, organs kept whole) with the
+//! planes' handles, and the labels (which organs, the chosen list). Changes to either count as
+//! unsaved changes of the scene. A child module of the app, so it reaches its state.
+
+use super::App;
+use crate::viewer::settings::LabelMode;
+use eframe::egui;
+
+impl App {
+    /// The planes or labels changed: the scene has unsaved changes.
+    pub(super) fn touch_scene(&mut self) {
+        if let Some(scene) = &mut self.scene {
+            scene.touch();
+        }
+    }
+
+    /// The labels the viewport and exports draw.
+    pub(super) fn labels(&self) -> crate::annotate::Labels {
+        self.settings.labels.labels(self.selected, &self.chosen_labels)
+    }
+
+    /// The handles of the planes, while the Sections window is open.
+    pub fn plane_handles(&self) -> Vec<crate::viewer::sections::Handle> {
+        match &self.scene {
+            Some(scene) if self.sections.open => self.sections.handles(&scene.home()),
+            _ => Vec::new(),
+        }
+    }
+
+    /// Organ `organ` labelled or not: the chosen-labels mode, starting from what is labelled now.
+    pub(super) fn label_organ(&mut self, organ: usize, on: bool) {
+        let n = self.scene.as_ref().map_or(0, |s| s.set().organs.len());
+        let mut chosen = match self.settings.labels {
+            LabelMode::None => Vec::new(),
+            LabelMode::Selected => self.selected.into_iter().collect(),
+            LabelMode::Chosen => self.chosen_labels.clone(),
+            LabelMode::All => (0..n).collect(),
+        };
+        chosen.retain(|&o| o != organ);
+        if on {
+            chosen.push(organ);
+        }
+        chosen.sort_unstable();
+        (self.settings.labels, self.chosen_labels) = (LabelMode::Chosen, chosen);
+    }
+
+    /// The Sections window; a change to the section is an unsaved change.
+    pub(super) fn sections_window(&mut self, ctx: &egui::Context) {
+        let home = self.scene.as_ref().map(|s| s.home());
+        let forward = self.scene.as_ref().map_or(glam::Vec3::NEG_Y, |s| {
+            let c = self.viewport.camera(s);
+            (c.target - c.eye).normalize_or_zero()
+        });
+        let scene = self.scene.as_ref();
+        let name = |o: usize| scene.and_then(|s| s.set().organs.get(o)).map_or(String::new(), |x| x.name.clone());
+        if self.sections.show(ctx, home, forward, name) {
+            self.touch_scene();
+        }
+    }
+}
