@@ -38,6 +38,7 @@ pub mod mos;
 pub mod multi_surface;
 pub mod navigation;
 pub mod organ_set;
+pub mod quiz;
 pub mod render;
 pub mod rng;
 pub mod scene_file;

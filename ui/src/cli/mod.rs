@@ -14,6 +14,7 @@ mod info;
 mod lesson;
 mod masks;
 mod occluders;
+mod quiz;
 mod render;
 mod scale;
 mod stand_ins;
@@ -45,6 +46,8 @@ pub enum Command {
     /// Lessons: step-by-step views of a set with captions
     #[command(subcommand)]
     Lesson(LessonCommand),
+    /// A quiz worksheet: per question a picture of the structure, questions.md and answers.md
+    Quiz(QuizArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -107,6 +110,33 @@ pub struct CameraArgs {
 pub enum LessonCommand {
     /// Write one PNG per step (DIR/01.png, ...) and DIR/lesson.md with the captions and images
     Render(LessonRenderArgs),
+}
+
+#[derive(clap::Args)]
+pub struct QuizArgs {
+    /// Organ set
+    pub set: PathBuf,
+    /// Only this group's organs (an id or a group path such as "Basal ganglia")
+    #[arg(long)]
+    pub group: Option<String>,
+    /// Questions (at most one per structure in scope)
+    #[arg(long, default_value_t = 10, value_parser = at_least_one)]
+    pub questions: usize,
+    /// Seed: the same seed gives the same quiz
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// locate (which letter is it?), name (what is A?) or mixed
+    #[arg(long, default_value = "mixed", value_parser = values::quiz_mode)]
+    pub mode: vbrain::quiz::Mode,
+    /// Output folder
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Image size, WxH
+    #[arg(long, default_value = "1024x768", value_parser = values::size)]
+    pub size: Size,
+    /// Print {"questions": [{"kind", "organ", "choices", "image"}...]}
+    #[arg(long)]
+    pub json: bool,
 }
 
 #[derive(clap::Args)]
@@ -406,6 +436,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Lesson(LessonCommand::Render(args)) => lesson::render(&args),
+        Command::Quiz(args) => quiz::run(&args),
         Command::Import(args) => import::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),

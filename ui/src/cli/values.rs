@@ -202,6 +202,11 @@ pub fn on_off(s: &str) -> Result<bool> {
     }
 }
 
+/// A quiz mode: locate, name or mixed.
+pub fn quiz_mode(s: &str) -> Result<vbrain::quiz::Mode> {
+    vbrain::quiz::Mode::parse(s).ok_or_else(|| anyhow::anyhow!("\"{s}\": give locate, name or mixed"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -562,3 +562,61 @@ fn city_then_occluders_then_the_selection_experiment() {
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(!bad.status.success() && err.contains("sideways") && err.contains("orbit, best, average, worst"), "{err}");
 }
+
+#[test]
+fn quiz_writes_a_worksheet_with_an_answer_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("quiz");
+    let o = vbrain(&[
+        "quiz",
+        &brain(),
+        "--group",
+        "Basal ganglia",
+        "--questions",
+        "12",
+        "--seed",
+        "3",
+        "--size",
+        "160x120",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("only 8 structures"), "more questions than structures: said");
+    let v = json(&o);
+    let questions = v["questions"].as_array().unwrap();
+    assert_eq!(questions.len(), 8);
+    let answers = std::fs::read_to_string(out.join("answers.md")).unwrap();
+    for q in questions {
+        let image = image::open(q["image"].as_str().unwrap()).unwrap();
+        assert_eq!((image.width(), image.height()), (160, 120));
+        let organ = q["organ"].as_str().unwrap();
+        assert!(
+            organ.contains("caudate")
+                || organ.contains("putamen")
+                || organ.contains("pallidum")
+                || organ.contains("accumbens")
+        );
+        assert!(q["choices"].as_array().unwrap().iter().any(|c| c == organ));
+    }
+    assert_eq!(answers.lines().filter(|l| l.starts_with(char::is_numeric)).count(), 8);
+    let again = vbrain(&[
+        "quiz",
+        &brain(),
+        "--group",
+        "Basal ganglia",
+        "--seed",
+        "3",
+        "--size",
+        "160x120",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(json(&again)["questions"], v["questions"], "a seed gives the same worksheet");
+    for (group, says) in [("nonesuch", "no organ or group"), ("Brainstem", "at least two")] {
+        let o = vbrain(&["quiz", &brain(), "--group", group, "--out", out.to_str().unwrap()]);
+        assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains(says), "{group}");
+    }
+}

@@ -1,0 +1,399 @@
+//! Quizzes (the thesis's future work: a question module): questions that ask a student to locate
+//! a structure (click it) or to name one (type its name or pick among four), drawn from a scope
+//! of organs with a seed, so a seed gives the same quiz. Pure functions over the organ set; the
+//! camera and the fading that make a deep target visible take the organ-ID buffer (organ index + 1
+//! per pixel) from the caller, who renders it.
+//!
+//! Choices are the answer and three distractors near it: organs of its own group first, then the
+//! others, each by the distance between bounding-box centres (millimetres, world RAS), never
+//! random far-away ones. Typed names are accepted as the organ set's search finds them (name, id,
+//! Latin name, synonyms; case- and accent-insensitive, [`crate::organ_set::names::fold`]), with a
+//! small misspelling allowed, and a side word ("left", "right") checked only where one is typed.
+
+use crate::layout::Layout;
+use crate::navigation::Navigator;
+use crate::organ_set::{names, OrganSet};
+use crate::rng::XorShift;
+use serde::{Deserialize, Serialize};
+
+/// What a question asks.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Kind {
+    /// Click the named structure.
+    Locate,
+    /// Name the highlighted structure.
+    Name,
+}
+
+/// Which kinds a quiz asks.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Mode {
+    Locate,
+    Name,
+    #[default]
+    Mixed,
+}
+
+impl Mode {
+    pub const ALL: [Mode; 3] = [Mode::Locate, Mode::Name, Mode::Mixed];
+
+    pub fn parse(s: &str) -> Option<Mode> {
+        Mode::ALL.into_iter().find(|m| m.name() == s.trim().to_ascii_lowercase())
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Locate => "locate",
+            Mode::Name => "name",
+            Mode::Mixed => "mixed",
+        }
+    }
+}
+
+/// One question: its kind, the organ it is about (index) and four choices (indices, distinct, the
+/// organ among them) for picking a name, or for a worksheet's letters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Question {
+    pub kind: Kind,
+    pub organ: usize,
+    pub choices: Vec<usize>,
+}
+
+/// What to ask: the organs in scope (indices), how many questions, which kinds, the seed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spec {
+    pub scope: Vec<usize>,
+    pub questions: usize,
+    pub mode: Mode,
+    pub seed: u64,
+}
+
+/// A generated quiz, and a note where fewer questions were made than asked.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Quiz {
+    pub questions: Vec<Question>,
+    pub note: Option<String>,
+}
+
+/// How many choices a question offers.
+pub const CHOICES: usize = 4;
+
+/// The organs a quiz may ask about: those of `group` (an id or a group path), else every organ
+/// the set shows by default (not the scalp and skull it hides). At least two are needed.
+pub fn scope(set: &OrganSet, group: Option<&str>) -> Result<Vec<usize>, String> {
+    let organs: Vec<usize> = match group.map(str::trim).filter(|g| !g.is_empty()) {
+        Some(g) => set.select(g),
+        None => (0..set.organs.len()).filter(|&i| set.organs[i].visible).collect(),
+    };
+    match (organs.len(), group) {
+        (0, Some(g)) => Err(format!("no organ or group \"{g}\" in the set (see `vbrain info`)")),
+        (n, Some(g)) if n < 2 => Err(format!("\"{g}\" has {n} organ: a quiz needs at least two")),
+        (n, None) if n < 2 => Err(format!("the set shows {n} organ: a quiz needs at least two")),
+        _ => Ok(organs),
+    }
+}
+
+/// A quiz over `spec.scope`: each organ asked about at most once, in an order drawn from the
+/// seed. Asking for more questions than the scope has organs stops at the organs (and says so).
+pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
+    let scope: Vec<usize> = spec.scope.iter().copied().filter(|&o| o < set.organs.len()).collect();
+    if scope.len() < 2 {
+        return Err(format!("a quiz needs at least two structures in scope, not {}", scope.len()));
+    }
+    if spec.questions == 0 {
+        return Err("a quiz needs at least one question".into());
+    }
+    let mut rng = XorShift::seeded(spec.seed);
+    let mut order = scope.clone();
+    rng.shuffle(&mut order);
+    let n = spec.questions.min(order.len());
+    let note = (spec.questions > n)
+        .then(|| format!("{} questions asked but only {n} structures in scope: the quiz stops at {n}", spec.questions));
+    let questions = order[..n]
+        .iter()
+        .enumerate()
+        .map(|(k, &organ)| {
+            let kind = match spec.mode {
+                Mode::Locate => Kind::Locate,
+                Mode::Name => Kind::Name,
+                Mode::Mixed if k % 2 == 0 => Kind::Locate,
+                Mode::Mixed => Kind::Name,
+            };
+            Question { kind, organ, choices: choices(set, organ, &scope, &mut rng) }
+        })
+        .collect();
+    Ok(Quiz { questions, note })
+}
+
+/// The answer `organ` and up to three distractors, shuffled: organs of its group first, then the
+/// rest of `candidates`, then of the set, each nearest first.
+pub fn choices(set: &OrganSet, organ: usize, candidates: &[usize], rng: &mut XorShift) -> Vec<usize> {
+    let centre = |o: usize| set.organs[o].mesh().bounds().center();
+    let at = centre(organ);
+    let group = &set.organs[organ].group;
+    let by_distance = |pool: Vec<usize>| {
+        let mut pool = pool;
+        pool.sort_by(|&a, &b| centre(a).distance(at).total_cmp(&centre(b).distance(at)).then(a.cmp(&b)));
+        pool
+    };
+    let others = |pool: &mut dyn Iterator<Item = usize>| pool.filter(|&o| o != organ).collect::<Vec<_>>();
+    let same: Vec<usize> = others(&mut candidates.iter().copied().filter(|&o| &set.organs[o].group == group));
+    let rest: Vec<usize> = others(&mut candidates.iter().copied().filter(|&o| &set.organs[o].group != group));
+    let all: Vec<usize> = others(&mut (0..set.organs.len()).filter(|&o| set.organs[o].visible));
+    let mut out = vec![organ];
+    for o in by_distance(same).into_iter().chain(by_distance(rest)).chain(by_distance(all)) {
+        if out.len() == CHOICES {
+            break;
+        }
+        if !out.contains(&o) && set.organs[o].name != set.organs[organ].name {
+            out.push(o);
+        }
+    }
+    rng.shuffle(&mut out);
+    out
+}
+
+/// Side words: a typed side must match the organ's.
+const LEFT: [&str; 4] = ["left", "l", "sinister", "sinistra"];
+const RIGHT: [&str; 4] = ["right", "r", "dexter", "dextra"];
+
+/// The words of a folded name without side words, and the side named (-1 left, 1 right, 0 none).
+fn sided(folded: &str) -> (String, i32) {
+    let mut side = 0;
+    let mut words = Vec::new();
+    for w in folded.split(|c: char| !c.is_alphanumeric()).filter(|w| !w.is_empty()) {
+        if LEFT.contains(&w) {
+            side = -1;
+        } else if RIGHT.contains(&w) {
+            side = 1;
+        } else {
+            words.push(w);
+        }
+    }
+    (words.join(" "), side)
+}
+
+/// Does a typed `answer` name organ `organ` of `set`? Any of its names, case and accents aside,
+/// one misspelt letter in five allowed (none below five letters); a side word, where typed, must
+/// be the organ's side. Ids and groups of other organs are never accepted.
+pub fn accepts(set: &OrganSet, organ: usize, answer: &str) -> bool {
+    let Some(o) = set.organs.get(organ) else { return false };
+    let (typed, typed_side) = sided(&names::fold(answer));
+    if typed.is_empty() {
+        return false;
+    }
+    let own_side = sided(&names::fold(&o.name)).1;
+    if typed_side != 0 && own_side != 0 && typed_side != own_side {
+        return false;
+    }
+    names::names(o).any(|n| {
+        let (name, _) = sided(&names::fold(n));
+        let allowed = name.chars().count() / 5;
+        !name.is_empty() && levenshtein(&name, &typed) <= allowed
+    })
+}
+
+/// Edit distance (insertions, deletions, substitutions) between two strings, by characters.
+pub fn levenshtein(a: &str, b: &str) -> usize {
+    let (a, b): (Vec<char>, Vec<char>) = (a.chars().collect(), b.chars().collect());
+    let mut row: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut diagonal = row[0];
+        row[0] = i + 1;
+        for (j, cb) in b.iter().enumerate() {
+            let above = row[j + 1];
+            row[j + 1] = (above + 1).min(row[j] + 1).min(diagonal + usize::from(ca != cb));
+            diagonal = above;
+        }
+    }
+    row[b.len()]
+}
+
+/// The camera for a question about `organ`: from the subject's left for a left-sided structure,
+/// from the right for a right-sided one, from the front left for one on the midline; at a distance
+/// that frames the organ with room around it (three times the framed distance, between 0.55 and 1
+/// times the distance that frames the whole set, so a small structure is seen in its place).
+pub fn camera(set: &OrganSet, layout: &Layout, organ: usize) -> Navigator {
+    let b = set.organs[organ].mesh().bounds().transformed(&layout.organs[organ].transform.matrix());
+    let x = (b.min[0] + b.max[0]) / 2.0;
+    let (az, el) = if x < -8.0 {
+        (-90.0, 10.0)
+    } else if x > 8.0 {
+        (90.0, 10.0)
+    } else {
+        (-60.0, 20.0)
+    };
+    let whole = Navigator::framing(&layout.bounds(set), az, el);
+    let mut nav = Navigator::framing(&b, az, el);
+    nav.distance = (nav.distance * 3.0).clamp(whole.distance * 0.55, whole.distance);
+    nav
+}
+
+/// How faint the organs that hide a target are made.
+pub const FADED: f32 = 0.15;
+
+/// The share of a target's own pixels that must be seen for it to count as revealed.
+pub const SEEN_SHARE: f32 = 0.5;
+
+/// `layout` with the organs that hide `organ` faded to [`FADED`], found from organ-ID buffers:
+/// `ids(layout)` renders one from the question's camera, treating organs fainter than a half as
+/// see-through (as picking does). The organ is shown opaque; the organs drawn over its own pixels
+/// (those it covers when drawn alone) are faded, again until at least [`SEEN_SHARE`] of them show
+/// it, at most four rounds. Returns the layout and the share of its pixels seen.
+pub fn reveal(organ: usize, layout: &Layout, mut ids: impl FnMut(&Layout) -> Vec<u32>) -> (Layout, f32) {
+    let mut out = layout.clone();
+    out.organs[organ].visible = true;
+    out.organs[organ].opacity = 1.0;
+    let mut alone = out.clone();
+    for (k, s) in alone.organs.iter_mut().enumerate() {
+        s.visible = k == organ;
+    }
+    let own: Vec<usize> =
+        ids(&alone).iter().enumerate().filter(|(_, &id)| id as usize == organ + 1).map(|(i, _)| i).collect();
+    if own.is_empty() {
+        return (out, 0.0);
+    }
+    let mut share = 0.0;
+    for _ in 0..4 {
+        let seen = ids(&out);
+        let shown = own.iter().filter(|&&i| seen.get(i) == Some(&(organ as u32 + 1))).count();
+        share = shown as f32 / own.len() as f32;
+        if share >= SEEN_SHARE {
+            break;
+        }
+        for &i in &own {
+            match seen.get(i).map(|&id| id as usize) {
+                Some(id) if id > 0 && id != organ + 1 => out.organs[id - 1].opacity = FADED,
+                _ => {}
+            }
+        }
+    }
+    (out, share)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+    use crate::organ_set::Organ;
+
+    fn set() -> OrganSet {
+        let organ = |id: &str, name: &str, group: &str, at: [f32; 3]| {
+            let mut mesh = Mesh::octahedron();
+            mesh.positions.iter_mut().for_each(|p| *p = [p[0] + at[0], p[1] + at[1], p[2] + at[2]]);
+            let mut o = Organ::new(id.into(), name.into(), [0.5; 3], mesh);
+            o.group = group.into();
+            o
+        };
+        let mut caudate = organ("caudate_l", "Left caudate nucleus", "Basal ganglia/Left", [-12.0, 10.0, 10.0]);
+        caudate.latin = Some("Nucleus caudatus".into());
+        caudate.synonyms = vec!["caudate".into()];
+        OrganSet {
+            organs: vec![
+                caudate,
+                organ("putamen_l", "Left putamen", "Basal ganglia/Left", [-25.0, 2.0, 0.0]),
+                organ("pallidum_l", "Left globus pallidus", "Basal ganglia/Left", [-19.0, -2.0, 0.0]),
+                organ("caudate_r", "Right caudate nucleus", "Basal ganglia/Right", [12.0, 10.0, 10.0]),
+                organ("cuneus_l", "Left cuneus", "Occipital lobe", [-8.0, -80.0, 20.0]),
+                organ("precuneus_l", "Left precuneus", "Parietal lobe", [-8.0, -60.0, 40.0]),
+                organ("thalamus_l", "Left thalamus", "Diencephalon", [-10.0, -15.0, 5.0]),
+            ],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn every_question_has_one_right_answer_among_distinct_near_choices() {
+        let set = set();
+        for seed in 0..200 {
+            let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| seed % 3 != 0 || o < 3).collect();
+            let mode = Mode::ALL[seed as usize % 3];
+            let spec = Spec { scope: scope.clone(), questions: 1 + seed as usize % 9, mode, seed };
+            let quiz = generate(&set, &spec).unwrap();
+            assert_eq!(generate(&set, &spec).unwrap(), quiz, "a seed gives the same quiz");
+            assert_eq!(quiz.questions.len(), spec.questions.min(scope.len()));
+            assert_eq!(quiz.note.is_some(), spec.questions > scope.len());
+            let mut asked: Vec<usize> = quiz.questions.iter().map(|q| q.organ).collect();
+            asked.sort_unstable();
+            asked.dedup();
+            assert_eq!(asked.len(), quiz.questions.len(), "each organ asked once");
+            for q in &quiz.questions {
+                assert!(scope.contains(&q.organ));
+                assert_eq!(q.choices.len(), CHOICES);
+                assert_eq!(q.choices.iter().filter(|&&c| c == q.organ).count(), 1, "one right answer");
+                let names: Vec<&str> = q.choices.iter().map(|&c| set.organs[c].name.as_str()).collect();
+                for (i, n) in names.iter().enumerate() {
+                    assert!(!names[i + 1..].contains(n), "distinct choices {names:?}");
+                    let accepted = q.choices.iter().filter(|&&c| accepts(&set, q.organ, &set.organs[c].name));
+                    assert_eq!(accepted.count(), 1, "only the answer's name is accepted: {n}");
+                }
+                if q.organ == 0 {
+                    let near = &q.choices;
+                    assert!(near.contains(&1) && near.contains(&2), "the caudate's own group first: {near:?}");
+                    assert!(!near.contains(&4), "not the far-away cuneus: {near:?}");
+                }
+            }
+            match spec.mode {
+                Mode::Locate => assert!(quiz.questions.iter().all(|q| q.kind == Kind::Locate)),
+                Mode::Name => assert!(quiz.questions.iter().all(|q| q.kind == Kind::Name)),
+                Mode::Mixed => assert!(quiz.questions.len() < 2 || quiz.questions[1].kind == Kind::Name),
+            }
+        }
+    }
+
+    #[test]
+    fn typed_names_are_forgiven_small_slips_but_not_the_wrong_side() {
+        let set = set();
+        for ok in [
+            "Left caudate nucleus",
+            "left  CAUDATE nucleus",
+            "caudate",
+            "Nucleus caudatus",
+            "caudate nucleus",
+            "Left caudate nucleos",
+            "caudate_l",
+            "Caudaté",
+        ] {
+            assert!(accepts(&set, 0, ok), "{ok}");
+        }
+        for bad in ["Right caudate nucleus", "putamen", "", "  ", "nucleus", "cuneus", "left"] {
+            assert!(!accepts(&set, 0, bad), "{bad}");
+        }
+        assert!(!accepts(&set, 4, "precuneus") && accepts(&set, 5, "precuneus"));
+        assert_eq!(levenshtein("kitten", "sitting"), 3);
+        assert_eq!(levenshtein("", "abc"), 3);
+    }
+
+    #[test]
+    fn bad_scopes_say_why() {
+        let set = set();
+        assert!(scope(&set, Some("nonesuch")).unwrap_err().contains("no organ or group"));
+        assert!(scope(&set, Some("Diencephalon")).unwrap_err().contains("at least two"));
+        assert_eq!(scope(&set, Some("Basal ganglia")).unwrap(), vec![0, 1, 2, 3]);
+        assert!(generate(&set, &Spec { scope: vec![1], questions: 3, mode: Mode::Name, seed: 1 }).is_err());
+    }
+
+    #[test]
+    fn reveal_fades_exactly_what_covers_the_target() {
+        // A 1-D "screen" of 10 pixels: organ 0 on pixels 3..6, organ 1 covering 2..5, organ 2 on
+        // 7..9 apart. Faded organs are see-through.
+        let set = set();
+        let layout = Layout::new(&set);
+        let ids = |l: &Layout| {
+            let mut px = vec![0u32; 10];
+            let solid = |o: usize| l.organs[o].visible && l.organs[o].opacity >= 0.5;
+            for (o, range) in [(0usize, 3..6), (2, 7..9), (1, 2..5)] {
+                if solid(o) {
+                    range.for_each(|i| px[i] = o as u32 + 1);
+                }
+            }
+            px
+        };
+        let (out, share) = reveal(0, &layout, ids);
+        assert_eq!(share, 1.0);
+        assert_eq!(out.organs[1].opacity, FADED, "the organ in front is faded");
+        assert_eq!(out.organs[2].opacity, 1.0, "the one beside it is not");
+    }
+}

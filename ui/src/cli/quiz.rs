@@ -1,0 +1,147 @@
+//! `vbrain quiz`: a worksheet for class from the same renderer as the viewer. Per question a PNG
+//! (`DIR/q01.png`, ...) from a camera that shows the structure (the organs hiding it faded, as the
+//! viewer's quiz does), `DIR/questions.md` and `DIR/answers.md`. A "name" question outlines the
+//! structure and labels it A, with four names to choose from; a "locate" question labels the
+//! structure and the three structures nearest it that the picture shows A to D, and asks which
+//! letter it is.
+
+use super::common::{database, open_reporting};
+use super::QuizArgs;
+use crate::annotate::Labels;
+use anyhow::{anyhow, Result};
+use serde_json::json;
+use vbrain::cull::{CullSettings, Culler};
+use vbrain::layout::Layout;
+use vbrain::quiz::{self, Kind, Spec};
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+
+/// The letter of choice `k`.
+fn letter(k: usize) -> String {
+    char::from(b'A' + (k % 26) as u8).to_string()
+}
+
+pub fn run(args: &QuizArgs) -> Result<bool> {
+    let (set, ok) = open_reporting(&args.set)?;
+    let scope = quiz::scope(&set, args.group.as_deref()).map_err(|e| anyhow!(e))?;
+    let spec = Spec { scope, questions: args.questions, mode: args.mode, seed: args.seed };
+    let generated = quiz::generate(&set, &spec).map_err(|e| anyhow!(e))?;
+    if let Some(note) = &generated.note {
+        eprintln!("note: {note}");
+    }
+    std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
+    let gpu = GpuContext::headless()?;
+    let renderer = Renderer::new(&gpu.device, &set)?;
+    let target = Target::new(&gpu.device, args.size.width, args.size.height)?;
+    let mut culler = Culler::new(database(&args.set, &set));
+    let base = Layout::new(&set);
+    let home = base.bounds(&set);
+    let title = match &args.group {
+        Some(g) => format!("{}: {g}", set.title),
+        None => set.title.clone(),
+    };
+    let mut questions_md = format!("# Quiz: {title}\n\nSeed {}, {} questions.\n", args.seed, generated.questions.len());
+    let mut answers_md = format!("# Answers: {title}\n\nSeed {}.\n\n", args.seed);
+    let mut listed = Vec::new();
+    for (k, q) in generated.questions.iter().enumerate() {
+        let nav = quiz::camera(&set, &base, q.organ);
+        let camera = nav.camera(&home);
+        let ids = |layout: &Layout| {
+            let frame = FrameInput::new(&set, &camera, layout);
+            renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
+            target.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
+        };
+        let (layout, _) = quiz::reveal(q.organ, &base, ids);
+        // A locate question's letters go on the structure and the nearest others seen beside it.
+        let mut q = q.clone();
+        if q.kind == Kind::Locate {
+            let seen = ids(&layout);
+            let mut shown: Vec<usize> = seen.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
+            shown.sort_unstable();
+            shown.dedup();
+            let mut rng = vbrain::rng::XorShift::seeded(args.seed ^ (k as u64 + 1));
+            q.choices = quiz::choices(&set, q.organ, &shown, &mut rng);
+            q.choices.retain(|o| shown.contains(o));
+        }
+        let (draw, _) = culler.cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
+        let highlight = if q.kind == Kind::Name { vec![q.organ] } else { Vec::new() };
+        let frame = FrameInput {
+            draw: Some(&draw),
+            background: crate::background_linear(crate::background_srgb(), false),
+            highlight: &highlight,
+            ..FrameInput::new(&set, &camera, &layout)
+        };
+        renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+        let mut image = target.read_color(&gpu.device, &gpu.queue)?;
+        renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
+        let seen = target.read_ids(&gpu.device, &gpu.queue)?;
+        let (labels, name): (Labels, Box<dyn Fn(usize) -> String>) = match q.kind {
+            Kind::Name => (Labels::Chosen(vec![q.organ]), Box::new(|_| "A".to_string())),
+            Kind::Locate => {
+                let choices = q.choices.clone();
+                let name = move |o: usize| choices.iter().position(|&c| c == o).map_or(String::new(), letter);
+                (Labels::Chosen(q.choices.clone()), Box::new(name))
+            }
+        };
+        let placed = crate::annotate::draw(&mut image, &seen, &labels, name);
+        let file = format!("q{:02}.png", k + 1);
+        vbrain::atomic::write_png(&args.out.join(&file), &image, true)?;
+        let answer = &set.organs[q.organ].name;
+        match q.kind {
+            Kind::Name => {
+                questions_md.push_str(&format!(
+                    "\n## {}. Name structure A\n\n![Question {}]({file})\n\n",
+                    k + 1,
+                    k + 1
+                ));
+                for (c, &o) in q.choices.iter().enumerate() {
+                    questions_md.push_str(&format!("- ({}) {}\n", letter(c).to_lowercase(), set.organs[o].name));
+                }
+                let right = q.choices.iter().position(|&c| c == q.organ).map_or(String::new(), letter);
+                answers_md.push_str(&format!("{}. ({}) {answer}\n", k + 1, right.to_lowercase()));
+            }
+            Kind::Locate => {
+                let shown: Vec<String> = q
+                    .choices
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, o)| placed.iter().any(|p| p.organ == **o))
+                    .map(|(c, _)| letter(c))
+                    .collect();
+                questions_md.push_str(&format!(
+                    "\n## {}. Which letter marks the {}?\n\n![Question {}]({file})\n\nLetters: {}\n",
+                    k + 1,
+                    lower_first(answer),
+                    k + 1,
+                    shown.join(", ")
+                ));
+                let right = q.choices.iter().position(|&c| c == q.organ).map_or(String::new(), letter);
+                answers_md.push_str(&format!("{}. {right}: {answer}\n", k + 1));
+            }
+        }
+        let kind = if q.kind == Kind::Name { "name" } else { "locate" };
+        let choices: Vec<&str> = q.choices.iter().map(|&c| set.organs[c].id.as_str()).collect();
+        listed.push(
+            json!({"kind": kind, "organ": set.organs[q.organ].id, "choices": choices, "image": args.out.join(&file)}),
+        );
+    }
+    let write = |name: &str, text: &str| {
+        vbrain::atomic::write(&args.out.join(name), |w| w.write_all(text.as_bytes())).map_err(|e| anyhow!(e))
+    };
+    write("questions.md", &questions_md)?;
+    write("answers.md", &answers_md)?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&json!({"questions": listed, "note": generated.note}))?);
+    } else {
+        println!("{} questions written to {}", listed.len(), args.out.display());
+    }
+    Ok(ok)
+}
+
+/// "Left caudate nucleus" as it reads inside a sentence: "left caudate nucleus".
+fn lower_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_lowercase().chain(c).collect(),
+        None => String::new(),
+    }
+}
