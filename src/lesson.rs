@@ -35,6 +35,20 @@ pub struct Lesson {
     /// The organ set, relative to the lesson file's folder (or absolute).
     pub set: PathBuf,
     pub steps: Vec<Step>,
+    /// The instructor's quiz on the lesson: questions in order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub quiz: Vec<QuizQuestion>,
+}
+
+/// A question of a lesson's quiz: its kind, the organ's id and, optionally, the ids offered as
+/// choices (else the nearest structures, as generated quizzes choose them).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QuizQuestion {
+    pub kind: crate::quiz::Kind,
+    pub organ: String,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub choices: Vec<String>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -155,7 +169,7 @@ impl Lesson {
     pub fn new(title: &str, set_path: &Path, lesson_path: &Path, steps: Vec<Step>) -> Lesson {
         let base = lesson_path.parent().unwrap_or(Path::new(""));
         let set = crate::scene_file::relative_to(set_path, base);
-        Lesson { format: FORMAT.into(), title: title.into(), set, steps }
+        Lesson { format: FORMAT.into(), title: title.into(), set, steps, quiz: Vec::new() }
     }
 
     /// The JSON text (keys in a fixed order, two-space indents, a final newline).
@@ -171,7 +185,34 @@ impl Lesson {
     /// This lesson to be saved at `to` instead of `from`: its set path made relative to the new
     /// folder.
     pub fn moved(&self, from: &Path, to: &Path) -> Lesson {
-        Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone())
+        Lesson { quiz: self.quiz.clone(), ..Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone()) }
+    }
+
+    /// The lesson's quiz over `set`, choices filled in where not given (from the quiz's organs,
+    /// then the set, nearest first; shuffled with a seed from the question's place). An organ the
+    /// set lacks is an error naming it.
+    pub fn questions(&self, set: &OrganSet) -> std::result::Result<Vec<crate::quiz::Question>, String> {
+        let find = |id: &str| {
+            set.find(id).ok_or_else(|| format!("the lesson's quiz names \"{id}\", which the set does not have"))
+        };
+        let organs = self.quiz.iter().map(|q| find(&q.organ)).collect::<std::result::Result<Vec<_>, _>>()?;
+        let mut out = Vec::new();
+        for (k, (q, &organ)) in self.quiz.iter().zip(&organs).enumerate() {
+            let mut rng = crate::rng::XorShift::seeded(k as u64);
+            let choices = if q.choices.is_empty() {
+                crate::quiz::choices(set, organ, &organs, &mut rng)
+            } else {
+                let mut c = q.choices.iter().map(|id| find(id)).collect::<std::result::Result<Vec<_>, _>>()?;
+                if !c.contains(&organ) {
+                    c.push(organ);
+                }
+                c.dedup();
+                rng.shuffle(&mut c);
+                c
+            };
+            out.push(crate::quiz::Question { kind: q.kind, organ, choices });
+        }
+        Ok(out)
     }
 
     /// Applies an edit; returns what it did, for the Edit menu ("add step 3"), or `None` if it
@@ -232,6 +273,13 @@ impl Lesson {
             let names = names.chain(&labelled);
             for n in names {
                 if set.select(n).is_empty() && !unknown.contains(n) {
+                    unknown.push(n.clone());
+                }
+            }
+        }
+        for q in &self.quiz {
+            for n in std::iter::once(&q.organ).chain(&q.choices) {
+                if set.find(n).is_none() && !unknown.contains(n) {
                     unknown.push(n.clone());
                 }
             }
@@ -468,6 +516,22 @@ mod tests {
         let text = text.to_json(Path::new("x")).unwrap();
         let back = Lesson::parse(&text, Path::new("x")).unwrap();
         assert_eq!((back.steps[0].clone(), back.set), (step, PathBuf::from("../set")));
+    }
+
+    #[test]
+    fn a_lessons_quiz_names_its_organs_or_says_which_it_lacks() {
+        let text = r#"{"format": "vbrain-lesson/1", "title": "T", "set": "s", "steps": [{"title": "s", "caption": ""}],
+            "quiz": [{"kind": "locate", "organ": "a"}, {"kind": "name", "organ": "c", "choices": ["a", "b"]}]}"#;
+        let lesson = Lesson::parse(text, Path::new("l")).unwrap();
+        let q = lesson.questions(&set()).unwrap();
+        assert_eq!((q[0].kind, q[0].organ), (crate::quiz::Kind::Locate, 0));
+        let mut choices = q[1].choices.clone();
+        choices.sort_unstable();
+        assert_eq!(choices, vec![0, 1, 2]);
+        let bad = text.replace(r#""organ": "a""#, r#""organ": "zz""#);
+        let lesson = Lesson::parse(&bad, Path::new("l")).unwrap();
+        assert!(lesson.questions(&set()).unwrap_err().contains("zz"));
+        assert_eq!(lesson.unknown_names(&set()), vec!["zz".to_string()]);
     }
 
     #[test]

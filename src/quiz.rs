@@ -211,6 +211,15 @@ pub fn levenshtein(a: &str, b: &str) -> usize {
     row[b.len()]
 }
 
+/// A name as it reads inside a sentence: "Left caudate nucleus" becomes "left caudate nucleus".
+pub fn lower_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_lowercase().chain(c).collect(),
+        None => String::new(),
+    }
+}
+
 /// The camera for a question about `organ`: from the subject's left for a left-sided structure,
 /// from the right for a right-sided one, from the front left for one on the midline; at a distance
 /// that frames the organ with room around it (three times the framed distance, between 0.55 and 1
@@ -237,11 +246,14 @@ pub const FADED: f32 = 0.15;
 /// The share of a target's own pixels that must be seen for it to count as revealed.
 pub const SEEN_SHARE: f32 = 0.5;
 
+/// How many times [`reveal`] fades what still hides a target (one layer of organs each).
+pub const ROUNDS: usize = 8;
+
 /// `layout` with the organs that hide `organ` faded to [`FADED`], found from organ-ID buffers:
 /// `ids(layout)` renders one from the question's camera, treating organs fainter than a half as
 /// see-through (as picking does). The organ is shown opaque; the organs drawn over its own pixels
 /// (those it covers when drawn alone) are faded, again until at least [`SEEN_SHARE`] of them show
-/// it, at most four rounds. Returns the layout and the share of its pixels seen.
+/// it, at most [`ROUNDS`] times. Returns the layout and the share of its pixels seen.
 pub fn reveal(organ: usize, layout: &Layout, mut ids: impl FnMut(&Layout) -> Vec<u32>) -> (Layout, f32) {
     let mut out = layout.clone();
     out.organs[organ].visible = true;
@@ -256,7 +268,7 @@ pub fn reveal(organ: usize, layout: &Layout, mut ids: impl FnMut(&Layout) -> Vec
         return (out, 0.0);
     }
     let mut share = 0.0;
-    for _ in 0..4 {
+    for _ in 0..ROUNDS {
         let seen = ids(&out);
         let shown = own.iter().filter(|&&i| seen.get(i) == Some(&(organ as u32 + 1))).count();
         share = shown as f32 / own.len() as f32;

@@ -10,6 +10,7 @@ mod culling;
 mod default_set;
 mod loading;
 mod occluders;
+mod quiz;
 mod render;
 mod sections;
 mod shaders;

@@ -110,7 +110,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                 questions_md.push_str(&format!(
                     "\n## {}. Which letter marks the {}?\n\n![Question {}]({file})\n\nLetters: {}\n",
                     k + 1,
-                    lower_first(answer),
+                    vbrain::quiz::lower_first(answer),
                     k + 1,
                     shown.join(", ")
                 ));
@@ -135,13 +135,4 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         println!("{} questions written to {}", listed.len(), args.out.display());
     }
     Ok(ok)
-}
-
-/// "Left caudate nucleus" as it reads inside a sentence: "left caudate nucleus".
-fn lower_first(s: &str) -> String {
-    let mut c = s.chars();
-    match c.next() {
-        Some(f) => f.to_lowercase().chain(c).collect(),
-        None => String::new(),
-    }
 }

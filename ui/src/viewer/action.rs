@@ -42,6 +42,24 @@ pub enum Action {
     /// Save the lesson to this file (`.vblesson`).
     SaveLessonTo(PathBuf),
     Select(Option<usize>),
+    /// Start a quiz as the Quiz panel sets it up.
+    QuizStart,
+    /// Start the open lesson's quiz.
+    QuizLesson,
+    /// Answer a name question with typed text.
+    QuizAnswer(String),
+    /// Answer a name question with one of its choices (an organ).
+    QuizPick(usize),
+    /// The next question (or the review after the last).
+    QuizNext,
+    /// Fly to a missed question's structure, labelled.
+    QuizReview(usize),
+    /// Write the quiz's answers as CSV to this file.
+    QuizExport(String),
+    /// Back to the quiz setup.
+    QuizAgain,
+    /// Leave the quiz.
+    QuizClose,
     /// Keep an organ whole where clip planes cut (or cut it again).
     KeepWhole {
         organ: usize,
@@ -97,6 +115,7 @@ pub enum Window {
     Import,
     Export,
     Sections,
+    Quiz,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.
@@ -106,4 +125,23 @@ pub struct ImportRequest {
     pub labels: PathBuf,
     pub out: PathBuf,
     pub triangles: usize,
+}
+
+impl Action {
+    /// Does it act on the quiz?
+    pub fn is_quiz(&self) -> bool {
+        use Action::*;
+        matches!(
+            self,
+            QuizStart
+                | QuizLesson
+                | QuizAnswer(_)
+                | QuizPick(_)
+                | QuizNext
+                | QuizReview(_)
+                | QuizExport(_)
+                | QuizAgain
+                | QuizClose
+        )
+    }
 }

@@ -15,6 +15,7 @@ use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
 use super::panels::OrganPanel;
+use super::quiz_panel::QuizPanel;
 use super::scene::Scene;
 use super::sections::Sections;
 use super::settings::Settings;
@@ -32,6 +33,7 @@ use vbrain::render::{FrameInput, Renderer};
 
 mod figure;
 mod lessons;
+mod quiz;
 mod scene_files;
 
 /// How the viewer starts.
@@ -41,11 +43,18 @@ pub struct AppOptions {
     pub path: Option<PathBuf>,
     /// The recovery file for unsaved changes ([`recovery_path`] for the viewer; `None` writes none).
     pub recovery: Option<PathBuf>,
+    /// The file of quiz results kept per set ([`quiz_history_path`]; `None` keeps none).
+    pub quiz_history: Option<PathBuf>,
 }
 
 /// Where the viewer keeps its recovery file: beside its settings.
 pub fn recovery_path() -> Option<PathBuf> {
     eframe::storage_dir("vbrain").map(|d| d.join("recovery.vbscene"))
+}
+
+/// Where the viewer keeps quiz results: beside its settings.
+pub fn quiz_history_path() -> Option<PathBuf> {
+    eframe::storage_dir("vbrain").map(|d| d.join("quiz-history.csv"))
 }
 
 /// The default organ set: `organs/brain` under the working directory, else beside the sources.
@@ -70,7 +79,12 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
     eframe::run_native(
         "vbrain",
         options,
-        Box::new(move |cc| Ok(Box::new(App::new(cc, AppOptions { path, recovery: recovery_path() })))),
+        Box::new(move |cc| {
+            Ok(Box::new(App::new(
+                cc,
+                AppOptions { path, recovery: recovery_path(), quiz_history: quiz_history_path() },
+            )))
+        }),
     )
     .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
@@ -110,6 +124,10 @@ pub struct App {
     sections: Sections,
     /// The organs labelled in the chosen-labels mode (indices, sorted).
     chosen_labels: Vec<usize>,
+    /// The Quiz panel and the quiz under way.
+    quiz: QuizPanel,
+    /// Where quiz results are kept.
+    quiz_history: Option<PathBuf>,
     /// A lesson whose set is loading: opened once the set is installed.
     pending_lesson: Option<PathBuf>,
     /// The user chose to close (nothing unsaved, or discarded): let the window close.
@@ -134,6 +152,8 @@ impl App {
             lesson: LessonPanel::default(),
             sections: Sections::default(),
             chosen_labels: Vec::new(),
+            quiz: QuizPanel::default(),
+            quiz_history: options.quiz_history.clone(),
             pending_lesson: None,
             closing: false,
             settings,
@@ -181,6 +201,15 @@ impl App {
         &self.sections
     }
 
+    /// The Quiz panel and the quiz under way.
+    pub fn quiz(&self) -> &QuizPanel {
+        &self.quiz
+    }
+
+    pub fn quiz_mut(&mut self) -> &mut QuizPanel {
+        &mut self.quiz
+    }
+
     /// The organs chosen to be labelled.
     pub fn chosen_labels(&self) -> &[usize] {
         &self.chosen_labels
@@ -201,7 +230,7 @@ impl App {
             gpu: self.gpu.as_ref(),
             settings: &self.settings,
             selected: self.selected,
-            highlight: &self.lesson.highlight,
+            highlight: self.lesson_or_quiz_highlight(),
             section: &self.sections.current,
             labels: self.labels(),
             handles: Vec::new(),
@@ -284,6 +313,15 @@ impl App {
 
     /// Carries out the components' actions, in order.
     pub fn perform(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
+        let quiz = actions.iter().any(Action::is_quiz) || (self.quiz.answering() && !actions.is_empty());
+        self.perform_each(ctx, actions);
+        if quiz {
+            self.quiz.refresh();
+            ctx.request_repaint();
+        }
+    }
+
+    fn perform_each(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
         for action in actions {
             log::debug!("{action:?}");
             if matches!(action, Action::Edit(_)) {
@@ -334,7 +372,17 @@ impl App {
                         ctx.request_repaint();
                     }
                 }
+                Action::Select(organ) if self.quiz.answering() => self.quiz_click(organ, ctx.input(|i| i.time)),
                 Action::Select(organ) => self.selected = organ,
+                Action::QuizStart => self.start_quiz(ctx, None),
+                Action::QuizLesson => self.start_lesson_quiz(ctx),
+                Action::QuizAnswer(text) => self.quiz_name(Some(text), None, ctx.input(|i| i.time)),
+                Action::QuizPick(organ) => self.quiz_name(None, Some(organ), ctx.input(|i| i.time)),
+                Action::QuizNext => self.quiz_next(ctx.input(|i| i.time)),
+                Action::QuizReview(k) => self.quiz_review(k),
+                Action::QuizExport(path) => self.export_quiz(&path),
+                Action::QuizAgain => self.close_quiz(true),
+                Action::QuizClose => self.close_quiz(false),
                 Action::KeepWhole { organ, whole } => {
                     self.sections.set_whole(organ, whole);
                     self.touch_scene();
@@ -359,6 +407,10 @@ impl App {
                     Window::Import => self.dialogs.import.open = true,
                     Window::Export => self.dialogs.export.open = true,
                     Window::Sections => self.sections.open = true,
+                    Window::Quiz => {
+                        self.quiz.open = true;
+                        self.load_quiz_history();
+                    }
                 },
                 Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
                 Action::Import(request) => {
@@ -572,6 +624,7 @@ impl eframe::App for App {
         }
         self.poll_jobs(&ctx);
         self.ease_lesson_step(&ctx);
+        self.quiz_tick(&ctx);
         self.perform(&ctx, files::dropped(&ctx));
         let keys = self.key_actions(&ctx);
         self.perform(&ctx, keys);
@@ -607,6 +660,20 @@ impl eframe::App for App {
                 Panel::right("lesson").default_size(320.0).resizable(true).show(ui, |ui| self.lesson.show(ui)).inner;
             self.perform(&ctx, actions);
         }
+        if self.quiz.open {
+            let now = ctx.input(|i| i.time);
+            let scene = self.scene.as_ref();
+            let organ = |o: usize| scene.and_then(|s| s.set().organs.get(o));
+            let name = |o: usize| organ(o).map_or(String::new(), |x| x.name.clone());
+            let info = |o: usize| organ(o).map_or(String::new(), |x| x.info.clone());
+            let quiz = &mut self.quiz;
+            let actions = Panel::right("quiz")
+                .default_size(320.0)
+                .resizable(true)
+                .show(ui, |ui| quiz.show(ui, &name, &info, now))
+                .inner;
+            self.perform(&ctx, actions);
+        }
         if self.settings.show_inspector && self.selected.is_some() {
             let (scene, selected) = (self.scene.as_ref(), self.selected);
             let marks = self.selected.map_or(Marks::default(), |sel| Marks {
@@ -625,13 +692,13 @@ impl eframe::App for App {
         }
         CentralPanel::no_frame().show(ui, |ui| {
             let (rect, response) = self.viewport.allocate(ui);
-            let (labels, handles) = (self.labels(), self.plane_handles());
+            let (labels, handles, highlight) = (self.labels(), self.plane_handles(), self.highlight());
             let input = viewport::Input {
                 scene: self.scene.as_ref(),
                 gpu: self.gpu.as_ref(),
                 settings: &self.settings,
                 selected: self.selected,
-                highlight: &self.lesson.highlight,
+                highlight: &highlight,
                 section: &self.sections.current,
                 labels: labels.clone(),
                 handles: handles.clone(),
@@ -643,7 +710,7 @@ impl eframe::App for App {
                 gpu: self.gpu.as_ref(),
                 settings: &self.settings,
                 selected: self.selected,
-                highlight: &self.lesson.highlight,
+                highlight: &highlight,
                 section: &self.sections.current,
                 labels: labels.clone(),
                 handles: handles.clone(),

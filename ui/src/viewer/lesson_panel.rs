@@ -183,6 +183,11 @@ impl LessonPanel {
             }
             ui.toggle_value(&mut self.editing, "Edit lesson").on_hover_text("Add, change, move and delete steps");
         });
+        if !lesson.quiz.is_empty()
+            && ui.button(format!("Take the lesson's quiz ({} questions)", lesson.quiz.len())).clicked()
+        {
+            out.push(Action::QuizLesson);
+        }
         ui.separator();
         let editing = self.editing;
         let n = lesson.steps.len();

@@ -223,6 +223,10 @@ fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>)
     if new.on_hover_text("A lesson whose first step is the current view; add steps in the Lesson panel").clicked() {
         out.push(Action::NewLesson);
     }
+    let quiz = ui.add_enabled(scene.is_some(), egui::Button::new("Quiz yourself..."));
+    if quiz.on_hover_text("Locate and name structures, scored, with a review").clicked() {
+        out.push(Action::Show(Window::Quiz));
+    }
     ui.separator();
     if lessons.is_empty() {
         ui.label("This set has no lessons (a lessons folder of .vblesson files beside it).");

@@ -23,6 +23,7 @@ pub mod jobs;
 pub mod lesson_panel;
 pub mod menus;
 pub mod panels;
+pub mod quiz_panel;
 pub mod scene;
 pub mod sections;
 pub mod settings;

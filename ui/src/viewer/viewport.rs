@@ -292,6 +292,16 @@ impl Viewport {
         Some((target, rs))
     }
 
+    /// The organ-ID buffer of `layout` seen from `nav` at the viewport's size, organs fainter than
+    /// a half see-through (as picking sees them); for a quiz's reveal.
+    pub fn ids_of(&self, input: &Input, layout: &vbrain::layout::Layout, nav: Navigator) -> Option<Vec<u32>> {
+        let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
+        let camera = nav.camera(&layout.bounds(scene.set()).union(scene.home()));
+        let frame = FrameInput::new(scene.set(), &camera, layout);
+        scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, crate::annotate::PICK_OPACITY);
+        target.read_ids(&rs.device, &rs.queue).ok()
+    }
+
     /// Labels over the viewport, placed as exports place them (vbrain::labels) and painted by egui
     /// at the same size relative to the viewport.
     fn paint_labels(&self, ui: &egui::Ui, rect: Rect, input: &Input, labels: &crate::annotate::Labels) {

@@ -16,7 +16,28 @@ impl App {
 
     /// The labels the viewport and exports draw.
     pub(super) fn labels(&self) -> crate::annotate::Labels {
+        if self.quiz.answering() {
+            // Labels would give the answers away.
+            return crate::annotate::Labels::None;
+        }
+        if self.quiz.run.as_ref().is_some_and(|r| r.reviewing.is_some()) {
+            // The structure reviewed, named.
+            return crate::annotate::Labels::Chosen(self.quiz.highlight());
+        }
         self.settings.labels.labels(self.selected, &self.chosen_labels)
+    }
+
+    /// The organs outlined: the quiz's while one is open, else the lesson step's.
+    pub(super) fn highlight(&self) -> Vec<usize> {
+        self.lesson_or_quiz_highlight().to_vec()
+    }
+
+    pub(super) fn lesson_or_quiz_highlight(&self) -> &[usize] {
+        if self.quiz.run.is_some() {
+            &self.quiz.outlined
+        } else {
+            &self.lesson.highlight
+        }
     }
 
     /// The handles of the planes, while the Sections window is open.
