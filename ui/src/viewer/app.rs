@@ -8,7 +8,7 @@
 
 use super::action::{Action, Window};
 use super::document::{self, Document};
-use super::export::{self, ExportWindow};
+use super::export::ExportWindow;
 use super::files::{self, ImportWindow, OpenWindow};
 use super::inspector::{inspector, Marks};
 use super::jobs::Job;
@@ -22,14 +22,14 @@ use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
 use super::viewport::{self, Viewport};
-use anyhow::{anyhow, Context as _, Result};
+use anyhow::{anyhow, Result};
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
 use vbrain::cull::database::Database;
 use vbrain::edit::{Edit, Organs};
 use vbrain::organ_set::{self, Loaded};
-use vbrain::render::{FrameInput, Renderer};
+use vbrain::render::Renderer;
 
 mod figure;
 mod lessons;
@@ -548,39 +548,6 @@ impl App {
             }
         }
         out
-    }
-
-    /// Renders the current view at `size` into the file typed as `path`.
-    fn export(&mut self, path: &str, size: [u32; 2]) {
-        let (message, saved) = match self.export_view(path, size) {
-            Ok(path) => {
-                self.settings.export.folder = path.parent().map(Path::to_path_buf);
-                (format!("saved {} ({}x{})", path.display(), size[0], size[1]), true)
-            }
-            Err(e) => (format!("screenshot not saved: {e:#}"), false),
-        };
-        self.dialogs.export.finished(message.clone(), saved);
-        self.notify(message, !saved);
-    }
-
-    fn export_view(&self, path: &str, size: [u32; 2]) -> Result<PathBuf> {
-        let scene = self.scene.as_ref().context("no organ set")?;
-        let rs = self.gpu.as_ref().context("no GPU")?;
-        let camera = self.viewport.camera(scene);
-        let path = export::file_path(path)?;
-        let frame = FrameInput {
-            background: self.settings.background_linear(self.settings.export.transparent),
-            transparency: self.settings.transparency,
-            highlight: &self.lesson.highlight,
-            selection: self.selected,
-            clip: &self.sections.current.planes,
-            caps: self.sections.current.caps,
-            whole: &self.sections.current.whole,
-            ..FrameInput::new(scene.set(), &camera, scene.layout())
-        };
-        let labels = self.labels();
-        let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
-        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path, &labels, &name)
     }
 
     /// The windows, each one's actions performed before the next draws.

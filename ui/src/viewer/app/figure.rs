@@ -1,10 +1,14 @@
 //! The app's figure: the Sections window (clip planes, cut faces, organs kept whole) with the
-//! planes' handles, and the labels (which organs, the chosen list). Changes to either count as
+//! planes' handles, the labels (which organs, the chosen list) and the screenshot export. Changes to either count as
 //! unsaved changes of the scene. A child module of the app, so it reaches its state.
 
 use super::App;
+use crate::viewer::export;
 use crate::viewer::settings::LabelMode;
+use anyhow::{Context, Result};
 use eframe::egui;
+use std::path::{Path, PathBuf};
+use vbrain::render::FrameInput;
 
 impl App {
     /// The planes or labels changed: the scene has unsaved changes.
@@ -77,5 +81,38 @@ impl App {
         if self.sections.show(ctx, home, forward, name) {
             self.touch_scene();
         }
+    }
+
+    /// Renders the current view at `size` into the file typed as `path`.
+    pub(super) fn export(&mut self, path: &str, size: [u32; 2]) {
+        let (message, saved) = match self.export_view(path, size) {
+            Ok(path) => {
+                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                (format!("saved {} ({}x{})", path.display(), size[0], size[1]), true)
+            }
+            Err(e) => (format!("screenshot not saved: {e:#}"), false),
+        };
+        self.dialogs.export.finished(message.clone(), saved);
+        self.notify(message, !saved);
+    }
+
+    fn export_view(&self, path: &str, size: [u32; 2]) -> Result<PathBuf> {
+        let scene = self.scene.as_ref().context("no organ set")?;
+        let rs = self.gpu.as_ref().context("no GPU")?;
+        let camera = self.viewport.camera(scene);
+        let path = export::file_path(path)?;
+        let frame = FrameInput {
+            background: self.settings.background_linear(self.settings.export.transparent),
+            transparency: self.settings.transparency,
+            highlight: &self.lesson.highlight,
+            selection: self.selected,
+            clip: &self.sections.current.planes,
+            caps: self.sections.current.caps,
+            whole: &self.sections.current.whole,
+            ..FrameInput::new(scene.set(), &camera, scene.layout())
+        };
+        let labels = self.labels();
+        let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
+        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path, &labels, &name)
     }
 }
