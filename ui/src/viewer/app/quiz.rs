@@ -43,6 +43,8 @@ impl App {
         self.quiz.run = Some(Run::new(title, questions, now, self.quiz.setup.minutes));
         self.quiz.open = true;
         self.selected = None;
+        // A lesson step still easing in would put its own layout back over the question's.
+        self.lesson.transition = None;
         self.ask_question(now);
     }
 
