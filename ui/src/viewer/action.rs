@@ -42,6 +42,8 @@ pub enum Action {
     /// Save the lesson to this file (`.vblesson`).
     SaveLessonTo(PathBuf),
     Select(Option<usize>),
+    /// A click in the view on this organ (or nothing): selects it, or answers a quiz's question.
+    Pick(Option<usize>),
     /// Start a quiz as the Quiz panel sets it up.
     QuizStart,
     /// Start the open lesson's quiz.

@@ -372,8 +372,8 @@ impl App {
                         ctx.request_repaint();
                     }
                 }
-                Action::Select(organ) if self.quiz.answering() => self.quiz_click(organ, ctx.input(|i| i.time)),
-                Action::Select(organ) => self.selected = organ,
+                Action::Pick(organ) if self.quiz.answering() => self.quiz_click(organ, ctx.input(|i| i.time)),
+                Action::Select(organ) | Action::Pick(organ) => self.selected = organ,
                 Action::QuizStart => self.start_quiz(ctx, None),
                 Action::QuizLesson => self.start_lesson_quiz(ctx),
                 Action::QuizAnswer(text) => self.quiz_name(Some(text), None, ctx.input(|i| i.time)),

@@ -271,7 +271,7 @@ impl Viewport {
             }
         } else if response.clicked() {
             if let Some(p) = response.interact_pointer_pos() {
-                out.push(Action::Select(self.pick(input, p)));
+                out.push(Action::Pick(self.pick(input, p)));
             }
         }
         out
