@@ -49,6 +49,10 @@ pub struct QuizQuestion {
     pub organ: String,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub choices: Vec<String>,
+    /// The step (1-based) whose layout and camera the question starts from, instead of the
+    /// default layout seen from the structure's side.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub step: Option<usize>,
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -188,6 +192,12 @@ impl Lesson {
         Lesson { quiz: self.quiz.clone(), ..Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone()) }
     }
 
+    /// The view question `k` of the lesson's quiz starts from, where it names a step.
+    pub fn question_view(&self, k: usize, set: &OrganSet) -> Option<StepView> {
+        let step = self.quiz.get(k)?.step?;
+        Some(self.steps.get(step.checked_sub(1)?)?.view(set))
+    }
+
     /// The lesson's quiz over `set`, choices filled in where not given (from the quiz's organs,
     /// then the set, nearest first; shuffled with a seed from the question's place). An organ the
     /// set lacks is an error naming it.
@@ -196,6 +206,12 @@ impl Lesson {
             set.find(id).ok_or_else(|| format!("the lesson's quiz names \"{id}\", which the set does not have"))
         };
         let organs = self.quiz.iter().map(|q| find(&q.organ)).collect::<std::result::Result<Vec<_>, _>>()?;
+        if let Some(bad) = self.quiz.iter().filter_map(|q| q.step).find(|&s| s == 0 || s > self.steps.len()) {
+            return Err(format!(
+                "the lesson's quiz names step {bad}, but the lesson has steps 1 to {}",
+                self.steps.len()
+            ));
+        }
         let mut out = Vec::new();
         for (k, (q, &organ)) in self.quiz.iter().zip(&organs).enumerate() {
             let mut rng = crate::rng::XorShift::seeded(k as u64);
@@ -521,13 +537,16 @@ mod tests {
     #[test]
     fn a_lessons_quiz_names_its_organs_or_says_which_it_lacks() {
         let text = r#"{"format": "vbrain-lesson/1", "title": "T", "set": "s", "steps": [{"title": "s", "caption": ""}],
-            "quiz": [{"kind": "locate", "organ": "a"}, {"kind": "name", "organ": "c", "choices": ["a", "b"]}]}"#;
+            "quiz": [{"kind": "locate", "organ": "a"}, {"kind": "name", "organ": "c", "choices": ["a", "b"], "step": 1}]}"#;
         let lesson = Lesson::parse(text, Path::new("l")).unwrap();
         let q = lesson.questions(&set()).unwrap();
         assert_eq!((q[0].kind, q[0].organ), (crate::quiz::Kind::Locate, 0));
         let mut choices = q[1].choices.clone();
         choices.sort_unstable();
         assert_eq!(choices, vec![0, 1, 2]);
+        assert!(lesson.question_view(0, &set()).is_none() && lesson.question_view(1, &set()).is_some());
+        let late = Lesson::parse(&text.replace(r#""step": 1"#, r#""step": 2"#), Path::new("l")).unwrap();
+        assert!(late.questions(&set()).unwrap_err().contains("step 2"));
         let bad = text.replace(r#""organ": "a""#, r#""organ": "zz""#);
         let lesson = Lesson::parse(&bad, Path::new("l")).unwrap();
         assert!(lesson.questions(&set()).unwrap_err().contains("zz"));

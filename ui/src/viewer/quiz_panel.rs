@@ -63,6 +63,8 @@ pub struct Run {
     pub took: Option<f64>,
     /// The missed question being reviewed.
     pub reviewing: Option<usize>,
+    /// Per question, the layout and camera it starts from (a lesson's step), if not the default.
+    pub views: Vec<Option<(vbrain::layout::Layout, vbrain::navigation::Navigator)>>,
 }
 
 impl Run {
@@ -81,6 +83,7 @@ impl Run {
             best_streak: 0,
             took: None,
             reviewing: None,
+            views: Vec::new(),
         }
     }
 

@@ -9,7 +9,7 @@ use std::path::Path;
 use vbrain_ui::viewer::settings::ExportSize;
 use vbrain_ui::{App, AppOptions};
 
-fn brain() -> std::path::PathBuf {
+pub fn brain() -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
 }
 
@@ -19,7 +19,7 @@ fn harness() -> Harness<'static, App> {
 }
 
 /// The app on the default brain in a window of `size`: smaller draws faster on a software GPU.
-fn harness_of(size: egui::Vec2) -> Harness<'static, App> {
+pub fn harness_of(size: egui::Vec2) -> Harness<'static, App> {
     harness_with(size, None)
 }
 
@@ -44,17 +44,17 @@ fn messages(h: &Harness<'static, App>) -> Vec<String> {
     h.state().notifications().iter().map(|n| n.text.clone()).collect()
 }
 
-fn organ(h: &Harness<'static, App>, id: &str) -> usize {
+pub fn organ(h: &Harness<'static, App>, id: &str) -> usize {
     h.state().scene().unwrap().set().find(id).unwrap()
 }
 
-fn pixels_of(h: &Harness<'static, App>, organ: usize) -> usize {
+pub fn pixels_of(h: &Harness<'static, App>, organ: usize) -> usize {
     let (ids, _) = h.state().read_ids().unwrap();
     ids.iter().filter(|&&i| i == organ as u32 + 1).count()
 }
 
 /// Points of the viewport where `organ` is drawn, near the middle of its pixels.
-fn point_on(h: &Harness<'static, App>, organ: usize) -> Pos2 {
+pub fn point_on(h: &Harness<'static, App>, organ: usize) -> Pos2 {
     let (ids, [w, _]) = h.state().read_ids().unwrap();
     let hits: Vec<usize> = (0..ids.len()).filter(|&i| ids[i] == organ as u32 + 1).collect();
     let i = hits[hits.len() / 2];
@@ -64,7 +64,7 @@ fn point_on(h: &Harness<'static, App>, organ: usize) -> Pos2 {
 }
 
 /// A left click at a point of the window.
-fn click(h: &Harness<'static, App>, at: Pos2) {
+pub fn click(h: &Harness<'static, App>, at: Pos2) {
     h.event(Event::PointerMoved(at));
     for pressed in [true, false] {
         h.event(Event::PointerButton { pos: at, button: PointerButton::Primary, pressed, modifiers: Modifiers::NONE });
@@ -587,92 +587,4 @@ fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     h.run_steps(3);
     assert_eq!(h.state().sections().current, section, "{:?}", messages(&h));
     assert_eq!(h.state().chosen_labels(), &[gyrus]);
-}
-
-/// An organ drawn at some pixel that is not `organ`.
-fn other_than(h: &Harness<'static, App>, organ: usize) -> usize {
-    let (ids, _) = h.state().read_ids().unwrap();
-    ids.iter().find(|&&i| i != 0 && i != organ as u32 + 1).map(|&i| i as usize - 1).unwrap()
-}
-
-#[test]
-fn play_a_locate_and_a_name_quiz_to_the_end() {
-    use vbrain::quiz::{Kind, Mode};
-    use vbrain_ui::viewer::action::{Action, Window};
-    let mut h = harness_of(egui::Vec2::new(900.0, 560.0));
-    let ctx = h.ctx.clone();
-    h.state_mut().perform(&ctx, vec![Action::Show(Window::Quiz)]);
-    h.run_steps(2);
-    let setup = &mut h.state_mut().quiz_mut().setup;
-    (setup.group, setup.questions, setup.mode, setup.seed) = ("Basal ganglia".into(), 3, Mode::Locate, 2);
-    h.get_by_label("Start quiz").click_accesskit();
-    h.run_steps(3);
-
-    // Locate: right, wrong, right. Each target is seen from the quiz's camera.
-    for k in 0..3 {
-        let q = h.state().quiz().run.as_ref().unwrap().current().unwrap().clone();
-        assert_eq!(q.kind, Kind::Locate);
-        assert!(pixels_of(&h, q.organ) > 20, "question {k}: the target shows");
-        let at = if k == 1 { point_on(&h, other_than(&h, q.organ)) } else { point_on(&h, q.organ) };
-        click(&h, at);
-        h.run_steps(3);
-        let run = h.state().quiz().run.as_ref().unwrap();
-        let (text, right) = run.feedback.clone().unwrap();
-        assert_eq!(right, k != 1, "question {k}: {text}");
-        if k == 1 {
-            assert!(text.starts_with("That is the"), "a wrong click names what was clicked: {text}");
-            assert_eq!(h.state().quiz().outlined, vec![q.organ], "then the right one is outlined");
-        }
-        assert_eq!(h.state().selected(), None, "clicks answer, they do not select");
-        h.get_by_label(if k == 2 { "Finish" } else { "Next question" }).click_accesskit();
-        h.run_steps(3);
-    }
-    let run = h.state().quiz().run.clone().unwrap();
-    assert!(run.finished());
-    assert_eq!((run.score(), run.best_streak, run.missed()), (2, 1, vec![1]));
-    assert!(h.state().quiz().history.last().unwrap().contains("2 of 3"));
-    let missed = h.state().scene().unwrap().set().organs[run.questions[1].organ].name.clone();
-    h.get_by_label(&format!("Review {missed}")).click_accesskit();
-    h.run_steps(3);
-    assert_eq!(h.state().quiz().outlined, vec![run.questions[1].organ], "the review shows the missed structure");
-    assert!(pixels_of(&h, run.questions[1].organ) > 20);
-    let dir = tempfile::tempdir().unwrap();
-    let csv = dir.path().join("results.csv");
-    h.state_mut().perform(&ctx, vec![Action::QuizExport(csv.display().to_string())]);
-    assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 4, "a header and three questions");
-
-    // Name: type the right name, pick a wrong choice, pick the right one.
-    h.get_by_label("New quiz").click_accesskit();
-    h.run_steps(2);
-    h.state_mut().quiz_mut().setup.mode = Mode::Name;
-    h.get_by_label("Start quiz").click_accesskit();
-    h.run_steps(3);
-    let set = h.state().scene().unwrap().set().clone();
-    for k in 0..3 {
-        let q = h.state().quiz().run.as_ref().unwrap().current().unwrap().clone();
-        assert_eq!(h.state().quiz().outlined, vec![q.organ], "the structure to name is outlined");
-        if k == 0 {
-            h.get_by_label("Quiz answer").focus();
-            h.run_steps(1);
-            h.get_by_label("Quiz answer").type_text(&set.organs[q.organ].name.to_lowercase());
-            h.run_steps(1);
-            h.get_by_label("Check").click_accesskit();
-        } else {
-            let pick = if k == 1 { *q.choices.iter().find(|&&c| c != q.organ).unwrap() } else { q.organ };
-            h.get_by_label(&format!("Choice {}", set.organs[pick].name)).click_accesskit();
-        }
-        h.run_steps(2);
-        let (text, right) = h.state().quiz().run.as_ref().unwrap().feedback.clone().unwrap();
-        assert_eq!(right, k != 1, "question {k}: {text}");
-        h.get_by_label(if k == 2 { "Finish" } else { "Next question" }).click_accesskit();
-        h.run_steps(2);
-    }
-    assert_eq!(h.state().quiz().run.as_ref().unwrap().score(), 2);
-    h.get_by_label("Close").click_accesskit();
-    h.run_steps(2);
-    assert!(h.state().quiz().run.is_none());
-    assert!(
-        h.state().scene().unwrap().shown() == h.state().scene().unwrap().layout(),
-        "the scene's own layout is back"
-    );
 }

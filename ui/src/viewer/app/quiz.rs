@@ -54,17 +54,32 @@ impl App {
         match lesson.questions(scene.set()) {
             Ok(q) => {
                 let title = lesson.title.clone();
+                let views = (0..q.len())
+                    .map(|k| lesson.question_view(k, scene.set()).map(|v| (v.layout, v.navigator)))
+                    .collect();
                 self.start_quiz(ctx, Some((title, q)));
+                if let Some(run) = &mut self.quiz.run {
+                    run.views = views;
+                    self.ask_question(ctx.input(|i| i.time));
+                }
             }
             Err(e) => self.notify(e, true),
         }
     }
 
-    /// Shows the view of a question about `organ`: what hides it faded, the camera on its side.
-    fn show_question_view(&mut self, organ: usize) {
-        let Some(scene) = &self.scene else { return };
-        let base = Layout::new(scene.set());
-        let nav = quiz::camera(scene.set(), &base, organ);
+    /// Shows the view of question `k`: what hides its structure faded, the camera on its side
+    /// (or the lesson step's layout and camera the question names).
+    fn show_question_view(&mut self, k: usize) {
+        let (Some(scene), Some(run)) = (&self.scene, &self.quiz.run) else { return };
+        let Some(organ) = run.questions.get(k).map(|q| q.organ) else { return };
+        let (base, nav) = match run.views.get(k).cloned().flatten() {
+            Some(view) => view,
+            None => {
+                let base = Layout::new(scene.set());
+                let nav = quiz::camera(scene.set(), &base, organ);
+                (base, nav)
+            }
+        };
         let input = self.viewport_input();
         let (layout, _) = quiz::reveal(organ, &base, |l| self.viewport.ids_of(&input, l, nav).unwrap_or_default());
         if let Some(scene) = &mut self.scene {
@@ -76,8 +91,9 @@ impl App {
     fn ask_question(&mut self, now: f64) {
         let Some(run) = &mut self.quiz.run else { return };
         (run.asked, run.feedback, run.typed) = (now, None, String::new());
-        if let Some(organ) = run.current().map(|q| q.organ) {
-            self.show_question_view(organ);
+        if !run.finished() {
+            let k = run.k;
+            self.show_question_view(k);
         }
     }
 
@@ -182,11 +198,9 @@ impl App {
 
     /// Flies to missed question `k`'s structure, labelled, with its info text in the panel.
     pub(super) fn quiz_review(&mut self, k: usize) {
-        let Some(organ) = self.quiz.run.as_ref().and_then(|r| r.questions.get(k)).map(|q| q.organ) else { return };
-        if let Some(run) = &mut self.quiz.run {
-            run.reviewing = Some(k);
-        }
-        self.show_question_view(organ);
+        let Some(run) = &mut self.quiz.run else { return };
+        run.reviewing = Some(k);
+        self.show_question_view(k);
     }
 
     /// Leaves the quiz: the scene's own layout is shown again.
