@@ -43,3 +43,13 @@ pub fn save<T: Serialize>(value: &T, path: &Path) -> Result<()> {
     let text = to_json(value, path)?;
     crate::atomic::write(path, |w| w.write_all(text.as_bytes()))
 }
+
+/// Serde's default for keys that are true when absent (`caps`).
+pub(crate) fn yes() -> bool {
+    true
+}
+
+/// Leaves such a key out when it holds its default.
+pub(crate) fn is_true(b: &bool) -> bool {
+    *b
+}

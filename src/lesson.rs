@@ -91,7 +91,7 @@ pub struct Step {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clip: Vec<crate::clip::ClipPlane>,
     /// Solid cut faces where planes cut closed organs.
-    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[serde(default = "crate::json_file::yes", skip_serializing_if = "crate::json_file::is_true")]
     pub caps: bool,
     /// Ids or groups the planes do not cut.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -100,14 +100,6 @@ pub struct Step {
     /// viewer's own choice.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub labels: Option<String>,
-}
-
-fn yes() -> bool {
-    true
-}
-
-fn is_true(b: &bool) -> bool {
-    *b
 }
 
 /// Where an organ is moved: millimetres (world space), degrees about x, y, z about its centre, and
@@ -365,10 +357,10 @@ impl Step {
             colour,
             place,
             camera: (!orbit).then_some(camera),
-            highlight: ids(set, highlight),
+            highlight: set.ids(highlight),
             clip: section.planes.clone(),
             caps: section.caps,
-            whole: ids(set, &section.whole),
+            whole: set.ids(&section.whole),
             labels: labels.key(),
         }
     }
@@ -422,11 +414,6 @@ impl Step {
         let labels = self.labels.as_deref().map(Which::parse);
         StepView { layout, navigator, fly, highlight, section, labels }
     }
-}
-
-/// The ids of organs (indices) of `set`.
-fn ids(set: &OrganSet, organs: &[usize]) -> Vec<String> {
-    organs.iter().filter_map(|&i| set.organs.get(i).map(|o| o.id.clone())).collect()
 }
 
 /// Per-organ changes (`None`: unchanged) as keys: the largest groups whose organs all share one

@@ -38,7 +38,7 @@ pub struct SceneFile {
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub clip: Vec<crate::clip::ClipPlane>,
     /// Solid cut faces where planes cut closed organs.
-    #[serde(default = "yes", skip_serializing_if = "is_true")]
+    #[serde(default = "crate::json_file::yes", skip_serializing_if = "crate::json_file::is_true")]
     pub caps: bool,
     /// Ids or groups the planes do not cut.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -49,14 +49,6 @@ pub struct SceneFile {
     pub labels: Option<String>,
     /// Every organ of the set, in the set's order.
     pub organs: Vec<OrganEntry>,
-}
-
-fn yes() -> bool {
-    true
-}
-
-fn is_true(b: &bool) -> bool {
-    *b
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

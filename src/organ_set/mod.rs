@@ -153,6 +153,11 @@ impl OrganSet {
         self.organs.iter().position(|o| o.id == id)
     }
 
+    /// The ids of these organs (indices; any past the end left out).
+    pub fn ids(&self, organs: &[usize]) -> Vec<String> {
+        organs.iter().filter_map(|&i| self.organs.get(i).map(|o| o.id.clone())).collect()
+    }
+
     /// The organ with id `key`, or else every organ in the group `key` names
     /// ([`names::in_group`]: "Frontal lobe", "Left hemisphere/Frontal lobe"); empty if neither.
     pub fn select(&self, key: &str) -> Vec<usize> {

@@ -146,7 +146,7 @@ pub fn capture(
         selected,
     );
     (file.clip, file.caps) = (section.planes.clone(), section.caps);
-    file.whole = section.whole.iter().filter_map(|&o| scene.set().organs.get(o)).map(|o| o.id.clone()).collect();
+    file.whole = scene.set().ids(&section.whole);
     file.labels = labels.key();
     Some(file)
 }

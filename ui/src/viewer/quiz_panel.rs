@@ -39,6 +39,9 @@ pub struct Answered {
     pub seconds: f64,
 }
 
+/// Per question, the layout and camera it starts from (a lesson's step), if not the default.
+pub type Views = Vec<Option<(vbrain::layout::Layout, vbrain::navigation::Navigator)>>;
+
 /// A quiz under way or finished.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Run {
@@ -64,7 +67,7 @@ pub struct Run {
     /// The missed question being reviewed.
     pub reviewing: Option<usize>,
     /// Per question, the layout and camera it starts from (a lesson's step), if not the default.
-    pub views: Vec<Option<(vbrain::layout::Layout, vbrain::navigation::Navigator)>>,
+    pub views: Views,
 }
 
 impl Run {

@@ -73,9 +73,7 @@ impl LabelMode {
         match self {
             LabelMode::None => Which::None,
             LabelMode::Selected => Which::Selected,
-            LabelMode::Chosen => {
-                Which::Chosen(chosen.iter().filter_map(|&o| set.organs.get(o)).map(|o| o.id.clone()).collect())
-            }
+            LabelMode::Chosen => Which::Chosen(set.ids(chosen)),
             LabelMode::All => Which::All,
         }
     }

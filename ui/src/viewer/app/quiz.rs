@@ -6,17 +6,18 @@
 //! it reaches its state.
 
 use super::App;
-use crate::viewer::quiz_panel::Run;
+use crate::viewer::quiz_panel::{Run, Views};
 use eframe::egui;
 use vbrain::layout::Layout;
 use vbrain::quiz::{self, Kind, Question, Spec};
 
 impl App {
-    /// Starts a quiz: `given` questions (a lesson's, with its title), else the panel's setup.
-    pub(super) fn start_quiz(&mut self, ctx: &egui::Context, given: Option<(String, Vec<Question>)>) {
+    /// Starts a quiz: `given` questions (a lesson's, with its title and each question's view),
+    /// else the panel's setup.
+    pub(super) fn start_quiz(&mut self, ctx: &egui::Context, given: Option<(String, Vec<Question>, Views)>) {
         let Some(scene) = &self.scene else { return };
         let set = scene.set();
-        let (title, questions) = match given {
+        let (title, questions, views) = match given {
             Some(q) => q,
             None => {
                 let s = &self.quiz.setup;
@@ -30,7 +31,7 @@ impl App {
                         if let Some(note) = made.note {
                             self.notify(note, false);
                         }
-                        (title, made.questions)
+                        (title, made.questions, Vec::new())
                     }
                     Err(e) => return self.notify(e, true),
                 }
@@ -40,7 +41,7 @@ impl App {
             return self.notify("the quiz has no questions", true);
         }
         let now = ctx.input(|i| i.time);
-        self.quiz.run = Some(Run::new(title, questions, now, self.quiz.setup.minutes));
+        self.quiz.run = Some(Run { views, ..Run::new(title, questions, now, self.quiz.setup.minutes) });
         self.quiz.open = true;
         self.selected = None;
         // A lesson step still easing in would put its own layout back over the question's.
@@ -57,11 +58,7 @@ impl App {
                 let views = (0..q.len())
                     .map(|k| lesson.question_view(k, scene.set()).map(|v| (v.layout, v.navigator)))
                     .collect();
-                self.start_quiz(ctx, Some((title, q)));
-                if let Some(run) = &mut self.quiz.run {
-                    run.views = views;
-                    self.ask_question(ctx.input(|i| i.time));
-                }
+                self.start_quiz(ctx, Some((title, q, views)));
             }
             Err(e) => self.notify(e, true),
         }
