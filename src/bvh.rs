@@ -31,6 +31,8 @@ pub struct Node {
     pub count: u32,
     /// Leaf number for a leaf, else `NONE`.
     pub leaf: u32,
+    /// A cone holding its triangles' normals.
+    pub cone: Cone,
 }
 
 impl Node {
@@ -48,6 +50,8 @@ pub struct Part {
     pub count: u32,
     pub slab: Slab,
     pub vertices: (u32, u32),
+    /// A cone holding its triangles' normals.
+    pub cone: Cone,
 }
 
 impl Part {
@@ -85,6 +89,63 @@ impl Slab {
         // Widened well beyond the rounding of the products (a few ulps of the largest term).
         let margin = 1e-5 * reach;
         Slab { normal, min: min - margin, max: max + margin }
+    }
+}
+
+/// The directions within `spread` radians of `axis` (a unit vector): a cone holding the normals of
+/// a run of triangles (meshoptimizer's cluster cones). Where the eye lies behind every triangle's
+/// plane, the run faces away and a renderer culling back faces draws none of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cone {
+    pub axis: Vec3,
+    pub spread: f32,
+}
+
+/// How far (radians) every triangle must be turned from edge-on, away from the eye, for a run to
+/// count as facing away. The GPU decides facing on vertices snapped to a sub-pixel grid, so a
+/// triangle seen nearly edge-on may come out facing the eye; 0.1 rad keeps a triangle's projected
+/// area far above that snapping for any triangle wider than a few sub-pixel steps.
+pub const FACING_AWAY_MARGIN: f32 = 0.1;
+
+impl Cone {
+    /// No cone: the normals spread too far for a run to face away as a whole.
+    pub const NONE: Cone = Cone { axis: Vec3::ZERO, spread: std::f32::consts::PI };
+
+    /// The cone of triangles (each given by its corners) around `axis` (their mean normal, or
+    /// zero where the normals cancel). Triangles without area have no normal and draw nothing.
+    pub fn of(triangles: impl Iterator<Item = [Vec3; 3]>, axis: Vec3) -> Cone {
+        if axis == Vec3::ZERO {
+            return Cone::NONE;
+        }
+        let mut spread = 0.0f32;
+        for [a, b, c] in triangles {
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            if n != Vec3::ZERO {
+                spread = spread.max(axis.dot(n).clamp(-1.0, 1.0).acos());
+            }
+        }
+        // Above the rounding of the angles (about 1e-7 rad a step).
+        Cone { axis, spread: spread + 1e-4 }
+    }
+
+    /// Whether every triangle of a run inside `bounds` with this cone faces away from `eye` (same
+    /// space), each turned at least [`FACING_AWAY_MARGIN`] from edge-on: the angle from any normal
+    /// to the direction from the eye to any point of the bounds' sphere is below a right angle by
+    /// the margin, as the spread plus the angle to the sphere's centre plus the sphere's half-angle.
+    pub fn faces_away(&self, bounds: &Bounds, eye: Vec3) -> bool {
+        if self.spread >= std::f32::consts::FRAC_PI_2 - FACING_AWAY_MARGIN {
+            return false;
+        }
+        let (centre, radius) = (bounds.center(), 0.5 * bounds.size().length());
+        let d = centre - eye;
+        let distance = d.length();
+        // (A NaN distance fails too.)
+        if distance.is_nan() || distance <= radius * 1.001 {
+            return false;
+        }
+        let towards = (self.axis.dot(d) / distance).clamp(-1.0, 1.0).acos();
+        let half_angle = (radius / distance).clamp(0.0, 1.0).asin();
+        towards + self.spread + half_angle < std::f32::consts::FRAC_PI_2 - FACING_AWAY_MARGIN
     }
 }
 
@@ -133,6 +194,7 @@ impl Bvh {
             first: 0,
             count: tri_count as u32,
             leaf: NONE,
+            cone: Cone::NONE,
         });
         // Bounds of a run of triangles, and the midpoint split of their centroids along the
         // longest axis (the run reordered so the first half holds the lower centroids).
@@ -171,7 +233,9 @@ impl Bvh {
             let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
             let slice = &mut order[first..first + count];
             bvh.nodes[n as usize].bounds = bound(slice);
-            bvh.nodes[n as usize].slab = Slab::of(slice.iter().map(|&t| tri(t)));
+            let slab = Slab::of(slice.iter().map(|&t| tri(t)));
+            bvh.nodes[n as usize].cone = Cone::of(slice.iter().map(|&t| tri(t)), slab.normal);
+            bvh.nodes[n as usize].slab = slab;
             if count <= LEAF_TRIANGLES {
                 continue;
             }
@@ -188,6 +252,7 @@ impl Bvh {
                     first: f as u32,
                     count: c as u32,
                     leaf: NONE,
+                    cone: Cone::NONE,
                 });
             }
             bvh.nodes[n as usize].children = [left, left + 1];
@@ -212,8 +277,9 @@ impl Bvh {
                 let slice = &mut order[first..first + count];
                 if count <= PART_TRIANGLES {
                     let slab = Slab::of(slice.iter().map(|&t| tri(t)));
+                    let cone = Cone::of(slice.iter().map(|&t| tri(t)), slab.normal);
                     let (first, count) = (first as u32, count as u32);
-                    bvh.parts.push(Part { bounds: bound(slice), first, count, slab, vertices: (0, 0) });
+                    bvh.parts.push(Part { bounds: bound(slice), first, count, slab, vertices: (0, 0), cone });
                     continue;
                 }
                 let mid = split(slice);
@@ -380,6 +446,43 @@ fn neighbours(mesh: &Mesh) -> Vec<[u32; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_cone_faces_away_only_where_every_triangle_does() {
+        // A patch facing +z, its normals within 0.3 rad of the axis, inside a 2 mm box at the origin.
+        let bounds = Bounds { min: [-1.0; 3], max: [1.0; 3] };
+        let cone = Cone { axis: Vec3::Z, spread: 0.3 };
+        // Seen from below, far off and straight on: faces away; from above: faces the eye.
+        assert!(cone.faces_away(&bounds, Vec3::new(0.0, 0.0, -100.0)));
+        assert!(!cone.faces_away(&bounds, Vec3::new(0.0, 0.0, 100.0)));
+        // From the side, nearly edge-on for the outermost normals: not (within the margin).
+        assert!(!cone.faces_away(&bounds, Vec3::new(100.0, 0.0, -30.0)));
+        // Close by, the box's own extent counts: from just below it some normal may face the eye.
+        assert!(!cone.faces_away(&bounds, Vec3::new(0.0, 0.0, -1.5)));
+        assert!(!Cone::NONE.faces_away(&bounds, Vec3::new(0.0, 0.0, -100.0)));
+        // Brute force on a curved patch: wherever its cone says it faces away, every triangle does.
+        let tris: Vec<[Vec3; 3]> = (0..16)
+            .map(|i| {
+                let a = i as f32 * 0.05;
+                [Vec3::new(a, 0.0, 0.0), Vec3::new(a + 0.05, 0.0, -0.05 * a), Vec3::new(a, 0.05, 0.0)]
+            })
+            .collect();
+        let axis = tris.iter().map(|[a, b, c]| (b - a).cross(c - a)).sum::<Vec3>().normalize();
+        let cone = Cone::of(tris.iter().copied(), axis);
+        let mut b = Bounds::EMPTY;
+        tris.iter().flatten().for_each(|p| b.include(p.to_array()));
+        let mut rng = crate::rng::XorShift(7);
+        let mut away = 0;
+        for _ in 0..2000 {
+            let r = |rng: &mut crate::rng::XorShift| (rng.next_u64() % 2001) as f32 / 100.0 - 10.0;
+            let eye = Vec3::new(r(&mut rng), r(&mut rng), r(&mut rng));
+            if cone.faces_away(&b, eye) {
+                away += 1;
+                assert!(tris.iter().all(|[a, b, c]| (b - a).cross(c - a).dot(eye - *a) < 0.0), "{eye}");
+            }
+        }
+        assert!(away > 100, "only {away} eyes see the patch facing away");
+    }
     use crate::organ_set::scale::subdivide;
 
     fn icosphere(level: usize) -> Mesh {

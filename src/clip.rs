@@ -115,9 +115,14 @@ pub const SIDE_MARGIN_MM: f32 = 0.01;
 
 /// Where `b` lies against `planes` (within [`SIDE_MARGIN_MM`] of a plane counts as cut).
 pub fn side(planes: &[ClipPlane], b: &Bounds) -> Side {
+    side_within(planes, b, SIDE_MARGIN_MM)
+}
+
+/// Where `b` lies against `planes`, within `margin` millimetres of a plane counting as cut.
+pub fn side_within(planes: &[ClipPlane], b: &Bounds, margin: f32) -> Side {
     let mut cut = false;
     for p in planes {
-        let margin = SIDE_MARGIN_MM * p.normal().length();
+        let margin = margin * p.normal().length();
         let along = b.corners().map(|c| p.normal().dot(c));
         if along.iter().all(|&a| a > p.d + margin) {
             return Side::Removed;

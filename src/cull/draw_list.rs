@@ -35,6 +35,8 @@ pub struct CullStats {
     pub drawn: usize,
     pub frustum_culled: usize,
     pub occlusion_culled: usize,
+    /// Culled as facing away (by normal cones), apart from occlusion.
+    pub back_face_culled: usize,
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
     /// Occluder triangles rasterised (facing the eye).
@@ -50,6 +52,7 @@ impl CullStats {
         self.triangles += o.triangles;
         self.frustum_culled += o.frustum_culled;
         self.occlusion_culled += o.occlusion_culled;
+        self.back_face_culled += o.back_face_culled;
         self.nodes_tested += o.nodes_tested;
     }
 

@@ -36,7 +36,7 @@ mod witness;
 
 pub use draw_list::{CullStats, DrawList};
 pub use rect::PixelRect;
-pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource};
+pub use selection::{by_projected_size, choose_occluders, opaque, LeafRef, OccluderSource};
 pub use settings::{CullMode, CullSettings, Selection};
 
 use crate::camera::Camera;
@@ -100,10 +100,11 @@ impl Culler {
         self.cull_with(set, layout, camera, aspect, settings, None, Clip::NONE)
     }
 
-    /// Culls one frame of a set cut by clip planes. While planes are on, only the view frustum is
-    /// culled: a cut organ's solid faces tie in depth with the neighbours they touch (the renderer
-    /// breaks the tie toward the cut face), and the occlusion tests cannot break ties the same way,
-    /// so occlusion culling would change pixels. What the planes remove is discarded by the shaders.
+    /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) do not
+    /// occlude, nor are their back-facing runs culled while cut faces are drawn (the renderer draws
+    /// those runs again as the cut faces). What the planes remove is not culled: the shaders discard
+    /// it sample by sample, and a sample of a removed triangle seen at a grazing angle may pass
+    /// (its position is interpolated off the triangle), so culling it would change that sample.
     pub fn cull_clipped(
         &mut self,
         set: &OrganSet,
@@ -130,10 +131,7 @@ impl Culler {
         clip: Clip,
     ) -> (DrawList, CullStats) {
         let started = std::time::Instant::now();
-        let mut settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
-        if !clip.planes.is_empty() && settings.mode == CullMode::Occlusion {
-            settings.mode = CullMode::Frustum;
-        }
+        let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
         self.cuts.resize_with(set.organs.len(), Cut::default);
         self.witnesses.resize_with(set.organs.len(), Witnesses::default);
         for (w, organ) in self.witnesses.iter_mut().zip(&set.organs) {
@@ -153,23 +151,55 @@ impl Culler {
                     phases.raster.help(quit);
                     phases.traversal.help(quit);
                 },
-                || cull_in_phases(set, layout, camera, aspect, &settings, given, kept, &phases),
+                || cull_in_phases(set, layout, camera, aspect, &settings, given, clip, kept, &phases),
             ),
-            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, kept, &phases),
+            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, clip, kept, &phases),
         };
         stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
         (list, stats)
     }
 }
 
-/// Clip planes cutting a frame (world space).
+/// Clip planes cutting a frame (world space), whether cut organs show their cut faces, and the
+/// organs the planes leave whole: what the renderer is given ([`crate::render::FrameInput`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Clip<'a> {
     pub planes: &'a [crate::clip::ClipPlane],
+    pub caps: bool,
+    pub whole: &'a [usize],
 }
 
-impl Clip<'_> {
-    pub const NONE: Clip<'static> = Clip { planes: &[] };
+impl<'a> Clip<'a> {
+    pub const NONE: Clip<'static> = Clip { planes: &[], caps: false, whole: &[] };
+
+    /// The planes, cut faces and whole organs of a section.
+    pub fn of(section: &'a crate::clip::Section) -> Clip<'a> {
+        Clip { planes: &section.planes, caps: section.caps, whole: &section.whole }
+    }
+
+    /// Whether the planes cut organ `o` (they may still miss it).
+    fn applies_to(&self, o: usize) -> bool {
+        !self.planes.is_empty() && !self.whole.contains(&o)
+    }
+}
+
+/// How far inside the clip planes an organ must lie to occlude, as a share of its far corner's
+/// distance from the eye. The shaders discard what the planes remove sample by sample, at a
+/// position interpolated off the triangle for a sample at its edge, far off it at grazing angles;
+/// an organ this far inside loses no sample to them.
+pub const CLEAR_OF_PLANES: f32 = 1.0 / 16.0;
+
+/// Whether `organ` lies inside every clip plane by [`CLEAR_OF_PLANES`] of its far corner's distance.
+fn clear_of_planes(
+    organ: &crate::organ_set::Organ,
+    state: &crate::layout::OrganState,
+    camera: &Camera,
+    clip: Clip,
+) -> bool {
+    let Some(root) = organ.bvh.nodes.first() else { return false };
+    let world = root.bounds.transformed(&state.transform.matrix());
+    let far = world.corners().iter().map(|&c| (c - camera.eye).length()).fold(0.0, f32::max);
+    crate::clip::side_within(clip.planes, &world, CLEAR_OF_PLANES * far) == crate::clip::Side::Kept
 }
 
 /// Where a frame's occluders come from: given by the caller, or chosen with the database.
@@ -197,22 +227,34 @@ fn cull_in_phases<'a>(
     aspect: f32,
     settings: &CullSettings,
     given: Given,
+    clip: Clip,
     (cuts, witnesses): (&mut [Cut], &'a [Witnesses]),
     phases: &Phases<'a>,
 ) -> (DrawList, CullStats) {
     let view_proj = camera.view_projection(aspect);
+    // Per organ: whether it may occlude, opaque and clear of the planes.
+    let occluding: Vec<bool> = set
+        .organs
+        .iter()
+        .zip(&layout.organs)
+        .enumerate()
+        .map(|(o, (organ, state))| {
+            state.is_opaque() && (!clip.applies_to(o) || clear_of_planes(organ, state, camera, clip))
+        })
+        .collect();
     let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
     let occ = (settings.mode == CullMode::Occlusion).then(|| {
         let list = match given {
             Given::Occluders(list) => list.to_vec(),
             Given::Database(database) => {
-                let (list, source) = choose_occluders(set, layout, camera, &view_proj, settings, database);
+                let (list, source) = choose_occluders(set, layout, camera, &view_proj, settings, database, &occluding);
                 stats.source = Some(source);
                 list
             }
         };
-        let mut o = rasterise_occluders(set, layout, &view_proj, &list, w, h, &phases.raster);
+        let solids = selection::solids(set, layout, &view_proj, &occluding);
+        let mut o = rasterise_occluders(set, layout, &view_proj, &solids, &list, w, h, &phases.raster);
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =
                 o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
@@ -230,9 +272,13 @@ fn cull_in_phases<'a>(
         .iter()
         .zip(&layout.organs)
         .zip(witnesses)
-        .map(|((organ, state), witnesses)| {
+        .enumerate()
+        .map(|(o, ((organ, state), witnesses))| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
-            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera.eye, witnesses))
+            // The renderer draws a cut organ's back faces as its cut faces.
+            let capped = clip.caps && clip.applies_to(o) && !clear_of_planes(organ, state, camera, clip);
+            let back_faces_culled = organ.closed() && !capped;
+            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera, witnesses, back_faces_culled))
         })
         .collect();
     // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their

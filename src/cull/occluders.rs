@@ -196,12 +196,15 @@ impl Occluders {
     }
 }
 
-/// Rasterises the given occluder leaves (organ by organ, so leaves of one organ fuse into
-/// patches) and builds the look-up structures.
+/// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
+/// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
+/// structures.
+#[allow(clippy::too_many_arguments)]
 pub(super) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
+    solids: &[usize],
     list: &[LeafRef],
     w: usize,
     h: usize,
@@ -214,6 +217,14 @@ pub(super) fn rasterise_occluders(
     }
     let mut raster = OccluderRaster::new(w, h);
     let mut triangles = 0;
+    let mut leaves = list.len();
+    for solid in solids.iter().filter_map(|&s| set.solids.get(s)) {
+        let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { continue };
+        let mvp = *view_proj * layout.organs[first].transform.matrix();
+        let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
+        leaves += all.len();
+        triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, &all, &mvp, w, h, STAND_IN_DEPTH_BIAS);
+    }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
@@ -228,7 +239,7 @@ pub(super) fn rasterise_occluders(
     let maps = raster.finish_on(phase);
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
-    Occluders { maps, opacity, sparse, approximate: None, leaves: list.len(), triangles }
+    Occluders { maps, opacity, sparse, approximate: None, leaves, triangles }
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).

@@ -78,11 +78,12 @@ pub fn by_projected_size(
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
+    occluding: &[bool],
 ) -> Vec<LeafRef> {
     let (w, h) = (settings.width, settings.height);
     let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
     for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
-        if !state.is_opaque() || organ.bvh.nodes.is_empty() {
+        if !occluding.get(o).copied().unwrap_or(false) || organ.bvh.nodes.is_empty() {
             continue;
         }
         let mvp = *view_proj * state.transform.matrix();
@@ -147,10 +148,15 @@ fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3
         .count()
 }
 
-/// The occluders of this frame: the pre-computed set of the nearest viewpoint where
-/// `settings.selection` allows it (automatic: the layout is the pre-processed one and the camera is
-/// near a viewpoint), else projected size. Faded, hidden or unknown
-/// organs never occlude, whatever the database says.
+/// Per organ, whether it may occlude in `layout` with no clip planes: opaque and visible.
+pub fn opaque(layout: &Layout) -> Vec<bool> {
+    layout.organs.iter().map(|s| s.is_opaque()).collect()
+}
+
+/// The occluders of this frame among the organs marked `occluding` (opaque and visible, and not
+/// cut by a clip plane): the pre-computed set of the nearest viewpoint where `settings.selection`
+/// allows it (automatic: the layout is the pre-processed one and the camera is near a viewpoint),
+/// else projected size. Other or unknown organs never occlude, whatever the database says.
 pub fn choose_occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -158,6 +164,7 @@ pub fn choose_occluders(
     view_proj: &Mat4,
     settings: &CullSettings,
     database: Option<&Database>,
+    occluding: &[bool],
 ) -> (Vec<LeafRef>, OccluderSource) {
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
@@ -165,18 +172,91 @@ pub fn choose_occluders(
         Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
     });
     if let Some(viewpoint) = viewpoint {
-        let valid = |r: &&LeafRef| r.exists_in(set) && layout.organs[r.organ as usize].is_opaque();
+        let valid = |r: &&LeafRef| r.exists_in(set) && occluding.get(r.organ as usize).copied().unwrap_or(false);
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
         return (list, OccluderSource::Mos);
     }
-    (by_projected_size(set, layout, camera, view_proj, settings), OccluderSource::ProjectedSize)
+    (by_projected_size(set, layout, camera, view_proj, settings, occluding), OccluderSource::ProjectedSize)
+}
+
+/// The solids ([`crate::organ_set::Solid`]) whose stand-ins may occlude this frame: with a
+/// stand-in, every organ `occluding`, all moved as one (the same transform), and the union of
+/// their bounds wholly beyond the near plane (so the eye is outside it, and every ray to a point
+/// inside meets a drawn surface first); of those, only the largest (none whose organs another's
+/// hold).
+pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bool]) -> Vec<usize> {
+    let valid: Vec<usize> = (0..set.solids.len())
+        .filter(|&s| {
+            let solid = &set.solids[s];
+            let Some(&first) = solid.organs.first() else { return false };
+            let transform = layout.organs.get(first).map(|o| o.transform.matrix());
+            let mut bounds = crate::mesh::Bounds::EMPTY;
+            solid.stand_in.is_some()
+                && solid.organs.iter().all(|&o| {
+                    let ok = occluding.get(o).copied().unwrap_or(false)
+                        && Some(layout.organs[o].transform.matrix()) == transform
+                        && !set.organs[o].bvh.nodes.is_empty();
+                    if ok {
+                        bounds = bounds.union(set.organs[o].bvh.nodes[0].bounds);
+                    }
+                    ok
+                })
+                && transform.is_some_and(|t| wholly_ahead(&(*view_proj * t), &bounds))
+        })
+        .collect();
+    let holds = |a: usize, b: usize| set.solids[b].organs.iter().all(|o| set.solids[a].organs.binary_search(o).is_ok());
+    // Of two with the same organs, the first.
+    let larger = |a: usize, b: usize| set.solids[a].organs.len() > set.solids[b].organs.len() || a < b;
+    valid.iter().copied().filter(|&b| !valid.iter().any(|&a| a != b && holds(a, b) && larger(a, b))).collect()
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::organ_set::{Organ, Solid, StandIn};
     use glam::Vec3;
+
+    #[test]
+    fn solids_occlude_while_their_organs_are_opaque_and_move_as_one() {
+        let organ = |id: &str, x: f32| {
+            let mut m = crate::mesh::Mesh::octahedron();
+            m.positions.iter_mut().for_each(|p| p[0] += x);
+            Organ::new(id.into(), id.into(), [0.5; 3], m)
+        };
+        let stand_in = || Some(StandIn::new(crate::mesh::Mesh::octahedron()));
+        let set = OrganSet {
+            organs: vec![organ("a", 0.0), organ("b", 1.0), organ("c", 2.0)],
+            solids: vec![
+                Solid { id: "ab".into(), organs: vec![0, 1], stand_in: stand_in() },
+                Solid { id: "abc".into(), organs: vec![0, 1, 2], stand_in: stand_in() },
+                Solid { id: "none".into(), organs: vec![2], stand_in: None },
+            ],
+            ..Default::default()
+        };
+        let layout = Layout::new(&set);
+        let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
+        let vp = camera.view_projection(1.0);
+        let chosen = |layout: &Layout| solids(&set, layout, &vp, &opaque(layout));
+        // The largest valid one only; none without a stand-in.
+        assert_eq!(chosen(&layout), [1]);
+        let mut faded = layout.clone();
+        faded.organs[2].opacity = 0.5;
+        assert_eq!(chosen(&faded), [0]);
+        let mut moved = layout.clone();
+        moved.organs[1].transform.translation = Vec3::X;
+        assert_eq!(chosen(&moved), Vec::<usize>::new());
+        // Moved as one, they still occlude.
+        let mut together = layout.clone();
+        together.organs.iter_mut().for_each(|o| o.transform.translation = Vec3::Z);
+        assert_eq!(chosen(&together), [1]);
+        let mut hidden = layout.clone();
+        hidden.organs[0].visible = false;
+        assert_eq!(chosen(&hidden), Vec::<usize>::new());
+        // With the eye inside, not.
+        let inside = Camera { eye: Vec3::new(0.5, 0.0, 0.0), ..camera };
+        assert_eq!(solids(&set, &layout, &inside.view_projection(1.0), &opaque(&layout)), Vec::<usize>::new());
+    }
 
     #[test]
     fn facing_counts_the_triangles_turned_to_the_eye() {

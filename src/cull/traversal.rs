@@ -9,7 +9,8 @@ use super::occluders::{Occluders, Verdict};
 use super::project::{project_box, ScreenBox};
 use super::settings::CullSettings;
 use super::witness::Witnesses;
-use crate::bvh::Slab;
+use crate::bvh::{Cone, Slab};
+use crate::camera::Camera;
 use crate::mesh::Bounds;
 use crate::organ_set::Organ;
 use glam::{Mat4, Vec3};
@@ -40,13 +41,29 @@ pub(super) struct OrganView<'a> {
     inverse: Unprojection,
     eye: Vec3,
     pub witnesses: &'a Witnesses,
+    /// Whether the renderer culls its back faces in this frame (closed, not mirrored, no cut faces
+    /// drawn): runs of triangles facing away are then culled by their normal cones.
+    back_faces_culled: bool,
 }
 
 impl<'a> OrganView<'a> {
-    pub fn new(view_proj: &Mat4, model: &Mat4, eye: Vec3, witnesses: &'a Witnesses) -> OrganView<'a> {
+    pub fn new(
+        view_proj: &Mat4,
+        model: &Mat4,
+        camera: &Camera,
+        witnesses: &'a Witnesses,
+        back_faces_culled: bool,
+    ) -> OrganView<'a> {
         let mvp = *view_proj * *model;
-        let eye = model.inverse().transform_point3(eye);
-        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses }
+        let eye = model.inverse().transform_point3(camera.eye);
+        let back_faces_culled = back_faces_culled && model.determinant() > 0.0;
+        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled }
+    }
+
+    /// Whether a run of triangles in `bounds` with normals in `cone` faces away, so the renderer
+    /// draws none of it.
+    pub fn faces_away(&self, bounds: &Bounds, cone: &Cone) -> bool {
+        self.back_faces_culled && cone.faces_away(bounds, self.eye)
     }
 
     pub fn depth_bound(&self, b: &Bounds, slab: Option<&Slab>, nearest: f32, w: usize, h: usize) -> DepthBound {
@@ -101,6 +118,11 @@ pub(super) fn traverse_below(
             stop(true);
             continue;
         }
+        if occ.is_some() && view.faces_away(&node.bounds, &node.cone) {
+            stats.back_face_culled += node.count as usize;
+            stop(true);
+            continue;
+        }
         let mut test_children = test;
         // Whether a failing leaf's parts are worth testing: where its triangles are not much
         // smaller than pixels, or its box lies behind the occluders at its centre (not where it
@@ -142,6 +164,11 @@ pub(super) fn traverse_below(
                 for p in organ.bvh.part_range(node.leaf) {
                     let part = &organ.bvh.parts[p];
                     stats.nodes_tested += 1;
+                    if view.faces_away(&part.bounds, &part.cone) {
+                        stats.back_face_culled += part.count as usize;
+                        view.witnesses.set(p, None);
+                        continue;
+                    }
                     // Its witness seen again: the part is drawn (its tests could not pass).
                     let witness = view.witnesses.get(p).filter(|_| holes.is_none());
                     if witness.is_some_and(|i| o.shows_vertex(organ, part, i, &view.mvp)) {

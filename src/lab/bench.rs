@@ -28,9 +28,14 @@ pub struct FrameRecord {
     /// Where the occluders came from.
     pub source: Option<crate::cull::OccluderSource>,
     pub nodes_tested: usize,
+    /// Triangles culled as facing away (normal cones), apart from occlusion.
+    pub back_face_culled: usize,
     /// Leaves hidden in an exact visibility pass, and how many of them this mode culled.
     pub exact_hidden_leaves: usize,
     pub culled_hidden_leaves: usize,
+    /// Triangles of those hidden leaves (what an exact pass could cull), and of the visible ones.
+    pub exact_hidden_triangles: usize,
+    pub exact_visible_triangles: usize,
 }
 
 /// The camera of frame `i` of `n`: a full turn around the set at 15 degrees elevation.
@@ -112,6 +117,8 @@ pub struct Run<'a> {
     pub route: Route,
     /// The set's pre-computed occluders, for the modes' cullers.
     pub database: Option<&'a Database>,
+    /// Clip planes (with cut faces and organs kept whole) cutting every frame.
+    pub section: &'a crate::clip::Section,
 }
 
 /// Runs the benchmark; `progress(done, total)` hears of every frame.
@@ -122,7 +129,7 @@ pub fn run(
     run: &Run,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<FrameRecord>> {
-    let Run { size, frames, modes, ref settings, route, database } = *run;
+    let Run { size, frames, modes, ref settings, route, database, section } = *run;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size[0], size[1])?;
     let home = layout.bounds(set);
@@ -141,7 +148,7 @@ pub fn run(
     let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
     for i in 0..frames {
         let camera = route.camera(&home, i, frames);
-        let frame = FrameInput::new(set, &camera, layout);
+        let frame = cut_by(FrameInput::new(set, &camera, layout), section);
         renderer.render_leaf_ids(&gpu.device, &gpu.queue, &target, &frame, set, &first_id);
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         let mut h = vec![true; total_leaves];
@@ -161,8 +168,9 @@ pub fn run(
         // One frame: cull, draw, wait for the GPU.
         let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = route.camera(&home, i, frames);
-            let (draw, stats) = culler.cull(set, layout, &camera, target.aspect(), &settings);
-            let input = FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) };
+            let clip = crate::cull::Clip::of(section);
+            let (draw, stats) = culler.cull_clipped(set, layout, &camera, target.aspect(), &settings, clip);
+            let input = cut_by(FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) }, section);
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
             wait()?;
             Ok((draw, stats))
@@ -175,7 +183,7 @@ pub fn run(
             let started = Instant::now();
             let (draw, stats) = frame(i)?;
             let frame_ms = started.elapsed().as_secs_f64() * 1000.0;
-            let (exact, culled) = hidden_leaves_culled(set, layout, &draw, hidden, &first_id);
+            let exact = hidden_leaves_culled(set, layout, &draw, hidden, &first_id);
             records.push(FrameRecord {
                 mode,
                 frame: i,
@@ -188,8 +196,11 @@ pub fn run(
                 occluder_leaves: stats.occluder_leaves,
                 source: stats.source,
                 nodes_tested: stats.nodes_tested,
-                exact_hidden_leaves: exact,
-                culled_hidden_leaves: culled,
+                back_face_culled: stats.back_face_culled,
+                exact_hidden_leaves: exact.hidden_leaves,
+                culled_hidden_leaves: exact.culled_leaves,
+                exact_hidden_triangles: exact.hidden_triangles,
+                exact_visible_triangles: stats.triangles - exact.hidden_triangles,
             });
             progress(m * frames + i + 1, total);
         }
@@ -197,18 +208,25 @@ pub fn run(
     Ok(records)
 }
 
-/// Of the drawn organs' leaves that exact visibility hides, how many are there and how many did
-/// the draw list leave out?
-fn hidden_leaves_culled(
-    set: &OrganSet,
-    layout: &Layout,
-    draw: &DrawList,
-    hidden: &[bool],
-    first_id: &[u32],
-) -> (usize, usize) {
-    let (mut exact, mut culled) = (0, 0);
+/// A frame cut by a section's planes.
+fn cut_by<'f>(frame: FrameInput<'f>, section: &'f crate::clip::Section) -> FrameInput<'f> {
+    FrameInput { clip: &section.planes, caps: section.caps, whole: &section.whole, ..frame }
+}
+
+/// The drawn organs' leaves that exact visibility hides: how many, how many the draw list left
+/// out, and their triangles.
+#[derive(Default)]
+struct Hidden {
+    hidden_leaves: usize,
+    culled_leaves: usize,
+    hidden_triangles: usize,
+}
+
+fn hidden_leaves_culled(set: &OrganSet, layout: &Layout, draw: &DrawList, hidden: &[bool], first_id: &[u32]) -> Hidden {
+    let mut out = Hidden::default();
     for (o, organ) in set.organs.iter().enumerate() {
-        if !layout.organs[o].is_drawn() {
+        // Faded organs hide nothing in the exact pass, and their own leaves are not counted.
+        if !layout.organs[o].is_opaque() {
             continue;
         }
         let ranges = &draw.ranges[o];
@@ -216,14 +234,15 @@ fn hidden_leaves_culled(
             if !hidden[(first_id[o] + l) as usize] {
                 continue;
             }
-            exact += 1;
             let r = organ.bvh.leaf_range(l);
+            out.hidden_leaves += 1;
+            out.hidden_triangles += r.len() / 3;
             if !ranges.iter().any(|d| d.start < r.end && r.start < d.end) {
-                culled += 1;
+                out.culled_leaves += 1;
             }
         }
     }
-    (exact, culled)
+    out
 }
 
 /// Summary of one mode over all frames.
@@ -235,6 +254,14 @@ pub struct Summary {
     pub max_culled_percent: f64,
     /// Share (percent) of the exactly hidden leaves that were culled, over all frames.
     pub hidden_leaves_culled_percent: f64,
+    /// Share (percent) of the drawn organs' triangles in exactly hidden leaves: what an exact pass
+    /// could cull, over all frames.
+    pub exact_hidden_triangles_percent: f64,
+    /// Share (percent) of the drawn organs' triangles culled as facing away, over all frames.
+    pub back_face_culled_percent: f64,
+    /// Triangles drawn over the triangles of exactly visible leaves, over all frames: 1 is the
+    /// bound at leaf granularity.
+    pub drawn_over_visible: f64,
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -255,12 +282,17 @@ pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
     let n = r.len().max(1) as f64;
     let exact: usize = r.iter().map(|r| r.exact_hidden_leaves).sum();
     let culled: usize = r.iter().map(|r| r.culled_hidden_leaves).sum();
+    let sum = |f: fn(&FrameRecord) -> usize| r.iter().map(|r| f(r)).sum::<usize>() as f64;
+    let triangles = sum(|r| r.triangles).max(1.0);
     Summary {
         median_frame_ms: median(r.iter().map(|r| r.frame_ms).collect()),
         median_cull_ms: median(r.iter().map(|r| r.cull_ms).collect()),
         mean_culled_percent: r.iter().map(|r| r.culled_percent).sum::<f64>() / n,
         max_culled_percent: r.iter().map(|r| r.culled_percent).fold(0.0, f64::max),
         hidden_leaves_culled_percent: if exact == 0 { 100.0 } else { 100.0 * culled as f64 / exact as f64 },
+        exact_hidden_triangles_percent: 100.0 * sum(|r| r.exact_hidden_triangles) / triangles,
+        back_face_culled_percent: 100.0 * sum(|r| r.back_face_culled) / triangles,
+        drawn_over_visible: sum(|r| r.triangles_drawn) / sum(|r| r.exact_visible_triangles).max(1.0),
     }
 }
 

@@ -72,6 +72,7 @@ pub fn generate(seed: u64) -> OrganSet {
             attribution: "generated procedurally; no external data".into(),
         }],
         organs,
+        solids: Vec::new(),
     }
 }
 

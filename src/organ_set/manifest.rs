@@ -24,6 +24,23 @@ pub struct Manifest {
     #[serde(default)]
     pub sources: Vec<Source>,
     pub organs: Vec<OrganEntry>,
+    /// Groups of organs that together form one solid, for occlusion culling.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub solids: Vec<SolidEntry>,
+}
+
+/// Organs that together fill one solid (their closed surfaces meet face to face, as a seamless
+/// set's do), and the occluder stand-in inside their union that `vbrain stand-ins` builds.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct SolidEntry {
+    /// Unique among the solids: letters, digits, `_` and `-`.
+    pub id: String,
+    /// The organs' ids.
+    pub organs: Vec<String>,
+    /// The stand-in's mesh (relative path, like an organ's `mesh`), once built.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub occluder: Option<String>,
 }
 
 /// Where data came from, under which licence, and whom to credit.
@@ -118,9 +135,8 @@ impl Manifest {
 impl OrganEntry {
     /// Checks one organ's fields (not its mesh file); returns the first problem.
     pub fn validate(&self) -> Result<(), EntryProblem> {
-        let id_ok = !self.id.is_empty() && self.id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
         let id = || self.id.clone();
-        if !id_ok {
+        if !id_ok(&self.id) {
             return Err(EntryProblem::Id(id()));
         }
         if !(0.0..=1.0).contains(&self.opacity) {
@@ -164,8 +180,13 @@ pub enum PathProblem {
     Absolute,
 }
 
+/// An organ's or a solid's id: non-empty letters, digits, `_` and `-`.
+pub(super) fn id_ok(id: &str) -> bool {
+    !id.is_empty() && id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
+}
+
 /// A mesh path must be relative and must not climb out of the set's folder.
-fn mesh_path_ok(p: &str) -> Result<(), PathProblem> {
+pub(super) fn mesh_path_ok(p: &str) -> Result<(), PathProblem> {
     use std::path::Component;
     let path = std::path::Path::new(p);
     if p.is_empty() {

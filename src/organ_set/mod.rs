@@ -128,6 +128,29 @@ pub struct OrganSet {
     pub description: String,
     pub sources: Vec<Source>,
     pub organs: Vec<Organ>,
+    pub solids: Vec<Solid>,
+}
+
+/// Organs that together fill one solid ([`manifest::SolidEntry`]), and a stand-in inside their
+/// union: while they are all opaque, uncut and moved as one, the culler rasterises it in their
+/// place, with no seams between them.
+#[derive(Clone, Debug)]
+pub struct Solid {
+    pub id: String,
+    /// Indices into [`OrganSet::organs`], increasing.
+    pub organs: Vec<usize>,
+    pub(crate) stand_in: Option<StandIn>,
+}
+
+impl Solid {
+    pub fn stand_in(&self) -> Option<&StandIn> {
+        self.stand_in.as_ref()
+    }
+
+    /// Gives it a stand-in (or none); the caller vouches that it lies inside the organs' union.
+    pub fn set_stand_in(&mut self, stand_in: Option<StandIn>) {
+        self.stand_in = stand_in;
+    }
 }
 
 /// An opened set with what went wrong on the way.
@@ -194,7 +217,29 @@ impl OrganSet {
                     info: o.info.clone(),
                 })
                 .collect(),
+            solids: self
+                .solids
+                .iter()
+                .map(|s| manifest::SolidEntry {
+                    id: s.id.clone(),
+                    organs: s.organs.iter().map(|&o| self.organs[o].id.clone()).collect(),
+                    occluder: s.stand_in.as_ref().map(|_| format!("meshes/{}.solid.vbo", s.id)),
+                })
+                .collect(),
         }
+    }
+
+    /// Writes the solids' stand-ins into `dir/meshes`, each file atomically.
+    fn save_solids(&self, dir: &Path) -> Result<()> {
+        let meshes = dir.join("meshes");
+        for s in &self.solids {
+            if let Some(stand_in) = &s.stand_in {
+                std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
+                let path = meshes.join(format!("{}.solid.vbo", s.id));
+                crate::atomic::write(&path, |w| obj::write_vbo(&[(&s.id, &stand_in.mesh)], w))?;
+            }
+        }
+        Ok(())
     }
 
     /// Writes the set as a folder: `organset.json`, `meshes/<id>.vbo` and the stand-ins, each file
@@ -219,6 +264,7 @@ impl OrganSet {
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&o.name, &stand_in.mesh)], w))?;
             }
         }
+        self.save_solids(dir)?;
         let path = dir.join(MANIFEST_FILE);
         let json = serde_json::to_string_pretty(&self.manifest())
             .map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
@@ -294,10 +340,58 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
             Err(e) => loaded.errors.push(e),
         }
     }
+    loaded.set.solids = load_solids(&manifest.solids, &loaded.set.organs, dir, &mut loaded.warnings);
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
     loaded.set.sources = manifest.sources;
     Ok(loaded)
+}
+
+/// The solids of a manifest over the organs that loaded. A solid naming an organ that is not there,
+/// or whose stand-in does not load, costs only speed: it is left out, with a warning.
+fn load_solids(
+    entries: &[manifest::SolidEntry],
+    organs: &[Organ],
+    dir: &Path,
+    warnings: &mut Vec<String>,
+) -> Vec<Solid> {
+    let mut solids: Vec<Solid> = Vec::new();
+    for entry in entries {
+        let ids: Option<Vec<usize>> = entry.organs.iter().map(|id| organs.iter().position(|o| &o.id == id)).collect();
+        let problem = if !manifest::id_ok(&entry.id) {
+            Some("not a valid id".to_string())
+        } else if solids.iter().any(|s| s.id == entry.id) {
+            Some("appears twice".to_string())
+        } else if ids.is_none() || entry.organs.is_empty() {
+            Some("names no organ, or one the set does not have".to_string())
+        } else {
+            entry
+                .occluder
+                .as_deref()
+                .and_then(|p| manifest::mesh_path_ok(p).err().map(|e| format!("occluder {p}: {e}")))
+        };
+        if let Some(problem) = problem {
+            warnings.push(format!("solid \"{}\" ignored: {problem}", entry.id));
+            continue;
+        }
+        let mut organs = ids.unwrap_or_default();
+        organs.sort_unstable();
+        organs.dedup();
+        let stand_in = entry.occluder.as_ref().and_then(|p| match obj::read(&dir.join(p)) {
+            Ok(f) => {
+                warnings.extend(f.warnings);
+                let mut mesh = Mesh::default();
+                f.objects.iter().for_each(|o| mesh.append(&o.mesh));
+                Some(StandIn::new(mesh))
+            }
+            Err(e) => {
+                warnings.push(format!("solid \"{}\": occluder stand-in ignored: {e}", entry.id));
+                None
+            }
+        });
+        solids.push(Solid { id: entry.id.clone(), organs, stand_in });
+    }
+    solids
 }
 
 fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {

@@ -94,6 +94,50 @@ pub fn build_inner(mesh: &Mesh, bvh: &Bvh, options: InnerOptions) -> Result<Inne
     Ok(Inner { stand_in: StandIn::new(out), dropped })
 }
 
+/// The boundary of the union of closed surfaces that meet face to face (as a seamless set's organs
+/// do): their triangles with vertices welded by position, less each pair of coincident triangles
+/// wound opposite ways (a face two of them share, inside the union). Triangles that lose their area
+/// in the welding are left out.
+pub fn union_surface(meshes: &[&Mesh]) -> Mesh {
+    let mut all = Mesh::default();
+    for m in meshes {
+        all.append(m);
+    }
+    let (positions, indices) = welded(&all);
+    // Per triangle: its corners rotated to start at the least, and whether the rest ascend.
+    let key = |t: &[u32]| {
+        let k = (0..3).min_by_key(|&k| t[k]).unwrap_or(0);
+        let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+        ((a, b.min(c), b.max(c)), b < c)
+    };
+    let mut count: std::collections::HashMap<(u32, u32, u32), [u32; 2]> = std::collections::HashMap::new();
+    for t in indices.chunks_exact(3) {
+        if t[0] != t[1] && t[1] != t[2] && t[0] != t[2] {
+            let (k, up) = key(t);
+            count.entry(k).or_default()[usize::from(up)] += 1;
+        }
+    }
+    // Of each face, as many of the more frequent winding as it has beyond the other.
+    let mut kept: Vec<u32> = Vec::new();
+    for t in indices.chunks_exact(3) {
+        if t[0] == t[1] || t[1] == t[2] || t[0] == t[2] {
+            continue;
+        }
+        let (k, up) = key(t);
+        let Some(c) = count.get_mut(&k) else { continue };
+        let (this, other) = (usize::from(up), 1 - usize::from(up));
+        if c[this] > c[other] {
+            c[this] -= 1;
+            kept.extend_from_slice(t);
+        }
+    }
+    let mut out =
+        Mesh { positions: positions.iter().map(|p| p.to_array()).collect(), normals: Vec::new(), indices: kept };
+    crate::surface::compact(&mut out);
+    out.compute_normals();
+    out
+}
+
 /// Vertices welded by position, and the triangles over them.
 fn welded(mesh: &Mesh) -> (Vec<Vec3>, Vec<u32>) {
     let (remap, positions) = crate::mesh::weld(&mesh.positions);
@@ -237,6 +281,24 @@ mod tests {
         }
         m.compute_normals();
         m
+    }
+
+    #[test]
+    fn the_union_of_two_boxes_sharing_a_face_is_their_outside() {
+        // Two 2 x 2 x 2 boxes side by side along x share the face x = 0 (each split 2 x 2).
+        let shifted = |dx: f32| {
+            let mut m = cube(2, Vec3::ONE);
+            m.positions.iter_mut().for_each(|p| p[0] += dx);
+            m
+        };
+        let (a, b) = (shifted(-1.0), shifted(1.0));
+        let union = union_surface(&[&a, &b]);
+        // 12 faces of 8 triangles less the shared face of each.
+        assert_eq!(union.triangle_count(), 2 * 48 - 2 * 8);
+        assert_eq!(union.open_edges(), 0, "the union is closed");
+        assert!((union.signed_volume() - 16.0).abs() < 1e-3, "volume {}", union.signed_volume());
+        // Boxes apart keep every triangle.
+        assert_eq!(union_surface(&[&shifted(-2.0), &shifted(2.0)]).triangle_count(), 2 * 48);
     }
 
     fn inside_box(p: Vec3, half: Vec3) -> bool {

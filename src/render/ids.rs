@@ -16,7 +16,8 @@ pub(super) struct Ids {
 pub(super) enum IdKind<'a> {
     /// Organs whose opacity is at least this.
     Organs { min_opacity: f32 },
-    /// `first_id[organ] + leaf + 1` of every leaf of `set`'s drawn organs.
+    /// `first_id[organ] + leaf + 1` of every leaf of `set`'s opaque organs (faded ones hide
+    /// nothing).
     Leaves { set: &'a crate::organ_set::OrganSet, first_id: &'a [u32] },
 }
 
@@ -80,7 +81,7 @@ impl Ids {
                 }
             }
             IdKind::Leaves { set, first_id } => {
-                for (i, _) in organs.filter(|(_, s)| s.is_drawn()) {
+                for (i, _) in organs.filter(|(_, s)| s.is_opaque()) {
                     scene.bind_organ(&mut pass, &self.leaf, 0, i);
                     let bvh = &set.organs[i].bvh;
                     for l in 0..bvh.leaves.len() as u32 {

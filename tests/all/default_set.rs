@@ -205,6 +205,26 @@ fn occluder_stand_ins_are_coarse_and_inside_their_organs() {
     }
 }
 
+/// The solids (the brain, each cerebral hemisphere, each hemisphere under its cortex) have
+/// stand-ins, coarse and inside the union of their organs.
+#[test]
+fn solid_stand_ins_are_coarse_and_inside_their_organs() {
+    let set = default_set();
+    let ids: Vec<&str> = set.solids.iter().map(|s| s.id.as_str()).collect();
+    assert_eq!(ids, ["brain", "cerebrum_l", "deep_l", "cerebrum_r", "deep_r"]);
+    let dir = Vec3::new(0.31, 0.52, 0.79).normalize();
+    for solid in &set.solids {
+        let stand_in = solid.stand_in().unwrap_or_else(|| panic!("{}: no stand-in: run `vbrain stand-ins`", solid.id));
+        let members: Vec<&vbrain::mesh::Mesh> = solid.organs.iter().map(|&o| set.organs[o].mesh()).collect();
+        let union = vbrain::organ_set::stand_in::union_surface(&members);
+        let (n, m) = (stand_in.mesh().triangle_count(), union.triangle_count());
+        assert!(n > 0 && 4 * n <= m, "{}: stand-in of {n} triangles for {m}", solid.id);
+        for p in stand_in.mesh().positions.iter().step_by(64) {
+            assert!(inside(&union, Vec3::from(*p), dir), "{}: stand-in vertex {p:?} outside", solid.id);
+        }
+    }
+}
+
 /// The lessons shipped with the default brain: each parses, has five or more steps with real
 /// captions, and names only organs and groups the set has.
 #[test]

@@ -26,7 +26,11 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         out: &args.out,
         settings,
         database: database(&args.path, &set),
+        section: vbrain::clip::Section { planes: args.clip.clone(), ..Default::default() },
     };
+    if args.clip.len() > vbrain::clip::MAX_PLANES {
+        anyhow::bail!("--clip: at most {} planes", vbrain::clip::MAX_PLANES);
+    }
     bench::run(&set, &layout, &opts)?;
     Ok(ok)
 }

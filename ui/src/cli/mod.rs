@@ -279,6 +279,9 @@ pub struct BenchArgs {
     /// Most occluder leaves per frame (the thesis's city runs: 64)
     #[arg(long)]
     pub occluders: Option<usize>,
+    /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
+    pub clip: Vec<vbrain::clip::ClipPlane>,
     /// Folder for bench.csv and bench.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
@@ -398,6 +401,13 @@ pub struct StandInsArgs {
     /// Organs with fewer triangles get none
     #[arg(long, default_value_t = 2048)]
     pub min_triangles: usize,
+    /// Triangles of each solid's stand-in (a solid: organs the manifest lists as filling one)
+    #[arg(long, default_value_t = 4096)]
+    pub solid_triangles: usize,
+    /// Most inward offset of a solid's stand-in, millimetres (deeper than an organ's: a solid's
+    /// folded surface simplifies with fewer triangles left out there)
+    #[arg(long, default_value_t = 4.0)]
+    pub solid_offset: f32,
     /// Output folder (default: the set's own folder)
     #[arg(long)]
     pub out: Option<PathBuf>,

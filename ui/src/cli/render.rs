@@ -120,7 +120,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let clip = vbrain::cull::Clip { planes: &clip_planes };
+    let clip = vbrain::cull::Clip { planes: &clip_planes, caps, whole: &whole };
     let mut culler = Culler::new(database(&path, &set));
     let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));

@@ -19,6 +19,9 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     if !(offset > 0.0 && offset.is_finite()) {
         bail!("--offset {offset} must be a positive number of millimetres");
     }
+    if !(args.solid_offset > 0.0 && args.solid_offset.is_finite()) {
+        bail!("--solid-offset {} must be a positive number of millimetres", args.solid_offset);
+    }
     if out.is_none() && !path.join(organ_set::MANIFEST_FILE).is_file() {
         bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);
     }
@@ -47,6 +50,25 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
             Err(why) => Outcome::Skipped(why.to_string()),
         };
         rows.push((organ.id.clone(), triangles, outcome));
+    }
+    // Each solid: a stand-in inside the union of its organs.
+    for solid in 0..set.solids.len() {
+        let members: Vec<&vbrain::mesh::Mesh> =
+            set.solids[solid].organs.iter().map(|&o| set.organs[o].mesh()).collect();
+        let union = stand_in::union_surface(&members);
+        let triangles = union.triangle_count();
+        let mut mesh = union.clone();
+        let bvh = vbrain::bvh::Bvh::build(&mut mesh);
+        let options = stand_in::InnerOptions { triangles: args.solid_triangles, offset: args.solid_offset };
+        let outcome = match stand_in::build_inner(&mesh, &bvh, options) {
+            Ok(built) => {
+                let n = built.stand_in.mesh().triangle_count();
+                set.solids[solid].set_stand_in(Some(built.stand_in));
+                Outcome::Built { triangles: n, left_out: built.dropped }
+            }
+            Err(why) => Outcome::Skipped(why.to_string()),
+        };
+        rows.push((format!("solid {}", set.solids[solid].id), triangles, outcome));
     }
     bar.finish_and_clear();
     let out = match out {

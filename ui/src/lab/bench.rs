@@ -19,6 +19,8 @@ pub struct BenchOptions<'a> {
     pub settings: CullSettings,
     /// The set's pre-computed occluders.
     pub database: Option<vbrain::cull::database::Database>,
+    /// Clip planes cutting every frame.
+    pub section: vbrain::clip::Section,
 }
 
 pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, opts: &BenchOptions) -> Result<()> {
@@ -42,6 +44,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
             settings: opts.settings,
             route: opts.route,
             database: opts.database.as_ref(),
+            section: &opts.section,
         },
         &mut |d, _| bar.set_position(d as u64),
     )?;
@@ -98,11 +101,11 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
 }
 
 fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,exact_hidden_leaves,culled_hidden_leaves")?;
+    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
     for r in records {
         writeln!(
             w,
-            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{}",
+            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{},{}",
             r.mode.name(),
             r.frame,
             r.cull_ms,
@@ -117,8 +120,10 @@ fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Re
             r.occluder_leaves,
             r.occluder_triangles,
             r.nodes_tested,
+            r.back_face_culled,
             r.exact_hidden_leaves,
-            r.culled_hidden_leaves
+            r.culled_hidden_leaves,
+            r.exact_hidden_triangles
         )?;
     }
     Ok(())

@@ -123,9 +123,9 @@ fn hide_fade_select_and_export() {
     let mut h = harness();
     let frontal = organ(&h, "precentral_l");
     let total = h.state().scene().unwrap().set().triangle_count();
-    assert!(
-        h.state().viewport().stats().triangles_drawn > 100_000 && h.state().viewport().stats().triangles_drawn < total
-    );
+    // The visible cortex is drawn; culling leaves out what it hides.
+    let drawn = h.state().viewport().stats().triangles_drawn;
+    assert!(drawn > 20_000 && drawn < total, "{drawn} of {total} triangles drawn");
     let before = h.state().read_image().unwrap();
     assert!(pixels_of(&h, frontal) > 1000);
     // The lobes start closed; a search opens the groups of what it finds.
