@@ -207,6 +207,20 @@ def ball(r):
     return (g ** 2).sum(0) <= r * r
 
 
+def solids(entries):
+    """Organs that fill one solid together, for occlusion culling (`vbrain stand-ins` builds a
+    stand-in inside each union): the brain, each cerebral hemisphere, and each hemisphere's
+    inside (everything under its cortex)."""
+    brain = [e["id"] for e in entries if e["group"] != "Head"]
+    out = [{"id": "brain", "organs": brain}]
+    for side in ("l", "r"):
+        cerebrum = [i for i in brain if i.endswith("_" + side) and not i.startswith("cerebellum")]
+        cortex = {e["id"] for e in entries if e["group"].startswith("Cerebrum/") and e["group"].count("/") == 2}
+        out.append({"id": f"cerebrum_{side}", "organs": cerebrum})
+        out.append({"id": f"deep_{side}", "organs": [i for i in cerebrum if i not in cortex]})
+    return out
+
+
 def run_import(volume, table, out, triangles, title):
     # Seamless: neighbouring organs (gyri, cortex and white matter) share their boundary surfaces.
     subprocess.run([VBRAIN, "import", str(volume), "--labels", str(table), "--out", str(out),
@@ -298,6 +312,7 @@ def main():
         "description": "An adult human brain in MNI152 space with head and skull: the 34 cortical regions (gyri) per hemisphere of the Desikan-Killiany atlas, grouped by lobe, subcortical structures, ventricles, brainstem and cerebellum from FreeSurfer's aseg labels, and scalp and skull from FreeSurfer's fsaverage surfaces. Built by build_brain.py; see README.md for sources and licences.",
         "sources": SOURCES,
         "organs": entries,
+        "solids": solids(entries),
     }
     (HERE / "organset.json").write_text(json.dumps(manifest, indent=2, ensure_ascii=False) + "\n")
     print(f"wrote {len(entries)} organs to {HERE}")
