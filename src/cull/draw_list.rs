@@ -39,6 +39,8 @@ pub struct CullStats {
     pub back_face_culled: usize,
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
+    /// Solids whose stand-ins were rasterised (their leaves are among the occluder leaves).
+    pub solids: usize,
     /// Occluder triangles rasterised (facing the eye).
     pub occluder_triangles: usize,
     /// Where the occluders came from (`None` without occlusion culling or with occluders given).

@@ -254,6 +254,7 @@ fn cull_in_phases<'a>(
             }
         };
         let solids = selection::solids(set, layout, &view_proj, &occluding);
+        stats.solids = solids.len();
         let mut o = rasterise_occluders(set, layout, &view_proj, &solids, &list, w, h, &phases.raster);
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =

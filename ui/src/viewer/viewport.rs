@@ -463,7 +463,7 @@ impl Viewport {
         let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
-            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent(), !section.planes.is_empty());
+            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent());
         }
         if input.labels != crate::annotate::Labels::None {
             self.paint_labels(ui, rect, input, &input.labels);
@@ -513,31 +513,23 @@ impl Viewport {
 }
 
 /// The statistics overlay (top left): culling and transparency figures of the frame.
-fn overlay(
-    ui: &egui::Ui,
-    rect: Rect,
-    settings: &Settings,
-    cull: &CullStats,
-    stats: &RenderStats,
-    faded: bool,
-    cut: bool,
-) {
+fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, stats: &RenderStats, faded: bool) {
     let mut lines = Vec::new();
     if settings.cull.mode != vbrain::cull::CullMode::None {
-        let cut_note = if cut && settings.cull.mode == vbrain::cull::CullMode::Occlusion {
-            " (frustum only while planes cut)"
-        } else {
-            ""
-        };
         lines.push(format!(
-            "culling: {}{cut_note}\n{:.1} % culled ({} frustum, {} occlusion triangles)\n{} occluder leaves, {} triangles{}\n{} nodes tested, {:.2} ms",
+            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion, {} facing away triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
             settings.cull.mode.name(),
             cull.culled_percent(),
             cull.frustum_culled,
             cull.occlusion_culled,
+            cull.back_face_culled,
             cull.occluder_leaves,
             cull.occluder_triangles,
             cull.source.map_or(String::new(), |s| format!(" by {}", s.name())),
+            match cull.solids {
+                0 => String::new(),
+                n => format!(", {n} solid{}", if n == 1 { "" } else { "s" }),
+            },
             cull.nodes_tested,
             cull.cull_ms
         ));
