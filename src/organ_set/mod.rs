@@ -229,19 +229,6 @@ impl OrganSet {
         }
     }
 
-    /// Writes the solids' stand-ins into `dir/meshes`, each file atomically.
-    fn save_solids(&self, dir: &Path) -> Result<()> {
-        let meshes = dir.join("meshes");
-        for s in &self.solids {
-            if let Some(stand_in) = &s.stand_in {
-                std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
-                let path = meshes.join(format!("{}.solid.vbo", s.id));
-                crate::atomic::write(&path, |w| obj::write_vbo(&[(&s.id, &stand_in.mesh)], w))?;
-            }
-        }
-        Ok(())
-    }
-
     /// Writes the set as a folder: `organset.json`, `meshes/<id>.vbo` and the stand-ins, each file
     /// atomically.
     pub fn save(&self, dir: &Path) -> Result<()> {
@@ -250,12 +237,32 @@ impl OrganSet {
         for o in &self.organs {
             crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
         }
-        self.save_stand_ins(dir)
+        self.write_stand_ins(dir)?;
+        write_manifest(dir, &self.manifest())
     }
 
-    /// Writes the occluder stand-ins and `organset.json` into the set's folder `dir`, leaving the
-    /// organs' meshes as they are (so their triangle order, which `occluders.json` names, stays).
+    /// Writes the occluder stand-ins into the set's folder `dir` and names them in its
+    /// `organset.json`, leaving everything else there as it is: the organs' meshes (their triangle
+    /// order, which `occluders.json` names, stays) and every other field of the manifest (the
+    /// meshes' paths among them). The manifest is read first; one that does not read is an error,
+    /// and nothing is written.
     pub fn save_stand_ins(&self, dir: &Path) -> Result<()> {
+        let path = dir.join(MANIFEST_FILE);
+        let text = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+        let mut manifest: Manifest =
+            serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
+        self.write_stand_ins(dir)?;
+        for entry in &mut manifest.organs {
+            if let Some(o) = self.organs.iter().find(|o| o.id == entry.id) {
+                entry.occluder = o.stand_in.as_ref().map(|_| format!("meshes/{}.occluder.vbo", o.id));
+            }
+        }
+        manifest.solids = self.manifest().solids;
+        write_manifest(dir, &manifest)
+    }
+
+    /// Writes the organs' and the solids' stand-ins into `dir/meshes`, each file atomically.
+    fn write_stand_ins(&self, dir: &Path) -> Result<()> {
         let meshes = dir.join("meshes");
         std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
         for o in &self.organs {
@@ -264,12 +271,22 @@ impl OrganSet {
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&o.name, &stand_in.mesh)], w))?;
             }
         }
-        self.save_solids(dir)?;
-        let path = dir.join(MANIFEST_FILE);
-        let json = serde_json::to_string_pretty(&self.manifest())
-            .map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
-        crate::atomic::write(&path, |w| w.write_all(json.as_bytes()))
+        for s in &self.solids {
+            if let Some(stand_in) = &s.stand_in {
+                let path = meshes.join(format!("{}.solid.vbo", s.id));
+                crate::atomic::write(&path, |w| obj::write_vbo(&[(&s.id, &stand_in.mesh)], w))?;
+            }
+        }
+        Ok(())
     }
+}
+
+/// Writes `organset.json` into `dir`, atomically.
+fn write_manifest(dir: &Path, manifest: &Manifest) -> Result<()> {
+    let path = dir.join(MANIFEST_FILE);
+    let json = serde_json::to_string_pretty(manifest)
+        .map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
+    crate::atomic::write(&path, |w| w.write_all(json.as_bytes()))
 }
 
 /// Opens an organ set folder, a folder of mesh files, or one mesh file.

@@ -301,8 +301,15 @@ fn import_a_label_volume_then_scale_it() {
     ]));
     assert!(std::fs::read_to_string(out2.join("organset.json")).unwrap().contains("#dcd814"));
 
-    // Occluder stand-ins, in place: only the stand-ins and the manifest are written.
-    let mesh = std::fs::read(out.join("meshes").read_dir().unwrap().next().unwrap().unwrap().path()).unwrap();
+    // Occluder stand-ins, in place: only the stand-ins and the manifest are written, and the
+    // manifest keeps the meshes' own paths (here one moved out of `meshes/<id>.vbo`).
+    let manifest_path = out.join("organset.json");
+    let manifest = std::fs::read_to_string(&manifest_path).unwrap();
+    let first: serde_json::Value = serde_json::from_str(&manifest).unwrap();
+    let moved = first["organs"][0]["mesh"].as_str().unwrap().to_string();
+    std::fs::rename(out.join(&moved), out.join("moved.vbo")).unwrap();
+    std::fs::write(&manifest_path, manifest.replace(&format!("\"{moved}\""), "\"moved.vbo\"")).unwrap();
+    let mesh = std::fs::read(out.join("moved.vbo")).unwrap();
     let st = json(&vbrain(&[
         "stand-ins",
         out.to_str().unwrap(),
@@ -323,10 +330,10 @@ fn import_a_label_volume_then_scale_it() {
     assert!(std::fs::read_dir(out.join("meshes"))
         .unwrap()
         .any(|e| { e.unwrap().file_name().to_string_lossy().ends_with(".occluder.vbo") }));
-    let again =
-        out.join("meshes").read_dir().unwrap().map(|e| e.unwrap().path()).find(|p| std::fs::read(p).unwrap() == mesh);
-    assert!(again.is_some(), "the organs' meshes were rewritten");
-    json(&vbrain(&["info", out.to_str().unwrap(), "--json"]));
+    assert_eq!(std::fs::read(out.join("moved.vbo")).unwrap(), mesh, "an organ's mesh was rewritten");
+    assert!(std::fs::read_to_string(&manifest_path).unwrap().contains("\"moved.vbo\""), "the mesh's path was lost");
+    let after = json(&vbrain(&["info", out.to_str().unwrap(), "--json"]));
+    assert_eq!(after["organs"].as_array().unwrap().len(), first["organs"].as_array().unwrap().len());
     let r = vbrain(&["stand-ins", vol.to_str().unwrap()]);
     assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("give --out"));
 
