@@ -5,12 +5,15 @@
 //!
 //! The steps of a frame, one module each:
 //! 1. [`selection`]: occluders by projected size, or the pre-computed minimum occluder sets of the
-//!    [`database`] while the layout is unchanged (§3.1-3.2);
+//!    [`database`] while the layout is unchanged (§3.1-3.2); and the set's solids whose organs are
+//!    all opaque, unmoved relative to each other and clear of the clip planes (beyond the thesis:
+//!    one stand-in inside a union of organs, with no seams between them);
 //! 2. [`raster`]: their front triangles rasterised conservatively into coverage and depth (§3.3);
 //! 3. maps: the [`opacity_map`] (summed-area table) and the [`sparse_depth`] map (§3.4), held with
 //!    the tests of boxes, footprints, triangles and points by [`occluders`] ([`depth_bound`]: a
 //!    box's depth pixel by pixel);
-//! 4. [`traversal`]: each organ's hierarchy front to back, with the adaptive stop (§3.4);
+//! 4. [`traversal`]: each organ's hierarchy front to back, with the adaptive stop (§3.4), and
+//!    normal cones culling runs that face away (beyond the thesis; counted apart);
 //! 5. [`jobs`]: the traversal's subtrees shared between the calling thread and the pool
 //!    ([`share`]).
 //!
