@@ -76,6 +76,45 @@ pub fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
     Ok(found)
 }
 
+/// Refuses an output folder that already holds files (a user's organ set, say) unless `force`,
+/// and a path that is not a folder.
+pub fn writable_folder(out: &Path, force: bool) -> Result<()> {
+    match std::fs::metadata(out) {
+        Err(_) => Ok(()),
+        Ok(m) if !m.is_dir() => bail!("{}: exists and is not a folder", out.display()),
+        Ok(_) => {
+            let held = std::fs::read_dir(out).map_err(|e| anyhow!("{}: {e}", out.display()))?.count();
+            if held > 0 && !force {
+                bail!(
+                    "{}: already holds {held} files or folders; give --force to replace them, or a new folder",
+                    out.display()
+                );
+            }
+            Ok(())
+        }
+    }
+}
+
+/// Refuses to write an image over a file that is not a PNG image (a manifest, say) unless `force`.
+pub fn writable_png(out: &Path, force: bool) -> Result<()> {
+    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
+    match std::fs::metadata(out) {
+        Err(_) => Ok(()),
+        Ok(m) if m.is_dir() => bail!("{}: is a folder; give a file name ending in .png", out.display()),
+        Ok(_) if force => Ok(()),
+        Ok(_) => {
+            let mut head = [0u8; 8];
+            let png = std::fs::File::open(out)
+                .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
+                .is_ok_and(|()| head == SIGNATURE);
+            if !png {
+                bail!("{}: exists and is not a PNG image; give --force to replace it", out.display());
+            }
+            Ok(())
+        }
+    }
+}
+
 /// Prints what a command wrote: organs and triangles (with `json`, as one object).
 pub fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
     if json {

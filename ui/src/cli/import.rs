@@ -1,11 +1,12 @@
 //! `vbrain import`: a label volume (NIfTI) and its label table become an organ set.
 
-use super::common::{progress_bar, summary};
+use super::common::{progress_bar, summary, writable_folder};
 use super::ImportArgs;
 use anyhow::Result;
 use vbrain::organ_set::import;
 
 pub fn run(args: &ImportArgs) -> Result<bool> {
+    writable_folder(&args.out, args.force)?;
     let table = import::read_label_table(&args.labels)?;
     let vol = import::read_volume(&args.volume)?;
     let title = args.title.clone().unwrap_or_else(|| {

@@ -160,6 +160,9 @@ pub struct RenderArgs {
     /// Output PNG file
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace --out even where it is not a PNG image
+    #[arg(long)]
+    pub force: bool,
     /// Image size, WxH
     #[arg(long, default_value = "1024x1024", value_parser = values::size)]
     pub size: Size,
@@ -231,6 +234,9 @@ pub struct ImportArgs {
     /// Output folder for the organ set
     #[arg(long)]
     pub out: PathBuf,
+    /// Write into --out even where it already holds files
+    #[arg(long)]
+    pub force: bool,
     /// Triangle budget for the whole set
     #[arg(long, default_value_t = 200_000)]
     pub triangles: usize,
@@ -385,6 +391,9 @@ pub struct ScaleArgs {
     pub factor: f64,
     #[arg(long)]
     pub out: PathBuf,
+    /// Write into --out even where it already holds files (the original set, say)
+    #[arg(long)]
+    pub force: bool,
     #[arg(long)]
     pub json: bool,
 }

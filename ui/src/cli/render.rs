@@ -22,6 +22,7 @@ use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile};
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
+    super::common::writable_png(&args.out, args.force)?;
     let (width, height) = (args.size.width, args.size.height);
     let scene = match &args.scene {
         Some(p) => Some((p, SceneFile::load(p).map_err(|e| anyhow!(e))?)),

@@ -342,7 +342,26 @@ fn import_a_label_volume_then_scale_it() {
         json(&vbrain(&["scale", out.to_str().unwrap(), "--factor", "4", "--out", scaled.to_str().unwrap(), "--json"]));
     assert_eq!(s["triangles"].as_u64().unwrap(), 4 * v["triangles"].as_u64().unwrap());
 
+    // A folder that holds a set is not written over without --force, nor a manifest by an image.
+    let before = std::fs::read(out.join("organset.json")).unwrap();
+    let (o, s) = (out.to_str().unwrap(), scaled.to_str().unwrap());
+    for args in [
+        &["import", vol.to_str().unwrap(), "--labels", csv.to_str().unwrap(), "--out", o][..],
+        &["scale", o, "--factor", "4", "--out", o],
+        &["scale", o, "--factor", "4", "--out", s],
+    ] {
+        let r = vbrain(args);
+        assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("--force"), "{args:?}");
+    }
+    let manifest = out.join("organset.json");
+    let r = vbrain(&["render", o, "--size", "32x32", "--out", manifest.to_str().unwrap()]);
+    assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("not a PNG"));
+    assert_eq!(std::fs::read(&manifest).unwrap(), before, "the manifest was written over");
+    json(&vbrain(&["scale", o, "--factor", "4", "--out", s, "--force", "--json"]));
+
     // Bad input: clear errors naming the file.
+    let fresh = dir.path().join("fresh");
+    let out = &fresh;
     let junk = dir.path().join("junk.nii");
     std::fs::write(&junk, b"not a nifti").unwrap();
     let r =
