@@ -135,7 +135,14 @@ pub struct Orbit {
 
 pub fn orbit(s: &str) -> Result<Orbit> {
     let (az, el) = s.split_once(',').ok_or_else(|| anyhow!("orbit \"{s}\" is not AZ,EL"))?;
-    let angle = |v: &str, what: &str| v.trim().parse::<f32>().map_err(|e| anyhow!("{what} in \"{s}\": {e}"));
+    let angle = |v: &str, what: &str| {
+        let a = v.trim().parse::<f32>().map_err(|e| anyhow!("{what} in \"{s}\": {e}"))?;
+        // Beyond a turn's many multiples, degrees lose the precision of a pixel.
+        if !(a.is_finite() && a.abs() <= 1e6) {
+            bail!("{what} {a} in \"{s}\" is not a number of degrees within +-1000000");
+        }
+        Ok(a)
+    };
     Ok(Orbit { azimuth: angle(az, "azimuth")?, elevation: angle(el, "elevation")? })
 }
 
@@ -211,6 +218,14 @@ pub fn quiz_mode(s: &str) -> Result<vbrain::quiz::Mode> {
 mod tests {
     use super::*;
     use clap::ValueEnum;
+
+    #[test]
+    fn orbits_are_finite_angles() {
+        assert_eq!(orbit("30, -15").unwrap(), Orbit { azimuth: 30.0, elevation: -15.0 });
+        for bad in ["1e309,0", "nan,nan", "0,inf", "1e7,0", "30", "a,b"] {
+            assert!(orbit(bad).is_err(), "{bad} accepted");
+        }
+    }
 
     #[test]
     fn enums_offer_every_core_value_by_its_name() {
