@@ -11,8 +11,7 @@ use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::render::{FrameInput, Renderer, Target};
 
-/// The largest exported side, in pixels.
-pub const MAX_SIDE: u32 = 8192;
+pub use super::settings::MAX_EXPORT_SIDE as MAX_SIDE;
 
 /// `<set>-YYYYMMDD-HHMMSS.png` for the set's title and a time (UTC).
 pub fn default_file_name(title: &str, now: std::time::SystemTime) -> String {

@@ -10,6 +10,9 @@ use vbrain::organ_set::OrganSet;
 pub const STORAGE_KEY: &str = "vbrain-settings";
 const MAX_RECENT: usize = 10;
 
+/// The largest exported side, in pixels.
+pub const MAX_EXPORT_SIDE: u32 = 8192;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct Settings {
@@ -133,9 +136,38 @@ impl Default for Settings {
 }
 
 impl Settings {
-    /// Reads the settings; missing or unreadable (corrupted) entries give the defaults.
+    /// Reads the settings; missing or unreadable (corrupted) entries give the defaults, and values
+    /// out of what the menus offer are brought into it ([`Settings::clamped`]).
     pub fn load(storage: Option<&dyn eframe::Storage>) -> Settings {
-        storage.and_then(|s| eframe::get_value(s, STORAGE_KEY)).unwrap_or_default()
+        storage.and_then(|s| eframe::get_value::<Settings>(s, STORAGE_KEY)).unwrap_or_default().clamped()
+    }
+
+    /// The settings with every value inside the range its menu offers (a hand-edited settings file
+    /// is input): culling raster 32..=512 square, occluder triangles 128..=131,072, ratios and
+    /// colours 0..=1, sub-samples among the supported counts, regions 4..=128 pixels, K 1..=16,
+    /// export sizes 1..=8192. A value that is not a number takes its default.
+    pub fn clamped(mut self) -> Settings {
+        let d = Settings::default();
+        let unit = |v: f32, default: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { default };
+        let c = &mut self.cull;
+        c.width = c.width.clamp(32, 512);
+        c.height = c.width;
+        c.occluder_triangles = c.occluder_triangles.clamp(128, 131_072);
+        c.adaptive_ratio = unit(c.adaptive_ratio, d.cull.adaptive_ratio);
+        c.hole_tolerance = c.hole_tolerance.filter(|t| t.is_finite()).map(|t| t.clamp(0.0, 0.5));
+        c.occluder_leaves = c.occluder_leaves.map(|n| n.clamp(1, 1 << 20));
+        let t = &mut self.transparency;
+        t.subsamples = vbrain::transparency::clamp_subsamples(t.subsamples);
+        t.interactive_subsamples = vbrain::transparency::clamp_subsamples(t.interactive_subsamples);
+        t.region_px = t.region_px.clamp(4, 128);
+        t.k = t.k.clamp(1, 16);
+        for (v, default) in self.background.iter_mut().zip(d.background) {
+            *v = unit(*v, default);
+        }
+        self.pick_min_opacity = unit(self.pick_min_opacity, d.pick_min_opacity);
+        self.export.custom = self.export.custom.map(|v| v.clamp(1, MAX_EXPORT_SIDE));
+        self.recent.truncate(MAX_RECENT);
+        self
     }
 
     pub fn save(&self, storage: &mut dyn eframe::Storage) {
@@ -195,6 +227,28 @@ mod tests {
         // Unknown or missing fields do not lose the rest.
         store.set_string(STORAGE_KEY, "(show_stats: false, future_field: 3)".into());
         assert!(!Settings::load(Some(&store)).show_stats);
+    }
+
+    #[test]
+    fn a_hand_edited_settings_file_is_brought_into_range() {
+        let mut store = Store::default();
+        let mut wild = Settings::default();
+        (wild.cull.width, wild.cull.height) = (65535, 65535);
+        wild.cull.adaptive_ratio = f32::NAN;
+        wild.transparency.subsamples = 1000;
+        wild.transparency.region_px = 0;
+        wild.transparency.k = 999;
+        wild.background = [f32::INFINITY, -3.0, 0.5];
+        wild.export.custom = [0, 1_000_000];
+        wild.save(&mut store);
+        let s = Settings::load(Some(&store));
+        assert_eq!((s.cull.width, s.cull.height), (512, 512));
+        assert_eq!(s.cull.adaptive_ratio, Settings::default().cull.adaptive_ratio);
+        assert_eq!((s.transparency.subsamples, s.transparency.region_px, s.transparency.k), (64, 4, 16));
+        assert_eq!(s.background, [Settings::default().background[0], 0.0, 0.5]);
+        assert_eq!(s.export.custom, [1, super::MAX_EXPORT_SIDE]);
+        // What the menus offer is kept as it is.
+        assert_eq!(Settings::default().clamped(), Settings::default());
     }
 
     #[test]
