@@ -378,6 +378,16 @@ fn import_a_label_volume_then_scale_it() {
         out.to_str().unwrap(),
     ]);
     assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("bad.csv:3"));
+    // A table none of whose labels the volume holds yields no organ: an error, and no set.
+    let other = dir.path().join("other.csv");
+    std::fs::write(&other, "index,name\n5,Fifth\n").unwrap();
+    let r =
+        vbrain(&["import", vol.to_str().unwrap(), "--labels", other.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(
+        !r.status.success() && String::from_utf8_lossy(&r.stderr).contains("no label of the table occurs"),
+        "{r:?}"
+    );
+    assert!(!out.join("organset.json").exists());
 }
 
 #[test]
