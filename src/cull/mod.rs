@@ -236,16 +236,16 @@ fn cull_in_phases<'a>(
     phases: &Phases<'a>,
 ) -> (DrawList, CullStats) {
     let view_proj = camera.view_projection(aspect);
-    // Per organ: whether it may occlude, opaque and clear of the planes.
-    let occluding: Vec<bool> = set
+    // Per organ: whether the planes leave it as it is (they miss it by the margin, or keep it
+    // whole), and whether it may occlude: opaque as well.
+    let clear: Vec<bool> = set
         .organs
         .iter()
         .zip(&layout.organs)
         .enumerate()
-        .map(|(o, (organ, state))| {
-            state.is_opaque() && (!clip.applies_to(o) || clear_of_planes(organ, state, camera, clip))
-        })
+        .map(|(o, (organ, state))| !clip.applies_to(o) || clear_of_planes(organ, state, camera, clip))
         .collect();
+    let occluding: Vec<bool> = layout.organs.iter().zip(&clear).map(|(s, &c)| s.is_opaque() && c).collect();
     let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
     let occ = (settings.mode == CullMode::Occlusion).then(|| {
@@ -281,7 +281,7 @@ fn cull_in_phases<'a>(
         .map(|(o, ((organ, state), witnesses))| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
             // The renderer draws a cut organ's back faces as its cut faces.
-            let capped = clip.caps && clip.applies_to(o) && !clear_of_planes(organ, state, camera, clip);
+            let capped = clip.caps && !clear[o];
             let back_faces_culled = organ.closed() && !capped;
             drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera, witnesses, back_faces_culled))
         })

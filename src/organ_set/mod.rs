@@ -394,21 +394,28 @@ fn load_solids(
         let mut organs = ids.unwrap_or_default();
         organs.sort_unstable();
         organs.dedup();
-        let stand_in = entry.occluder.as_ref().and_then(|p| match obj::read(&dir.join(p)) {
-            Ok(f) => {
-                warnings.extend(f.warnings);
-                let mut mesh = Mesh::default();
-                f.objects.iter().for_each(|o| mesh.append(&o.mesh));
-                Some(StandIn::new(mesh))
-            }
-            Err(e) => {
-                warnings.push(format!("solid \"{}\": occluder stand-in ignored: {e}", entry.id));
-                None
-            }
-        });
+        let owner = format!("solid \"{}\"", entry.id);
+        let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(&dir.join(p), &owner, warnings));
         solids.push(Solid { id: entry.id.clone(), organs, stand_in });
     }
     solids
+}
+
+/// Reads an occluder stand-in (of `owner`, for the warnings), or warns and gives none: a broken
+/// stand-in costs only speed.
+fn read_stand_in(path: &Path, owner: &str, warnings: &mut Vec<String>) -> Option<StandIn> {
+    match obj::read(path) {
+        Ok(f) => {
+            warnings.extend(f.warnings);
+            let mut mesh = Mesh::default();
+            f.objects.iter().for_each(|o| mesh.append(&o.mesh));
+            Some(StandIn::new(mesh))
+        }
+        Err(e) => {
+            warnings.push(format!("{owner}: occluder stand-in ignored: {e}"));
+            None
+        }
+    }
 }
 
 fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {
@@ -421,18 +428,8 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
     let colour = manifest::parse_colour(&entry.colour).unwrap_or([0.8; 3]);
     let mut warnings = file.warnings;
     // A broken stand-in costs only speed: the organ occludes with its own triangles.
-    let stand_in = entry.occluder.as_ref().and_then(|p| match obj::read(&dir.join(p)) {
-        Ok(f) => {
-            warnings.extend(f.warnings);
-            let mut mesh = Mesh::default();
-            f.objects.iter().for_each(|o| mesh.append(&o.mesh));
-            Some(StandIn::new(mesh))
-        }
-        Err(e) => {
-            warnings.push(format!("organ \"{}\": occluder stand-in ignored: {e}", entry.id));
-            None
-        }
-    });
+    let owner = format!("organ \"{}\"", entry.id);
+    let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(&dir.join(p), &owner, &mut warnings));
     let organ = Organ {
         stand_in,
         group: entry.group.clone(),

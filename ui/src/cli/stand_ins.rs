@@ -55,9 +55,8 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     for solid in 0..set.solids.len() {
         let members: Vec<&vbrain::mesh::Mesh> =
             set.solids[solid].organs.iter().map(|&o| set.organs[o].mesh()).collect();
-        let union = stand_in::union_surface(&members);
-        let triangles = union.triangle_count();
-        let mut mesh = union.clone();
+        let mut mesh = stand_in::union_surface(&members);
+        let triangles = mesh.triangle_count();
         let bvh = vbrain::bvh::Bvh::build(&mut mesh);
         let options = stand_in::InnerOptions { triangles: args.solid_triangles, offset: args.solid_offset };
         let outcome = match stand_in::build_inner(&mesh, &bvh, options) {
