@@ -1,16 +1,19 @@
 // Organ shading: world-space vertices (model matrix applied here), headlight lighting.
 // Entry points: vs_main (all organ pipelines), fs_shade (opaque, blended and layer pipelines),
+// fs_peel (a layer of depth peeling), fs_dual_init and fs_dual_peel (dual depth peeling),
 // fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the "leaf pick"
 // pipeline writing the instance index, which the benchmark sets to a leaf number), fs_screendoor
 // (transparent organs through their sub-sample masks), fs_weighted (weighted blended OIT) and
 // fs_mask (the outline mask: the organ's colour slot holds its mask channels).
-// Keep in sync with FrameUniform, OrganUniform and ScreendoorUniform in src/render/.
+// Keep in sync with FrameUniform, OrganUniform and ScreendoorUniform in src/render/. The
+// peeling entry points take the sample index, so they run per MSAA sample.
 
 struct Frame {
     view_proj: mat4x4<f32>,
     // Camera position in world space (w unused).
     eye: vec4<f32>,
-    // xy: sub-pixel shift of this pass in NDC units (multiplied by w); zw unused.
+    // Where this pass draws: NDC x' = x * zw + xy (a sub-pixel shift, or a screen-door tile of the
+    // atlas; zw is (1, 1) otherwise).
     jitter: vec4<f32>,
     // Clip planes: xyz the unit normal, w the offset; a point p is removed where dot(n, p) > w.
     clip: array<vec4<f32>, 4>,
@@ -48,7 +51,7 @@ fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
     out.instance = instance;
     let world = organ.model * vec4<f32>(in.position, 1.0);
     let clip = frame.view_proj * world;
-    out.clip = vec4<f32>(clip.xy + frame.jitter.xy * clip.w, clip.zw);
+    out.clip = vec4<f32>(clip.xy * frame.jitter.zw + frame.jitter.xy * clip.w, clip.zw);
     out.world = world.xyz;
     out.normal = (organ.normal_matrix * vec4<f32>(in.normal, 0.0)).xyz;
     return out;
@@ -100,11 +103,11 @@ struct Screendoor {
     cols: u32,
     rows: u32,
     organs: u32,
+    // Where the pass's tile of the atlas lies: atlas pixel = screen pixel + offset.
+    offset: vec2<i32>,
     // The pass being drawn: its four samples are bits 4 * pass .. 4 * pass + 3.
     pass_index: u32,
-    pad0: u32,
-    pad1: u32,
-    pad2: u32,
+    pad: u32,
 };
 
 @group(2) @binding(0) var<uniform> screendoor: Screendoor;
@@ -119,7 +122,7 @@ struct Masked {
 @fragment
 fn fs_screendoor(in: VsOut, @builtin(front_facing) front: bool) -> Masked {
     clip(in);
-    let px = vec2<u32>(in.clip.xy);
+    let px = vec2<u32>(max(vec2<i32>(in.clip.xy) - screendoor.offset, vec2<i32>(0)));
     let col = min(px.x / screendoor.region_px, screendoor.cols - 1u);
     let row = min(px.y / screendoor.region_px, screendoor.rows - 1u);
     let config = region_config[row * screendoor.cols + col];
@@ -151,6 +154,95 @@ fn fs_weighted(in: VsOut, @builtin(front_facing) front: bool) -> Weighted {
     var out: Weighted;
     out.accum = vec4<f32>(surface(in, front) * a, a) * w;
     out.reveal = vec4<f32>(a);
+    return out;
+}
+
+// Depth peeling (Everitt 2001), per sample: the nearest faded surface behind the layer peeled
+// last and in front of the opaque organs, premultiplied. Its depth is written as computed here, so
+// the next layer's test against it is exact.
+@group(2) @binding(0) var peeled_depth: texture_depth_multisampled_2d;
+@group(2) @binding(1) var opaque_depth: texture_depth_multisampled_2d;
+
+struct Peeled {
+    @location(0) colour: vec4<f32>,
+    @builtin(frag_depth) depth: f32,
+};
+
+@fragment
+fn fs_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_index) s: u32) -> Peeled {
+    clip(in);
+    let at = vec2<i32>(in.clip.xy);
+    let z = in.clip.z;
+    if z <= textureLoad(peeled_depth, at, i32(s)) || z >= textureLoad(opaque_depth, at, i32(s)) {
+        discard;
+    }
+    let a = organ.colour.a;
+    var out: Peeled;
+    out.colour = vec4<f32>(surface(in, front) * a, a);
+    out.depth = z;
+    return out;
+}
+
+// Dual depth peeling (Bavoil and Myers 2008), per sample, every target MAX-blended: the nearest
+// and farthest depth still to peel (stored as -near and far), the front layers composited front to
+// back (premultiplied), and this pass's back layer (straight alpha), which the renderer then
+// blends over the back layers so far. The opaque organs' depth is the depth test.
+@group(2) @binding(2) var dual_near: texture_multisampled_2d<f32>;
+@group(2) @binding(3) var dual_far: texture_multisampled_2d<f32>;
+@group(2) @binding(4) var dual_front: texture_multisampled_2d<f32>;
+
+struct DualDepth {
+    @location(0) near: vec4<f32>,
+    @location(1) far: vec4<f32>,
+};
+
+@fragment
+fn fs_dual_init(in: VsOut, @builtin(sample_index) s: u32) -> DualDepth {
+    clip(in);
+    // Per sample, as the peeling passes: their depths must match these bit for bit.
+    let z = in.clip.z + f32(s) * 0.0;
+    var out: DualDepth;
+    out.near = vec4<f32>(-z);
+    out.far = vec4<f32>(z);
+    return out;
+}
+
+struct Dual {
+    @location(0) near: vec4<f32>,
+    @location(1) far: vec4<f32>,
+    @location(2) front: vec4<f32>,
+    @location(3) back: vec4<f32>,
+};
+
+@fragment
+fn fs_dual_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_index) s: u32) -> Dual {
+    clip(in);
+    let at = vec2<i32>(in.clip.xy);
+    let z = in.clip.z;
+    let near = -textureLoad(dual_near, at, i32(s)).r;
+    let far = textureLoad(dual_far, at, i32(s)).r;
+    let f = textureLoad(dual_front, at, i32(s));
+    var out: Dual;
+    // Passed through by default (MAX keeps the largest).
+    out.near = vec4<f32>(-1.0);
+    out.far = vec4<f32>(-1.0);
+    out.front = f;
+    out.back = vec4<f32>(0.0);
+    if z < near || z > far {
+        return out;
+    }
+    if z > near && z < far {
+        out.near = vec4<f32>(-z);
+        out.far = vec4<f32>(z);
+        return out;
+    }
+    let c = vec4<f32>(surface(in, front), organ.colour.a);
+    if z == near {
+        let through = 1.0 - f.a;
+        out.front = vec4<f32>(f.rgb + c.rgb * c.a * through, 1.0 - through * (1.0 - c.a));
+    } else {
+        out.back = c;
+    }
     return out;
 }
 

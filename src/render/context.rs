@@ -41,6 +41,8 @@ impl GpuContext {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("vbrain headless"),
             required_limits: limits,
+            // Dual depth peeling blends 32-bit floats, where the adapter can.
+            required_features: adapter.features() & wgpu::Features::FLOAT32_BLENDABLE,
             ..Default::default()
         }))
         .map_err(|e| Error::Device { adapter: adapter.get_info().name, message: e.to_string() })?;

@@ -6,7 +6,6 @@
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::pipelines::{clear_colour, target, OrganPipeline, OrganPipelines, PipelineFactory};
-use super::screendoor::ndc_jitter;
 use super::target::{read_texture, DEPTH_FORMAT};
 use crate::error::Result;
 
@@ -30,6 +29,11 @@ impl Exact {
         });
         Exact { layer }
     }
+}
+
+/// Pixel-unit jitter to the frame uniform's NDC shift (y flips: pixels go down, NDC up).
+fn ndc_jitter(j: glam::Vec2, target: &super::target::Target) -> [f32; 4] {
+    [2.0 * j.x / target.width as f32, -2.0 * j.y / target.height as f32, 1.0, 1.0]
 }
 
 impl Technique for Exact {

@@ -37,6 +37,10 @@ pub struct FrameInput<'a> {
     pub caps: bool,
     /// Organs the planes never cut ("do not cut").
     pub whole: &'a [usize],
+    /// Progressive refinement (the viewer): if the target shows this same frame in part, add one
+    /// more screen-door pass to it; otherwise start it with the interactive count of passes.
+    /// `false` draws the full count at once (exports, headless renders).
+    pub refine: bool,
 }
 
 impl<'a> FrameInput<'a> {
@@ -56,7 +60,39 @@ impl<'a> FrameInput<'a> {
             clip: &[],
             caps: true,
             whole: &[],
+            refine: false,
         }
+    }
+
+    /// A hash of everything that changes the image: equal for the same frame. Not `refine`, and
+    /// not the draw list: culling never changes a pixel, so passes drawn with different lists of
+    /// the same view add up to the same image.
+    pub fn fingerprint(&self) -> u64 {
+        use std::hash::{Hash, Hasher};
+        let mut h = std::collections::hash_map::DefaultHasher::new();
+        let floats =
+            |v: &[f32], h: &mut std::collections::hash_map::DefaultHasher| v.iter().for_each(|f| f.to_bits().hash(h));
+        let c = self.camera;
+        floats(&[c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z], &mut h);
+        floats(&[c.up.x, c.up.y, c.up.z, c.fov_y, c.near, c.far], &mut h);
+        for s in &self.layout.organs {
+            (s.visible, s.opacity.to_bits()).hash(&mut h);
+            let t = &s.transform;
+            floats(&s.colour, &mut h);
+            floats(&t.translation.to_array(), &mut h);
+            floats(&t.rotation_deg.to_array(), &mut h);
+            floats(&t.pivot.to_array(), &mut h);
+            t.scale.to_bits().hash(&mut h);
+        }
+        floats(&self.background, &mut h);
+        let t = &self.transparency;
+        (t.mode.name(), t.subsamples, t.interactive_subsamples, t.region_px, t.k).hash(&mut h);
+        (self.moving, self.draw_order, self.caps, self.whole).hash(&mut h);
+        for p in self.clip {
+            floats(&p.normal, &mut h);
+            p.d.to_bits().hash(&mut h);
+        }
+        h.finish()
     }
 
     /// Organ indices in drawing order.
@@ -93,6 +129,10 @@ pub struct RenderStats {
     /// Screen-door mask regeneration: milliseconds and distinct region configurations.
     pub mask_ms: f64,
     pub mask_configs: usize,
+    /// Screen-door: sub-samples in the image so far, of the frame's full count (equal once
+    /// converged; both 0 for the other techniques).
+    pub subsamples_done: usize,
+    pub subsamples_total: usize,
 }
 
 /// Everything a technique draws a frame with.

@@ -8,7 +8,8 @@
 //! [`Renderer`] holds the set on the GPU (`scene`) and one technique per way of drawing a frame,
 //! each its own module with its pipelines and per-frame data, called through one interface
 //! (`frame::Technique`): `blend` (opaque, and sorted or unsorted alpha blending), `screendoor`
-//! (thesis chapter 4), `weighted` (weighted blended OIT), `exact` (the reference), `debug` (the
+//! (thesis chapter 4), `weighted` (weighted blended OIT), `peel` (depth peeling and dual depth peeling), `exact` (the
+//! reference), `debug` (the
 //! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
 //! and selected organs, over the finished frame). `uniforms` holds the
 //! structs shared with WGSL, `pipelines` what the techniques build them with.
@@ -20,11 +21,13 @@ mod exact;
 mod frame;
 mod ids;
 mod outline;
+mod peel;
 mod pipelines;
 mod renderer;
 mod scene;
 mod screendoor;
 mod target;
+mod tiles;
 pub mod uniforms;
 mod weighted;
 
@@ -64,5 +67,10 @@ pub const ORGAN_SHADER: Shader = Shader { name: "organ.wgsl", source: include_st
 /// Full-screen passes: accumulation, presentation, the weighted resolve.
 pub const COMPOSITE_SHADER: Shader =
     Shader { name: "composite.wgsl", source: include_str!("../../shaders/composite.wgsl") };
+/// Screen-door's tiles: restoring the opaque image into them, gathering them into the image.
+pub const SCREENDOOR_SHADER: Shader =
+    Shader { name: "screendoor.wgsl", source: include_str!("../../shaders/screendoor.wgsl") };
+/// The depth-peeling modes' per-sample compositing.
+pub const PEEL_SHADER: Shader = Shader { name: "peel.wgsl", source: include_str!("../../shaders/peel.wgsl") };
 /// Every shader, for validation.
-pub const SHADERS: [&Shader; 2] = [&ORGAN_SHADER, &COMPOSITE_SHADER];
+pub const SHADERS: [&Shader; 4] = [&ORGAN_SHADER, &COMPOSITE_SHADER, &SCREENDOOR_SHADER, &PEEL_SHADER];

@@ -60,7 +60,7 @@ impl Outline {
         if highlighted.is_empty() && selected.is_empty() {
             return;
         }
-        scene.write_frame(queue, input, target.aspect(), 0, [0.0, 0.0]);
+        scene.write_frame(queue, input, target.aspect(), 0, super::uniforms::UNMOVED);
         scene.upload_organs(queue, input, 0, |i, _| [(i + 1) as f32, 1.0, 0.0, 1.0]);
         let mask = target.mask(device);
         for (channel, organs) in [highlighted, selected].iter().enumerate() {

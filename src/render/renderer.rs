@@ -8,6 +8,7 @@ use super::exact::Exact;
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::ids::{IdKind, Ids};
 use super::outline::Outline;
+use super::peel::{Peel, PeelFrame};
 use super::pipelines::{module, Composite, PipelineFactory};
 use super::scene::GpuScene;
 use super::screendoor::{opaque_hdr, Screendoor, ScreendoorFrame};
@@ -23,6 +24,7 @@ pub struct Renderer {
     unsorted: Blend,
     screendoor: Screendoor,
     weighted: Weighted,
+    peel: Peel,
     exact: Exact,
     composite: Composite,
     ids: Ids,
@@ -38,11 +40,12 @@ impl Renderer {
         let [sorted, unsorted] = Blend::new(&factory, &scene.layout);
         let hdr = opaque_hdr(&factory, &scene.layout);
         let screendoor = Screendoor::new(device, &factory, &scene, &composite, hdr.clone());
+        let peel = Peel::new(device, &factory, &scene, &composite, hdr.clone());
         let weighted = Weighted::new(device, &factory, &scene.layout, &composite, hdr);
         let exact = Exact::new(&factory, &scene.layout);
         let ids = Ids::new(&factory, &scene.layout);
         let outline = Outline::new(device, &factory, &scene.layout, &composite);
-        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, exact, composite, ids, outline })
+        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, peel, exact, composite, ids, outline })
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones
@@ -56,12 +59,21 @@ impl Renderer {
     ) -> Result<RenderStats> {
         let screendoor = ScreendoorFrame { technique: &self.screendoor, composite: &self.composite };
         let weighted = WeightedFrame { technique: &self.weighted, composite: &self.composite };
+        let peel = PeelFrame { technique: &self.peel, composite: &self.composite, dual: false };
+        let dual_peel = PeelFrame { dual: true, ..peel };
+        let screendoor_mode = frame.transparency.mode.mask_method().is_some() && frame.has_transparent();
+        if !screendoor_mode {
+            // It draws into the images a refined screen-door frame continues from.
+            self.screendoor.forget();
+        }
         let technique: &dyn Technique = match frame.transparency.mode {
             _ if !frame.has_transparent() => &self.sorted,
             TransparencyMode::AlphaSorted => &self.sorted,
             TransparencyMode::AlphaUnsorted => &self.unsorted,
             TransparencyMode::WeightedBlended => &weighted,
             TransparencyMode::Exact => &self.exact,
+            TransparencyMode::Peel => &peel,
+            TransparencyMode::DualPeel => &dual_peel,
             TransparencyMode::Screendoor
             | TransparencyMode::ScreendoorWhitenoise
             | TransparencyMode::ScreendoorPixeltree => &screendoor,
@@ -78,6 +90,7 @@ impl Renderer {
         target: &Target,
         frame: &FrameInput,
     ) -> Result<RenderStats> {
+        self.screendoor.forget();
         self.draw_with(&CullDebug(&self.sorted), device, queue, target, frame)
     }
 

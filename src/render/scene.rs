@@ -3,7 +3,7 @@
 
 use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
-use super::uniforms::{FrameUniform, OrganUniform, CAPPED, CLIPPED, FRAME_SLOTS, SLOT};
+use super::uniforms::{FrameUniform, OrganUniform, CAPPED, CLIPPED, FRAME_SLOTS, SLOT, UNMOVED};
 use super::FrameInput;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -159,23 +159,23 @@ impl GpuScene {
         self.meshes[i].index_count
     }
 
-    /// Writes frame slot 0 (no jitter) and the organs as shown (section 0).
+    /// Writes frame slot 0 (unmoved) and the organs as shown (section 0).
     pub fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
-        self.write_frame(queue, frame, aspect, 0, [0.0, 0.0]);
+        self.write_frame(queue, frame, aspect, 0, UNMOVED);
         self.upload_organs(queue, frame, 0, |_, s| {
             let c = s.colour.map(super::srgb_to_linear);
             [c[0], c[1], c[2], s.opacity]
         });
     }
 
-    /// Writes frame slot `slot`: the image shifted by `jitter` (x right, y up, NDC units).
-    pub fn write_frame(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32, slot: u64, jitter: [f32; 2]) {
+    /// Writes frame slot `slot`: the image moved by `jitter` (NDC x' = x * zw + xy, x right, y up).
+    pub fn write_frame(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32, slot: u64, jitter: [f32; 4]) {
         debug_assert!(slot < FRAME_SLOTS);
         let vp = frame.camera.view_projection(aspect);
         let fu = FrameUniform {
             view_proj: vp.to_cols_array_2d(),
             eye: frame.camera.eye.extend(1.0).to_array(),
-            jitter: [jitter[0], jitter[1], 0.0, 0.0],
+            jitter,
             clip: crate::clip::uniform(frame.clip),
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));

@@ -1,19 +1,24 @@
-//! Screen-door transparency (thesis chapter 4), in screen pixels (origin top left): per pass of 4x
-//! MSAA, opaque organs and then transparent ones in any order, depth tested and written, each
-//! transparent fragment keeping only the samples of its organ's mask in its screen region
-//! (`sample_mask`). Pass p draws the image shifted by a sub-pixel jitter and uses mask bits
-//! 4p..4p+3, so P passes give 4P sub-samples; each pass is resolved and added into a float image
-//! with weight 1/P. No sorting, so the image does not depend on the order organs are drawn in.
-//! Every pass has its own frame and screen-door uniform slots, so all are recorded at once; the
-//! masks' buffers are kept from frame to frame and grow when a frame needs more.
+//! Screen-door transparency (thesis chapter 4), in screen pixels (origin top left), at 4x MSAA:
+//! the opaque organs are drawn once into the float image with depth; then the faded organs are
+//! drawn once per pass, depth tested and written, each fragment keeping only the samples of its
+//! organ's mask in its screen region (`sample_mask`; pass p uses mask bits 4p..4p+3, so P passes
+//! give 4P sub-samples). Each pass draws into its own tile of an atlas ([`super::tiles`]), a copy of
+//! the rectangle the faded organs cover, first filled per sample with the opaque colour and depth
+//! (`fs_restore`), so a pass costs the faded organs' triangles and pixels, not the scene's. Tiles
+//! are resolved and averaged into the rectangle (`fs_gather`, a running mean), and the rectangle is
+//! shown over the opaque image. No sorting by depth, and the image does not depend on drawing
+//! order (faded organs are drawn in index order, which settles exact depth ties).
+//!
+//! Progressive refinement ([`super::FrameInput::refine`]): a first frame draws the interactive
+//! count of passes, and each call for the same frame adds one more, until all are in. The masks,
+//! the opaque image and the running mean are kept in the pool between those calls.
 
-use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{
-    fullscreen_pass, target, Composite, OrganPipeline, OrganPipelines, PipelineFactory, SAMPLE_COUNT,
-};
+use super::frame::{Frame, FrameInput, RenderStats, Technique};
+use super::pipelines::{module, target, Composite, OrganPipeline, OrganPipelines, PipelineFactory, SAMPLE_COUNT};
 use super::scene::{uniform_entry, GpuScene};
-use super::target::{Target, COLOR_FORMAT, HDR_FORMAT};
-use super::uniforms::{ScreendoorUniform, MAX_PASSES, SLOT};
+use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
+use super::tiles::{tiling, Rect, Tiling, ATLAS_BUDGET_PX, GAP};
+use super::uniforms::{GatherUniform, ScreendoorUniform, MAX_PASSES, SLOT};
 use crate::error::Result;
 use crate::transparency::{layout as sublayout, regions};
 use std::sync::Mutex;
@@ -21,21 +26,58 @@ use std::sync::Mutex;
 pub(super) struct Screendoor {
     opaque: OrganPipelines,
     masked: OrganPipelines,
-    accumulate: wgpu::RenderPipeline,
+    restore: wgpu::RenderPipeline,
+    gather: wgpu::RenderPipeline,
     present: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    restore_layout: wgpu::BindGroupLayout,
+    gather_layout: wgpu::BindGroupLayout,
     /// One [`ScreendoorUniform`] per pass.
     uniforms: wgpu::Buffer,
+    /// One [`GatherUniform`] per round (indexed by the round's first pass).
+    gathers: wgpu::Buffer,
     pool: Mutex<Option<Pool>>,
 }
 
-/// What one frame's masks need, kept for the next: the storage buffers and their bind group, and
-/// the image bind groups of the last target drawn into.
+/// What one frame needs, kept for the next: the masks' storage buffers and their bind group, the
+/// atlas, the bind groups of the last target drawn into, and how far its image has converged.
 struct Pool {
     configs: wgpu::Buffer,
     masks: wgpu::Buffer,
     bind: wgpu::BindGroup,
-    images: Option<(u64, [wgpu::BindGroup; 2])>,
+    atlas: Option<Atlas>,
+    images: Option<Images>,
+    progress: Option<Progress>,
+}
+
+/// The tiles' images: multisampled colour and depth, and the resolved colour the gather reads.
+struct Atlas {
+    size: [u32; 2],
+    msaa: wgpu::TextureView,
+    depth: wgpu::TextureView,
+    resolved: wgpu::TextureView,
+    gather_bind: wgpu::BindGroup,
+}
+
+/// Bind groups that read one target's images.
+struct Images {
+    target: u64,
+    /// The opaque image (multisampled colour and depth) for `fs_restore`.
+    restore: wgpu::BindGroup,
+    /// The opaque image resolved, and the rectangle's running mean, for the presentation.
+    opaque: wgpu::BindGroup,
+    mean: wgpu::BindGroup,
+}
+
+/// A frame drawn in part, to be continued by the next call for the same frame.
+struct Progress {
+    key: u64,
+    target: u64,
+    done: usize,
+    total: usize,
+    tiling: Tiling,
+    mask_ms: f64,
+    mask_configs: usize,
 }
 
 /// The pipelines that draw organs into the float image with depth: opaque ones, shared with
@@ -51,6 +93,28 @@ pub(super) fn opaque_hdr(factory: &PipelineFactory, layout: &wgpu::PipelineLayou
     })
 }
 
+fn layout_entry(binding: u32, ty: wgpu::BindingType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::FRAGMENT, ty, count: None }
+}
+
+fn uniforms(device: &wgpu::Device, label: &str) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: SLOT * MAX_PASSES,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+/// A binding of one slot of a uniform buffer holding `T`s.
+fn slot_of<T>(buffer: &wgpu::Buffer) -> wgpu::BindingResource<'_> {
+    wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+        buffer,
+        offset: 0,
+        size: wgpu::BufferSize::new(std::mem::size_of::<T>() as u64),
+    })
+}
+
 impl Screendoor {
     pub fn new(
         device: &wgpu::Device,
@@ -59,15 +123,15 @@ impl Screendoor {
         composite: &Composite,
         opaque: OrganPipelines,
     ) -> Screendoor {
-        let storage = |binding| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::FRAGMENT,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only: true },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
+        let storage = |binding| {
+            layout_entry(
+                binding,
+                wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+            )
         };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("screendoor"),
@@ -86,25 +150,96 @@ impl Screendoor {
             samples: SAMPLE_COUNT,
             layout: &masked_layout,
         });
-        let weigh = wgpu::BlendComponent {
+        let texture = |binding, sample_type, multisampled| {
+            layout_entry(
+                binding,
+                wgpu::BindingType::Texture {
+                    sample_type,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled,
+                },
+            )
+        };
+        let float = wgpu::TextureSampleType::Float { filterable: false };
+        let restore_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("tile restore"),
+            entries: &[
+                uniform_entry(wgpu::ShaderStages::FRAGMENT),
+                texture(1, float, true),
+                texture(2, wgpu::TextureSampleType::Depth, true),
+            ],
+        });
+        let mut gather_uniform = uniform_entry(wgpu::ShaderStages::FRAGMENT);
+        gather_uniform.binding = 3;
+        let gather_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("gather"),
+            entries: &[gather_uniform, texture(4, float, false)],
+        });
+        let shader = module(device, &super::SCREENDOOR_SHADER);
+        let fullscreen =
+            |label, layout: &wgpu::BindGroupLayout, fragment, targets: &[Option<wgpu::ColorTargetState>]| {
+                let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                    label: Some(label),
+                    bind_group_layouts: &[Some(layout)],
+                    immediate_size: 0,
+                });
+                let restoring = fragment == "fs_restore";
+                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                    label: Some(label),
+                    layout: Some(&pipeline_layout),
+                    vertex: wgpu::VertexState {
+                        module: &shader,
+                        entry_point: Some("vs_fullscreen"),
+                        compilation_options: Default::default(),
+                        buffers: &[],
+                    },
+                    primitive: Default::default(),
+                    depth_stencil: restoring.then(|| wgpu::DepthStencilState {
+                        format: DEPTH_FORMAT,
+                        depth_write_enabled: Some(true),
+                        depth_compare: Some(wgpu::CompareFunction::Always),
+                        stencil: Default::default(),
+                        bias: Default::default(),
+                    }),
+                    multisample: wgpu::MultisampleState {
+                        count: if restoring { SAMPLE_COUNT } else { 1 },
+                        ..Default::default()
+                    },
+                    fragment: Some(wgpu::FragmentState {
+                        module: &shader,
+                        entry_point: Some(fragment),
+                        compilation_options: Default::default(),
+                        targets,
+                    }),
+                    multiview_mask: None,
+                    cache: None,
+                })
+            };
+        let mean = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::Constant,
-            dst_factor: wgpu::BlendFactor::One,
+            dst_factor: wgpu::BlendFactor::OneMinusConstant,
             operation: wgpu::BlendOperation::Add,
         };
-        let weigh = Some(wgpu::BlendState { color: weigh, alpha: weigh });
+        let mean = Some(wgpu::BlendState { color: mean, alpha: mean });
         Screendoor {
             opaque,
             masked,
-            accumulate: composite.pipeline(device, "accumulate", "fs_copy", HDR_FORMAT, weigh),
+            restore: fullscreen("tile restore", &restore_layout, "fs_restore", &target(HDR_FORMAT, None)),
+            gather: fullscreen("gather", &gather_layout, "fs_gather", &target(HDR_FORMAT, mean)),
             present: composite.pipeline(device, "present", "fs_copy", COLOR_FORMAT, None),
             layout,
-            uniforms: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("screendoor uniforms"),
-                size: SLOT * MAX_PASSES,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
+            restore_layout,
+            gather_layout,
+            uniforms: uniforms(device, "screendoor uniforms"),
+            gathers: uniforms(device, "gather uniforms"),
             pool: Mutex::new(None),
+        }
+    }
+
+    /// Forgets any frame drawn in part: another technique drew into the images it continues.
+    pub fn forget(&self) {
+        if let Some(pool) = self.pool.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
+            pool.progress = None;
         }
     }
 
@@ -112,7 +247,7 @@ impl Screendoor {
     fn fit(&self, device: &wgpu::Device, pool: Option<Pool>, configs: u64, masks: u64) -> Pool {
         match pool {
             Some(p) if p.configs.size() >= configs && p.masks.size() >= masks => p,
-            _ => {
+            old => {
                 let storage = |label, size: u64| {
                     device.create_buffer(&wgpu::BufferDescriptor {
                         label: Some(label),
@@ -122,45 +257,97 @@ impl Screendoor {
                     })
                 };
                 let (configs, masks) = (storage("region configs", configs), storage("masks", masks));
-                let uniform = wgpu::BufferBinding {
-                    buffer: &self.uniforms,
-                    offset: 0,
-                    size: wgpu::BufferSize::new(std::mem::size_of::<ScreendoorUniform>() as u64),
-                };
                 let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("screendoor"),
                     layout: &self.layout,
                     entries: &[
-                        wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::Buffer(uniform) },
+                        wgpu::BindGroupEntry { binding: 0, resource: slot_of::<ScreendoorUniform>(&self.uniforms) },
                         wgpu::BindGroupEntry { binding: 1, resource: configs.as_entire_binding() },
                         wgpu::BindGroupEntry { binding: 2, resource: masks.as_entire_binding() },
                     ],
                 });
-                Pool { configs, masks, bind, images: None }
+                let (atlas, images) = old.map(|p| (p.atlas, p.images)).unwrap_or((None, None));
+                Pool { configs, masks, bind, atlas, images, progress: None }
             }
         }
     }
-}
 
-/// Pixel-unit jitter to the NDC shift of the frame uniform (y flips: pixels go down, NDC up).
-pub(super) fn ndc_jitter(j: glam::Vec2, target: &Target) -> [f32; 2] {
-    [2.0 * j.x / target.width as f32, -2.0 * j.y / target.height as f32]
-}
+    /// An atlas of at least `need` pixels (kept if the last one is large enough; sides rounded up
+    /// to 256 so that a rectangle growing a little does not make a new one every frame).
+    fn atlas(&self, device: &wgpu::Device, old: Option<Atlas>, need: [u32; 2]) -> Atlas {
+        if let Some(a) = old.filter(|a| a.size[0] >= need[0] && a.size[1] >= need[1]) {
+            return a;
+        }
+        let max = device.limits().max_texture_dimension_2d;
+        let size = need.map(|v| v.div_ceil(256).saturating_mul(256).min(max).max(v));
+        let make = |label, format, samples, usage| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: samples,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let resolved = make("atlas resolved", HDR_FORMAT, 1, attach | wgpu::TextureUsages::TEXTURE_BINDING);
+        let gather_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("gather"),
+            layout: &self.gather_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 3, resource: slot_of::<GatherUniform>(&self.gathers) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&resolved) },
+            ],
+        });
+        Atlas {
+            size,
+            msaa: make("atlas msaa", HDR_FORMAT, SAMPLE_COUNT, attach),
+            depth: make("atlas depth", DEPTH_FORMAT, SAMPLE_COUNT, attach),
+            resolved,
+            gather_bind,
+        }
+    }
 
-/// The bind groups of the accumulation (reading a pass's resolved image) and of the presentation
-/// (reading the sum).
-fn image_binds(device: &wgpu::Device, composite: &Composite, target: &Target) -> [wgpu::BindGroup; 2] {
-    let hdr = target.hdr(device);
-    [
-        composite.images(device, [&hdr.resolved, &hdr.resolved, &hdr.resolved]),
-        composite.images(device, [&hdr.accum, &hdr.accum, &hdr.accum]),
-    ]
+    /// The bind groups over `target`'s images.
+    fn images(&self, device: &wgpu::Device, composite: &Composite, target: &Target) -> Images {
+        let hdr = target.hdr(device);
+        let restore = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("tile restore"),
+            layout: &self.restore_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: slot_of::<ScreendoorUniform>(&self.uniforms) },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&hdr.msaa) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::TextureView(&target.msaa_depth) },
+            ],
+        });
+        Images {
+            target: target.id(),
+            restore,
+            opaque: composite.images(device, [&hdr.resolved, &hdr.resolved, &hdr.resolved]),
+            mean: composite.images(device, [&hdr.accum, &hdr.accum, &hdr.accum]),
+        }
+    }
 }
 
 /// Screen-door with the composite passes it needs.
 pub(super) struct ScreendoorFrame<'a> {
     pub technique: &'a Screendoor,
     pub composite: &'a Composite,
+}
+
+/// Passes drawn by the first call of a refined frame: the interactive count.
+fn first_passes(input: &FrameInput, total: usize) -> usize {
+    if input.refine {
+        let interactive = crate::transparency::clamp_subsamples(input.transparency.interactive_subsamples);
+        sublayout::passes(interactive).min(total)
+    } else {
+        total
+    }
 }
 
 impl Technique for ScreendoorFrame<'_> {
@@ -173,60 +360,256 @@ impl Technique for ScreendoorFrame<'_> {
         } else {
             settings.subsamples
         });
-        let method = settings.mode.mask_method().unwrap_or(crate::transparency::MaskMethod::TabularNec);
-        let params = regions::RegionParams {
-            width: target.width,
-            height: target.height,
-            region_px: settings.region_px,
-            subsamples,
-            k: settings.k,
-            method,
-        };
-        let masks = regions::region_masks(input.set, input.layout, input.camera, &params);
-        let configs: &[u8] = bytemuck::cast_slice(&masks.config_of_region);
-        let bits: Vec<[u32; 2]> = masks.masks.iter().map(|&m| [m as u32, (m >> 32) as u32]).collect();
-        let bits: &[u8] = bytemuck::cast_slice(&bits);
+        let key = input.fingerprint();
         let mut kept = sd.pool.lock().unwrap_or_else(|e| e.into_inner());
-        let mut pool = sd.fit(device, kept.take(), configs.len() as u64, bits.len() as u64);
-        queue.write_buffer(&pool.configs, 0, configs);
-        queue.write_buffer(&pool.masks, 0, bits);
-        let images = match pool.images.take() {
-            Some((id, binds)) if id == target.id() => binds,
-            _ => image_binds(device, self.composite, target),
+        let same = |p: &Progress| input.refine && p.key == key && p.target == target.id();
+        let mut pool = kept.take();
+        let continued = pool.as_mut().and_then(|p| p.progress.take()).filter(same);
+        let (mut pool, mut progress, from, to) = match (pool, continued) {
+            (Some(mut pool), Some(progress)) if progress.done >= progress.total => {
+                // Converged: the target still shows it.
+                let stats = stats(&progress, 0);
+                pool.progress = Some(progress);
+                *kept = Some(pool);
+                return Ok(stats);
+            }
+            (Some(pool), Some(progress)) => {
+                let (from, to) = (progress.done, progress.done + 1);
+                (pool, progress, from, to)
+            }
+            (pool, _) => {
+                let (pool, progress) = start(sd, f, pool, subsamples, key);
+                let to = first_passes(input, progress.total);
+                (pool, progress, 0, to)
+            }
         };
-        let hdr = target.hdr(device);
         scene.upload(queue, input, target.aspect());
-        let (opaque, transparent) = input.split(scene.organ_count());
-        let passes = sublayout::passes(masks.subsamples);
-        for p in 0..passes {
-            let slot = 1 + p as u64;
-            scene.write_frame(queue, input, target.aspect(), slot, ndc_jitter(sublayout::jitter(p, passes), target));
-            let u = ScreendoorUniform {
-                region_px: masks.region_px,
-                cols: masks.cols,
-                rows: masks.rows,
-                organs: masks.organ_count as u32,
-                pass_index: p as u32,
-                pad: [0; 3],
-            };
-            queue.write_buffer(&sd.uniforms, p as u64 * SLOT, bytemuck::bytes_of(&u));
-            {
-                let mut pass =
-                    scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, false);
-                scene.set_frame(&mut pass, slot);
-                for &i in &opaque {
-                    scene.draw(&mut pass, &sd.opaque, i, &scene.ranges(i, input.draw));
-                }
-                pass.set_bind_group(2, &pool.bind, &[(p as u64 * SLOT) as u32]);
-                for &i in &transparent {
+        if from == 0 {
+            draw_opaque(sd, f, encoder);
+        }
+        let images = match pool.images.take() {
+            Some(i) if i.target == target.id() => i,
+            _ => sd.images(device, self.composite, target),
+        };
+        let tiling = progress.tiling;
+        let drawn = if tiling.rect.is_empty() { 0 } else { to - from };
+        if drawn > 0 {
+            let atlas = sd.atlas(device, pool.atlas.take(), tiling.atlas);
+            draw_passes(sd, f, encoder, (&pool, &atlas, &images), &tiling, from..to);
+            pool.atlas = Some(atlas);
+        }
+        progress.done = if tiling.rect.is_empty() { progress.total } else { to };
+        present(sd, encoder, target, &images, (!tiling.rect.is_empty() && progress.done > 0).then_some(tiling.rect));
+        let stats = stats(&progress, usize::from(from == 0) + drawn);
+        pool.images = Some(images);
+        pool.progress = Some(progress);
+        *kept = Some(pool);
+        Ok(stats)
+    }
+}
+
+fn stats(p: &Progress, passes: usize) -> RenderStats {
+    RenderStats {
+        passes,
+        mask_ms: p.mask_ms,
+        mask_configs: p.mask_configs,
+        subsamples_done: p.done * 4,
+        subsamples_total: p.total * 4,
+        ..Default::default()
+    }
+}
+
+/// A new frame: its masks into the pool's buffers, and where its passes go.
+fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key: u64) -> (Pool, Progress) {
+    let (device, queue, input, target) = (f.device, f.queue, f.input, f.target);
+    let settings = &input.transparency;
+    let method = settings.mode.mask_method().unwrap_or(crate::transparency::MaskMethod::TabularNec);
+    let params = regions::RegionParams {
+        width: target.width,
+        height: target.height,
+        region_px: settings.region_px,
+        subsamples,
+        k: settings.k,
+        method,
+    };
+    let masks = regions::region_masks(input.set, input.layout, input.camera, &params);
+    let configs: &[u8] = bytemuck::cast_slice(&masks.config_of_region);
+    let bits: Vec<[u32; 2]> = masks.masks.iter().map(|&m| [m as u32, (m >> 32) as u32]).collect();
+    let bits: &[u8] = bytemuck::cast_slice(&bits);
+    let pool = sd.fit(device, pool, configs.len() as u64, bits.len() as u64);
+    queue.write_buffer(&pool.configs, 0, configs);
+    queue.write_buffer(&pool.masks, 0, bits);
+    let [x, y, w, h] = masks.covered;
+    let total = sublayout::passes(masks.subsamples);
+    let max_side = device.limits().max_texture_dimension_2d;
+    let tiling = tiling(Rect { x, y, w, h }, total, ATLAS_BUDGET_PX, max_side);
+    for p in 0..total {
+        let u = ScreendoorUniform {
+            region_px: masks.region_px,
+            cols: masks.cols,
+            rows: masks.rows,
+            organs: masks.organ_count as u32,
+            pass_index: p as u32,
+            offset: tiling.offset(p % tiling.per_round),
+            pad: 0,
+        };
+        queue.write_buffer(&sd.uniforms, p as u64 * SLOT, bytemuck::bytes_of(&u));
+    }
+    let progress =
+        Progress { key, target: target.id(), done: 0, total, tiling, mask_ms: masks.ms, mask_configs: masks.configs };
+    (pool, progress)
+}
+
+/// The opaque organs into the float image (resolved) and the multisampled depth, both kept.
+fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
+    let (scene, input, target) = (f.scene, f.input, f.target);
+    let hdr = target.hdr(f.device);
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("opaque"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &hdr.msaa,
+            depth_slice: None,
+            resolve_target: Some(&hdr.resolved),
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(super::pipelines::clear_colour(input.background)),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &target.msaa_depth,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    scene.set_frame(&mut pass, 0);
+    // In index order too (see `draw_passes`): exact depth ties between opaque organs.
+    let (mut opaque, _) = input.split(scene.organ_count());
+    opaque.sort_unstable();
+    for &i in &opaque {
+        scene.draw(&mut pass, &sd.opaque, i, &scene.ranges(i, input.draw));
+    }
+}
+
+/// Passes `passes` of the faded organs, in rounds of tiles, each round averaged into the
+/// rectangle's running mean (weighted by the passes it adds to those before).
+fn draw_passes(
+    sd: &Screendoor,
+    f: &Frame,
+    encoder: &mut wgpu::CommandEncoder,
+    (pool, atlas, images): (&Pool, &Atlas, &Images),
+    tiling: &Tiling,
+    passes: std::ops::Range<usize>,
+) {
+    let (queue, scene, input, target) = (f.queue, f.scene, f.input, f.target);
+    // In index order, whatever the drawing order: where two faded surfaces meet at exactly the
+    // same depth in a sample both masks hold, the first drawn wins, so this keeps the image the
+    // same in any drawing order (no sorting by depth is involved; the masks do the rest).
+    let (_, mut faded) = input.split(scene.organ_count());
+    faded.sort_unstable();
+    let hdr = target.hdr(f.device);
+    let rect = tiling.rect;
+    let mut first = passes.start;
+    while first < passes.end {
+        // Pass p draws into tile p % per_round (its uniforms say so), so a round ends where the
+        // tiles wrap.
+        let first_tile = first % tiling.per_round;
+        let count = (tiling.per_round - first_tile).min(passes.end - first);
+        for t in first_tile..first_tile + count {
+            let place = tiling.place(t, [target.width, target.height], atlas.size);
+            scene.write_frame(queue, input, target.aspect(), 1 + (first + t - first_tile) as u64, place);
+        }
+        {
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("screendoor tiles"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &atlas.msaa,
+                    depth_slice: None,
+                    resolve_target: Some(&atlas.resolved),
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Discard,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &atlas.depth,
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            for t in first_tile..first_tile + count {
+                let p = (first + t - first_tile) as u64;
+                let c = tiling.corner(t);
+                pass.set_scissor_rect(c[0], c[1], rect.w, rect.h);
+                pass.set_pipeline(&sd.restore);
+                pass.set_bind_group(0, &images.restore, &[(p * SLOT) as u32]);
+                pass.draw(0..3, 0..1);
+                scene.set_frame(&mut pass, 1 + p);
+                pass.set_bind_group(2, &pool.bind, &[(p * SLOT) as u32]);
+                for &i in &faded {
                     scene.draw(&mut pass, &sd.masked, i, &scene.ranges(i, input.draw));
                 }
             }
-            fullscreen_pass(encoder, &hdr.accum, &sd.accumulate, &images[0], p > 0, 1.0 / passes as f64);
         }
-        fullscreen_pass(encoder, &target.color_view, &sd.present, &images[1], false, 1.0);
-        pool.images = Some((target.id(), images));
-        *kept = Some(pool);
-        Ok(RenderStats { passes, mask_ms: masks.ms, mask_configs: masks.configs, ..Default::default() })
+        let g = GatherUniform {
+            origin: [rect.x as i32, rect.y as i32],
+            tile: [(rect.w + GAP) as i32, (rect.h + GAP) as i32],
+            tiles_x: tiling.tiles_x,
+            first: first_tile as u32,
+            count: count as u32,
+            pad: 0,
+        };
+        queue.write_buffer(&sd.gathers, first as u64 * SLOT, bytemuck::bytes_of(&g));
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("gather"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &hdr.accum,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_scissor_rect(rect.x, rect.y, rect.w, rect.h);
+        pass.set_pipeline(&sd.gather);
+        pass.set_bind_group(0, &atlas.gather_bind, &[(first as u64 * SLOT) as u32]);
+        // Running mean: the round's mean weighs its share of the passes drawn so far.
+        let w = count as f64 / (first + count) as f64;
+        pass.set_blend_constant(wgpu::Color { r: w, g: w, b: w, a: w });
+        pass.draw(0..3, 0..1);
+        first += count;
+    }
+}
+
+/// The opaque image, and over it the rectangle's running mean where there is one.
+fn present(sd: &Screendoor, encoder: &mut wgpu::CommandEncoder, target: &Target, images: &Images, rect: Option<Rect>) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("present"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: &target.color_view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(&sd.present);
+    pass.set_bind_group(0, &images.opaque, &[]);
+    pass.draw(0..3, 0..1);
+    if let Some(r) = rect {
+        pass.set_scissor_rect(r.x, r.y, r.w, r.h);
+        pass.set_bind_group(0, &images.mean, &[]);
+        pass.draw(0..3, 0..1);
     }
 }

@@ -85,7 +85,14 @@ impl Target {
             width,
             height,
             msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach, &[])),
-            msaa_depth: view(&make("target msaa depth", DEPTH_FORMAT, samples, attach, &[])),
+            // Read by screen-door's tiles, which start from the opaque organs' depth.
+            msaa_depth: view(&make(
+                "target msaa depth",
+                DEPTH_FORMAT,
+                samples,
+                attach | wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )),
             color_view: view(&color),
             display_view: color.create_view(&wgpu::TextureViewDescriptor { format: Some(plain), ..Default::default() }),
             color,
@@ -105,11 +112,8 @@ impl Target {
     pub(crate) fn hdr(&self, device: &wgpu::Device) -> &Hdr {
         self.hdr.get_or_init(|| {
             let make = |label, format, samples| {
-                let usage = if samples > 1 {
-                    wgpu::TextureUsages::RENDER_ATTACHMENT
-                } else {
-                    wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING
-                };
+                // Multisampled ones too: screen-door's tiles read the opaque image per sample.
+                let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
                 device
                     .create_texture(&wgpu::TextureDescriptor {
                         label: Some(label),

@@ -21,10 +21,14 @@ pub(super) const FRAME_SLOTS: u64 = 1 + MAX_PASSES;
 pub(super) struct FrameUniform {
     pub view_proj: [[f32; 4]; 4],
     pub eye: [f32; 4],
+    /// NDC x' = x * zw + xy: a sub-pixel shift, or a tile of an atlas ([`UNMOVED`] otherwise).
     pub jitter: [f32; 4],
     /// Clip planes (normal, offset), removing `n . p > d`; unused ones remove nothing.
     pub clip: [[f32; 4]; crate::clip::MAX_PLANES],
 }
+
+/// The frame's `jitter` that leaves the image where it is.
+pub(super) const UNMOVED: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
 
 /// `Organ` in shaders/organ.wgsl.
 #[repr(C)]
@@ -50,13 +54,29 @@ pub(super) struct ScreendoorUniform {
     pub cols: u32,
     pub rows: u32,
     pub organs: u32,
+    /// Atlas pixel = screen pixel + offset, for the pass's tile.
+    pub offset: [i32; 2],
     pub pass_index: u32,
-    pub pad: [u32; 3],
+    pub pad: u32,
+}
+
+/// `Gather` in shaders/screendoor.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct GatherUniform {
+    pub origin: [i32; 2],
+    pub tile: [i32; 2],
+    pub tiles_x: u32,
+    pub first: u32,
+    pub count: u32,
+    pub pad: u32,
 }
 
 /// (shader file, WGSL struct, size of the Rust struct in bytes) of every struct shared with WGSL.
-pub const SHARED_STRUCTS: [(&str, &str, usize); 3] = [
+pub const SHARED_STRUCTS: [(&str, &str, usize); 5] = [
     ("organ.wgsl", "Frame", std::mem::size_of::<FrameUniform>()),
     ("organ.wgsl", "Organ", std::mem::size_of::<OrganUniform>()),
     ("organ.wgsl", "Screendoor", std::mem::size_of::<ScreendoorUniform>()),
+    ("screendoor.wgsl", "Screendoor", std::mem::size_of::<ScreendoorUniform>()),
+    ("screendoor.wgsl", "Gather", std::mem::size_of::<GatherUniform>()),
 ];

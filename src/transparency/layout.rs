@@ -1,9 +1,11 @@
-//! Where logical sub-samples lie in a pixel. The renderer reaches n = 4P sub-samples with P passes
-//! of 4x MSAA: pass p shifts the image by a sub-pixel jitter, and bit b of a GPU mask is MSAA sample
-//! b % 4 of pass b / 4. Logical sub-sample i (the masks' index) goes to bit `order[i]`, an order in
-//! which every prefix is spread over the pixel (greedy farthest point), so that the contiguous
-//! runs of sub-samples the mask table hands out do not gather in one corner: no pattern at edges.
-//! Positions are in pixel units, 0..1 from the pixel's top-left corner.
+//! Where logical sub-samples lie. The renderer reaches n = 4P sub-samples with P passes of 4x
+//! MSAA at the same sample positions (the opaque organs are drawn once, so every pass must sample
+//! where they were drawn): bit b of a GPU mask is MSAA sample b % 4 of pass b / 4. Logical
+//! sub-sample i (the masks' index) goes to pass `radical_inverse(i % P)` and sample `(i / P) % 4`,
+//! so that any run of logical sub-samples the mask table hands out is spread evenly over the
+//! passes, and the first k passes alone show each mask's coverage to within one sub-sample: what
+//! progressive refinement shows before the last pass. Positions are in pixel units, 0..1 from the
+//! pixel's top-left corner.
 
 use glam::Vec2;
 
@@ -16,58 +18,28 @@ pub fn passes(n: usize) -> usize {
     n.div_ceil(4).max(1)
 }
 
-/// Sub-pixel shift of pass `p` of `count`: a stratified pattern within a quarter pixel of the
-/// centre (pass 0 unshifted), in pixels.
-pub fn jitter(p: usize, count: usize) -> Vec2 {
-    if count <= 1 || p == 0 {
-        return Vec2::ZERO;
-    }
-    let halton = |mut i: usize, base: usize| {
-        let (mut f, mut r) = (1.0f32, 0.0f32);
-        while i > 0 {
-            f /= base as f32;
-            r += f * (i % base) as f32;
-            i /= base;
-        }
-        r
-    };
-    Vec2::new(halton(p, 2), halton(p, 3)) * 0.5 - Vec2::splat(0.25)
+/// Position of GPU mask bit `b` (the same in every pass).
+pub fn bit_position(b: usize) -> Vec2 {
+    MSAA4[b % 4]
 }
 
-/// Position of GPU mask bit `b` with `count` passes.
-pub fn bit_position(b: usize, count: usize) -> Vec2 {
-    let p = MSAA4[b % 4] + jitter(b / 4, count);
-    Vec2::new(p.x.rem_euclid(1.0), p.y.rem_euclid(1.0))
+/// `i` with its lowest `bits` bits reversed (the base-2 radical inverse scaled to `2^bits`).
+fn reversed(i: usize, bits: u32) -> usize {
+    if bits == 0 {
+        return 0;
+    }
+    i.reverse_bits() >> (usize::BITS - bits)
 }
 
 /// `order[i]` = the GPU bit of logical sub-sample i, for masks of `n` sub-samples (n = 4P).
 pub fn logical_to_bit(n: usize) -> Vec<usize> {
     let count = passes(n);
-    let bits = count * 4;
-    let pos: Vec<Vec2> = (0..bits).map(|b| bit_position(b, count)).collect();
-    // Toroidal distance, so that the pattern tiles across pixels without clumps at the borders.
-    let dist = |a: Vec2, b: Vec2| {
-        let d = (a - b).abs();
-        Vec2::new(d.x.min(1.0 - d.x), d.y.min(1.0 - d.y)).length_squared()
-    };
-    let mut order = vec![0usize];
-    let mut nearest: Vec<f32> = pos.iter().map(|&p| dist(p, pos[0])).collect();
-    while order.len() < bits {
-        let mut best = None;
-        for b in 0..bits {
-            if order.contains(&b) {
-                continue;
-            }
-            if best.is_none_or(|(_, d)| nearest[b] > d) {
-                best = Some((b, nearest[b]));
-            }
-        }
-        let Some((b, _)) = best else { break };
-        order.push(b);
-        for (o, &p) in nearest.iter_mut().zip(&pos) {
-            *o = o.min(dist(p, pos[b]));
-        }
-    }
+    let bits = count.next_power_of_two().trailing_zeros();
+    // Passes in radical-inverse order (for a count that is not a power of two, the reversed
+    // indices that fall within it, in order).
+    let pass_order: Vec<usize> =
+        (0..count.next_power_of_two()).map(|i| reversed(i, bits)).filter(|&p| p < count).collect();
+    let mut order: Vec<usize> = (0..count * 4).map(|i| pass_order[i % count] * 4 + (i / count) % 4).collect();
     order.truncate(n.max(1));
     order
 }
@@ -98,17 +70,22 @@ mod tests {
             assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "n = {n}");
             // The first half of the logical sub-samples covers both halves of the pixel.
             let half = &order[..n / 2];
-            let left = half.iter().filter(|&&b| bit_position(b, passes(n)).x < 0.5).count();
+            let left = half.iter().filter(|&&b| bit_position(b).x < 0.5).count();
             assert!(left > 0 && left < half.len(), "n = {n}: {left} of {} on the left", half.len());
         }
     }
 
     #[test]
-    fn jitter_stays_near_the_centre() {
-        for p in 0..16 {
-            let j = jitter(p, 16);
-            assert!(j.x.abs() <= 0.25 && j.y.abs() <= 0.25);
+    fn the_first_passes_hold_their_share_of_any_leading_run() {
+        for n in [16, 32, 64] {
+            let (order, count) = (logical_to_bit(n), passes(n));
+            for run in 1..=n {
+                for k in [1, 2, 4, 8].into_iter().filter(|&k| k <= count) {
+                    let held = order[..run].iter().filter(|&&b| b / 4 < k).count() as f64;
+                    let share = run as f64 * k as f64 / count as f64;
+                    assert!((held - share).abs() <= 1.0, "n {n}, run {run}, {k} passes: {held} vs {share}");
+                }
+            }
         }
-        assert_eq!(jitter(0, 16), Vec2::ZERO);
     }
 }

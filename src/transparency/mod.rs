@@ -10,7 +10,7 @@
 //! - [`table`]: the tabular pixel mask (§4.3) with neighbourhood error compensation (§4.3.3);
 //!   Mulder's pixel-tree masks are the same splitting in a random order.
 //! - [`white_noise`]: random masks, the usual reference.
-//! - [`layout`]: where each logical sub-sample lies in the pixel (MSAA sample and pass jitter).
+//! - [`layout`]: which MSAA sample of which pass each logical sub-sample is.
 //! - [`regions`]: masks regenerated per screen region from the organs present there (§4.3.4).
 
 pub mod layout;
@@ -101,18 +101,24 @@ pub enum TransparencyMode {
     AlphaSorted,
     /// Weighted blended order-independent transparency (McGuire and Bavoil 2013).
     WeightedBlended,
+    /// Depth peeling (Everitt 2001): one layer a pass, front to back.
+    Peel,
+    /// Dual depth peeling (Bavoil and Myers 2008): the nearest and farthest layer each pass.
+    DualPeel,
     /// The reference: each organ's nearest surface per sample, composited in depth order (slow).
     Exact,
 }
 
 impl TransparencyMode {
-    pub const ALL: [TransparencyMode; 7] = [
+    pub const ALL: [TransparencyMode; 9] = [
         TransparencyMode::Screendoor,
         TransparencyMode::ScreendoorWhitenoise,
         TransparencyMode::ScreendoorPixeltree,
         TransparencyMode::AlphaUnsorted,
         TransparencyMode::AlphaSorted,
         TransparencyMode::WeightedBlended,
+        TransparencyMode::Peel,
+        TransparencyMode::DualPeel,
         TransparencyMode::Exact,
     ];
 
@@ -124,6 +130,8 @@ impl TransparencyMode {
             TransparencyMode::AlphaUnsorted => "alpha-unsorted",
             TransparencyMode::AlphaSorted => "alpha-sorted",
             TransparencyMode::WeightedBlended => "weighted-blended",
+            TransparencyMode::Peel => "peel",
+            TransparencyMode::DualPeel => "dual-peel",
             TransparencyMode::Exact => "exact",
         }
     }
@@ -156,6 +164,8 @@ pub struct TransparencySettings {
     pub region_px: u32,
     /// Nearest organs that neighbourhood error compensation favours.
     pub k: usize,
+    /// Most layers the depth-peeling modes peel (they stop earlier once nothing is left).
+    pub peel_layers: usize,
 }
 
 impl Default for TransparencySettings {
@@ -166,9 +176,13 @@ impl Default for TransparencySettings {
             interactive_subsamples: 16,
             region_px: 32,
             k: 6,
+            peel_layers: 8,
         }
     }
 }
+
+/// The most layers the depth-peeling modes may be asked to peel.
+pub const MAX_PEEL_LAYERS: usize = 64;
 
 /// Sub-sample counts the renderer supports (4 per pass).
 pub const SUBSAMPLE_CHOICES: [usize; 5] = [4, 8, 16, 32, 64];

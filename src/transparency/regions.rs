@@ -3,8 +3,8 @@
 //! `region_px` screen pixels (x right, y down); depth is NDC z (larger is farther).
 //!
 //! 1. The leaves of each drawn transparent organ's hierarchy (at most 256 triangles each) are
-//!    projected; every region a leaf's screen rectangle (grown by a pixel, for the sub-pixel
-//!    jitter) touches records the organ as present, with the nearest depth of the leaf's box.
+//!    projected; every region a leaf's screen rectangle (grown by a pixel, for MSAA
+//!    samples and rounding) touches records the organ as present, with the nearest depth of the leaf's box.
 //!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
@@ -49,6 +49,9 @@ pub struct RegionMasks {
     pub masks: Vec<u64>,
     /// Distinct configurations (masks generated once each).
     pub configs: usize,
+    /// The pixels of the regions where a transparent organ is present, `[x, y, width, height]`
+    /// (clamped to the image; zero width where none is): all that transparent organs can touch.
+    pub covered: [u32; 4],
     /// Time to compute all of it, milliseconds.
     pub ms: f64,
 }
@@ -106,6 +109,23 @@ fn region_depths(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionPar
         }
     }
     depths
+}
+
+/// The pixel rectangle `[x, y, width, height]` of the regions where any organ is present.
+fn covered_pixels(depths: &[f32], organs: usize, cols: u32, p: &RegionParams) -> [u32; 4] {
+    let (mut c0, mut c1, mut r0, mut r1) = (u32::MAX, 0, u32::MAX, 0);
+    for (i, region) in depths.chunks_exact(organs.max(1)).enumerate() {
+        if region.iter().any(|d| d.is_finite()) {
+            let (c, r) = (i as u32 % cols, i as u32 / cols);
+            (c0, c1, r0, r1) = (c0.min(c), c1.max(c), r0.min(r), r1.max(r));
+        }
+    }
+    if c0 > c1 || organs == 0 {
+        return [0; 4];
+    }
+    let s = p.region_px;
+    let (x, y) = (c0 * s, r0 * s);
+    [x, y, ((c1 + 1) * s).min(p.width) - x, ((r1 + 1) * s).min(p.height) - y]
 }
 
 /// Masks for one configuration: `present` organs (by index) of which `nearest` are the K nearest,
@@ -189,6 +209,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         })
         .collect();
     let depths = region_depths(set, layout, camera, &p, cols, rows);
+    let covered = covered_pixels(&depths, organs, cols, &p);
     // Key of a region: its present organs as bits, then its K nearest, nearest first.
     let words = organs.div_ceil(64);
     let mut configs: HashMap<Vec<u64>, u32> = HashMap::new();
@@ -264,6 +285,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         organ_count: organs,
         config_of_region,
         configs: unique.len(),
+        covered,
         masks,
         ms: started.elapsed().as_secs_f64() * 1000.0,
     }

@@ -105,3 +105,105 @@ fn screendoor_shows_only_the_outermost_layer() {
     // Blending shows the inner shell: the comparison can fail.
     assert!(differing(TransparencyMode::AlphaSorted) > 200);
 }
+
+/// Nested transparent shells (three cubes, one inside the other, all faded) in front of an opaque
+/// block: the peeling modes must match the exact reference, and stop early once every layer is in.
+#[test]
+fn peeling_matches_exact_on_nested_shells() {
+    let gpu = gpu();
+    let mut organs = Vec::new();
+    for (i, half) in [30.0, 20.0, 10.0].into_iter().enumerate() {
+        let id = format!("shell{i}");
+        organs.push(Organ::new(
+            id.clone(),
+            id,
+            [0.9, 0.6 - 0.2 * i as f32, 0.3],
+            cube(Vec3::ZERO, Vec3::splat(half), 0),
+        ));
+    }
+    let mut back = cube(Vec3::ZERO, Vec3::splat(20.0), 0);
+    for p in &mut back.positions {
+        p[1] += 60.0;
+    }
+    back.compute_normals();
+    organs.push(Organ::new("back".into(), "back".into(), [0.3, 0.5, 0.9], back));
+    let set = OrganSet { title: "nested shells".into(), organs, ..Default::default() };
+    let renderer = Renderer::new(&gpu.device, &set).unwrap();
+    let mut layout = Layout::new(&set);
+    for (s, a) in layout.organs.iter_mut().zip([0.4, 0.5, 0.6]) {
+        s.opacity = a;
+    }
+    // From behind: the block lies beyond the shells.
+    let camera = Camera::orbit(&set.bounds(), 200.0, 15.0);
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let shot = |mode, peel_layers| {
+        let transparency = TransparencySettings { mode, peel_layers, ..Default::default() };
+        let frame =
+            FrameInput { background: [0.0, 0.0, 0.0, 1.0], transparency, ..FrameInput::new(&set, &camera, &layout) };
+        let stats = renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        (target.read_color(&gpu.device, &gpu.queue).unwrap(), stats.passes)
+    };
+    let mean_error = |a: &image::RgbaImage, b: &image::RgbaImage| {
+        let sum: u64 = a
+            .pixels()
+            .zip(b.pixels())
+            .map(|(x, y)| (0..3).map(|k| x[k].abs_diff(y[k])).max().unwrap_or(0) as u64)
+            .sum();
+        sum as f64 / (a.width() * a.height()) as f64
+    };
+    let (exact, _) = shot(TransparencyMode::Exact, 8);
+    assert!(exact.pixels().filter(|p| p[0] > 40).count() > 2000, "the shells are not in the picture");
+    // Three layers: the cubes are closed, so their back faces are culled.
+    for mode in [TransparencyMode::Peel, TransparencyMode::DualPeel] {
+        let (image, passes) = shot(mode, 16);
+        let e = mean_error(&image, &exact);
+        assert!(e < 0.6, "{}: mean error {e:.3} against exact", mode.name());
+        // The occlusion query stops it long before the cap of 16: the opaque pass and 4 layers, or
+        // the opaque pass, 2 dual passes and the final one.
+        assert!(passes <= 5, "{}: {passes} passes for six layers", mode.name());
+        // With two layers the innermost shell is missing: the comparison can fail.
+        let off = |a: &image::RgbaImage| {
+            a.pixels().zip(exact.pixels()).filter(|(x, y)| (0..3).any(|k| x[k].abs_diff(y[k]) > 8)).count()
+        };
+        let (all, few) = (off(&image), off(&shot(mode, 2).0));
+        assert!(few > 200 && few > 10 * all, "{}: {few} pixels off with two layers, {all} with all", mode.name());
+    }
+}
+
+/// Progressive refinement: the first still frame draws the interactive passes, each further call
+/// for the same frame one more, until the image holds every sub-sample and matches the image
+/// drawn at once (to rounding); a change starts it again.
+#[test]
+fn refinement_converges_to_the_full_image() {
+    let gpu = gpu();
+    let set = default_set();
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
+    for (i, s) in layout.organs.iter_mut().enumerate() {
+        s.opacity = [0.3, 0.5, 1.0][i % 3];
+    }
+    let camera = Camera::orbit(&layout.bounds(set), 35.0, 10.0);
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let frame = FrameInput { background: [0.0, 0.0, 0.0, 1.0], ..FrameInput::new(set, &camera, &layout) };
+    renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+    let full = target.read_color(&gpu.device, &gpu.queue).unwrap();
+    // A target that does not show this frame yet.
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let refined = FrameInput { refine: true, ..frame };
+    let mut done = Vec::new();
+    for _ in 0..16 {
+        let stats = renderer.render(&gpu.device, &gpu.queue, &target, &refined).unwrap();
+        assert_eq!(stats.subsamples_total, 64);
+        done.push(stats.subsamples_done);
+    }
+    assert_eq!(done[..3], [16, 20, 24], "interactive passes first, then one a call");
+    assert_eq!(done[15], 64, "converged after 13 calls: {done:?}");
+    let image = target.read_color(&gpu.device, &gpu.queue).unwrap();
+    let worst =
+        full.pixels().zip(image.pixels()).map(|(a, b)| (0..4).map(|k| a[k].abs_diff(b[k])).max().unwrap_or(0)).max();
+    assert!(worst <= Some(1), "refined image differs from the full one by {worst:?}");
+    let mut moved = camera;
+    moved.eye += Vec3::new(1.0, 0.0, 0.0);
+    let stats = renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &moved, ..refined }).unwrap();
+    assert_eq!(stats.subsamples_done, 16, "a new view starts again");
+}

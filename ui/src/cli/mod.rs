@@ -217,6 +217,9 @@ pub struct RenderArgs {
     /// Nearest organs that the masks' error compensation favours [default: 6]
     #[arg(long, value_parser = at_least_one)]
     pub k: Option<usize>,
+    /// Most layers `peel` and `dual-peel` peel, 1..=64 [default: 8]
+    #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=vbrain::transparency::MAX_PEEL_LAYERS as u64))]
+    pub layers: Option<usize>,
     /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
     #[arg(long)]
     pub draw_order_seed: Option<u64>,

@@ -1,9 +1,11 @@
 //! Behind `vbrain bench-transparency`: every transparency mode against the exact reference on
-//! views of the set with 4 to 39 transparent organs (opacities 0.2-0.8): mean absolute and
-//! 99th-percentile per-pixel error (8-bit sRGB units, the largest of the three channels), frame
-//! time, all in one run; CSV, a PNG plot and a contact sheet (one row per view, one column per
-//! mode in the order printed). It also times mask regeneration at 1920x1080 with every organ at
-//! 50 % opacity.
+//! views of the set with 1 to 99 transparent organs: mean absolute and 99th-percentile per-pixel
+//! error (8-bit sRGB units, the largest of the three channels) and frame time, all in one run;
+//! per view the same view with nothing faded (`opaque_frame_ms`, the base of the cost ratios),
+//! screen-door's frame while moving (its interactive sub-samples), and an error-against-time curve
+//! (screen-door at 4..64 sub-samples, the peeling modes at 1..8 layers). CSV, a PNG plot and a
+//! contact sheet (one row per view, one column per mode in the order printed). It also times mask
+//! regeneration at 1920x1080 with every organ at 50 % opacity.
 
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -13,10 +15,11 @@ use vbrain::camera::Camera;
 use vbrain::layout::Layout;
 use vbrain::organ_set::OrganSet;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
-use vbrain::transparency::{regions, TransparencyMode, TransparencySettings};
+use vbrain::transparency::{regions, TransparencyMode, TransparencySettings, SUBSAMPLE_CHOICES};
 
-/// A bench view: organs made transparent (the rest of `opaque` drawn opaque, all others hidden),
-/// and the orbit angles. An empty `transparent` list means every organ shown by default.
+/// A bench view: organs made transparent (the rest of `opaque` drawn opaque, all others hidden,
+/// unless `opaque` is [`WITH_THE_REST`]), and the orbit angles. An empty `transparent` list means
+/// every organ shown by default.
 struct ViewSpec {
     name: &'static str,
     transparent: &'static [&'static str],
@@ -24,15 +27,29 @@ struct ViewSpec {
     orbit: (f32, f32),
     /// Camera distance relative to the fitted one.
     distance: f32,
+    /// The transparent organs' opacity; `None` draws each in 0.2..0.8 from a fixed seed.
+    opacity: Option<f32>,
 }
 
-const VIEWS: [ViewSpec; 4] = [
+/// `opaque` of a view that shows every organ shown by default, opaque but for `transparent`.
+const WITH_THE_REST: &[&str] = &["*"];
+
+const VIEWS: [ViewSpec; 6] = [
+    ViewSpec {
+        name: "one faded gyrus",
+        transparent: &["superiorfrontal_l"],
+        opaque: WITH_THE_REST,
+        orbit: (-30.0, 20.0),
+        distance: 1.0,
+        opacity: Some(0.4),
+    },
     ViewSpec {
         name: "left deep nuclei",
         transparent: &["caudate_l", "putamen_l", "pallidum_l", "thalamus_l"],
         opaque: &["hippocampus_l", "amygdala_l"],
         orbit: (-70.0, 10.0),
         distance: 1.0,
+        opacity: None,
     },
     ViewSpec {
         name: "basal ganglia, ventricles, hippocampi",
@@ -53,6 +70,7 @@ const VIEWS: [ViewSpec; 4] = [
         opaque: &["brainstem"],
         orbit: (30.0, 20.0),
         distance: 0.6,
+        opacity: None,
     },
     ViewSpec {
         name: "left hemisphere",
@@ -67,18 +85,34 @@ const VIEWS: [ViewSpec; 4] = [
         opaque: &["brainstem"],
         orbit: (-90.0, 5.0),
         distance: 1.0,
+        opacity: None,
     },
-    ViewSpec { name: "whole brain", transparent: &[], opaque: &[], orbit: (35.0, 15.0), distance: 0.75 },
+    ViewSpec { name: "whole brain", transparent: &[], opaque: &[], orbit: (35.0, 15.0), distance: 0.75, opacity: None },
+    ViewSpec {
+        name: "whole brain at 50 %",
+        transparent: &[],
+        opaque: &[],
+        orbit: (35.0, 15.0),
+        distance: 0.75,
+        opacity: Some(0.5),
+    },
 ];
 
-pub const MODES: [TransparencyMode; 6] = [
+pub const MODES: [TransparencyMode; 8] = [
     TransparencyMode::Screendoor,
     TransparencyMode::ScreendoorWhitenoise,
     TransparencyMode::ScreendoorPixeltree,
     TransparencyMode::AlphaUnsorted,
     TransparencyMode::AlphaSorted,
     TransparencyMode::WeightedBlended,
+    TransparencyMode::Peel,
+    TransparencyMode::DualPeel,
 ];
+
+/// Modes of the error-against-time curve, and the most layers the peeling modes get in it.
+const CURVE_MODES: [TransparencyMode; 3] =
+    [TransparencyMode::Screendoor, TransparencyMode::Peel, TransparencyMode::DualPeel];
+const CURVE_LAYERS: usize = 8;
 
 struct Row {
     view: String,
@@ -87,9 +121,25 @@ struct Row {
     mae: f64,
     p99: f64,
     frame_ms: f64,
+    passes: usize,
 }
 
-/// The layout of a view; opacities drawn in 0.2..0.8 from a fixed seed.
+/// A point of the error-against-time curve: sub-samples (screen-door) or layers (peeling).
+struct CurvePoint {
+    mode: TransparencyMode,
+    setting: usize,
+    mae: f64,
+    frame_ms: f64,
+}
+
+/// One view's figures besides the rows.
+struct ViewFigures {
+    opaque_frame_ms: f64,
+    moving_frame_ms: f64,
+    curve: Vec<CurvePoint>,
+}
+
+/// The layout of a view; opacities as the spec says.
 fn view_layout(set: &OrganSet, spec: &ViewSpec, seed: u64) -> Result<(Layout, usize)> {
     let mut layout = Layout::new(set);
     let mut rng = vbrain::rng::XorShift::seeded(seed);
@@ -107,9 +157,11 @@ fn view_layout(set: &OrganSet, spec: &ViewSpec, seed: u64) -> Result<(Layout, us
     let chosen: Vec<usize> = if spec.transparent.is_empty() {
         (0..set.organs.len()).filter(|&i| layout.organs[i].visible).collect()
     } else {
-        layout.organs.iter_mut().for_each(|s| s.visible = false);
-        for i in select(spec.opaque)? {
-            layout.organs[i].visible = true;
+        if !std::ptr::eq(spec.opaque, WITH_THE_REST) {
+            layout.organs.iter_mut().for_each(|s| s.visible = false);
+            for i in select(spec.opaque)? {
+                layout.organs[i].visible = true;
+            }
         }
         let chosen = select(spec.transparent)?;
         for &i in &chosen {
@@ -118,7 +170,7 @@ fn view_layout(set: &OrganSet, spec: &ViewSpec, seed: u64) -> Result<(Layout, us
         chosen
     };
     for &i in &chosen {
-        layout.organs[i].opacity = 0.2 + 0.6 * rng.unit();
+        layout.organs[i].opacity = spec.opacity.unwrap_or_else(|| 0.2 + 0.6 * rng.unit());
     }
     Ok((layout, chosen.len()))
 }
@@ -136,80 +188,121 @@ fn errors(image: &image::RgbaImage, exact: &image::RgbaImage) -> (f64, f64) {
     (mean, f64::from(p99))
 }
 
+/// Renders views for the bench: each frame drawn once to warm up, then timed [`TIMED`] times with
+/// the queue finished (the read-back waits for it); the median counts.
+const TIMED: usize = 3;
+
+struct Shooter<'a> {
+    gpu: &'a GpuContext,
+    renderer: &'a Renderer,
+    target: &'a Target,
+    set: &'a OrganSet,
+    region_px: u32,
+}
+
+impl Shooter<'_> {
+    fn shot(
+        &self,
+        camera: &Camera,
+        layout: &Layout,
+        transparency: TransparencySettings,
+        moving: bool,
+    ) -> Result<(image::RgbaImage, f64, usize)> {
+        let transparency = TransparencySettings { region_px: self.region_px, ..transparency };
+        let frame = FrameInput {
+            background: crate::BACKGROUND,
+            transparency,
+            moving,
+            ..FrameInput::new(self.set, camera, layout)
+        };
+        let (device, queue) = (&self.gpu.device, &self.gpu.queue);
+        let mut stats = self.renderer.render(device, queue, self.target, &frame)?;
+        let mut image = self.target.read_color(device, queue)?;
+        // The reference is not timed (slow by design).
+        let runs = if transparency.mode == TransparencyMode::Exact { 0 } else { TIMED };
+        let mut times = Vec::with_capacity(runs);
+        for _ in 0..runs {
+            let started = Instant::now();
+            stats = self.renderer.render(device, queue, self.target, &frame)?;
+            image = self.target.read_color(device, queue)?;
+            times.push(started.elapsed().as_secs_f64() * 1000.0);
+        }
+        times.sort_by(f64::total_cmp);
+        Ok((image, times.get(times.len() / 2).copied().unwrap_or(0.0), stats.passes))
+    }
+
+    fn mode(&self, camera: &Camera, layout: &Layout, mode: TransparencyMode) -> Result<(image::RgbaImage, f64, usize)> {
+        self.shot(camera, layout, TransparencySettings { mode, ..Default::default() }, false)
+    }
+}
+
+/// The error-against-time curve of one view.
+fn curve(s: &Shooter, camera: &Camera, layout: &Layout, exact: &image::RgbaImage) -> Result<Vec<CurvePoint>> {
+    let mut points = Vec::new();
+    for mode in CURVE_MODES {
+        let settings: Vec<(usize, TransparencySettings)> = if mode == TransparencyMode::Screendoor {
+            SUBSAMPLE_CHOICES
+                .iter()
+                .map(|&n| (n, TransparencySettings { mode, subsamples: n, ..Default::default() }))
+                .collect()
+        } else {
+            (1..=CURVE_LAYERS)
+                .map(|n| (n, TransparencySettings { mode, peel_layers: n, ..Default::default() }))
+                .collect()
+        };
+        for (setting, t) in settings {
+            let (image, frame_ms, _) = s.shot(camera, layout, t, false)?;
+            points.push(CurvePoint { mode, setting, mae: errors(&image, exact).0, frame_ms });
+        }
+    }
+    Ok(points)
+}
+
 pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_out: bool) -> Result<()> {
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size.0, size.1)?;
-    let background = crate::BACKGROUND;
+    let shooter = Shooter { gpu: &gpu, renderer: &renderer, target: &target, set, region_px };
     let mut rows = Vec::new();
+    let mut figures = Vec::new();
     let mut sheet_rows = Vec::new();
-    let bar = indicatif::ProgressBar::new((VIEWS.len() * (MODES.len() + 1)) as u64);
+    let bar = indicatif::ProgressBar::new(VIEWS.len() as u64);
     for (v, spec) in VIEWS.iter().enumerate() {
         let (layout, transparent) = view_layout(set, spec, v as u64 + 1)?;
         let bounds = layout.bounds(set);
         let mut camera = Camera::orbit(&bounds, spec.orbit.0, spec.orbit.1).zoomed(spec.distance);
         camera.fit_depth(&bounds);
-        let shot = |mode: TransparencyMode| -> Result<(image::RgbaImage, f64)> {
-            let transparency = TransparencySettings { mode, region_px, ..Default::default() };
-            let frame = FrameInput { background, transparency, ..FrameInput::new(set, &camera, &layout) };
-            // Warm up once, then time one frame with the queue finished.
-            renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
-            let started = Instant::now();
-            renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
-            let image = target.read_color(&gpu.device, &gpu.queue)?;
-            let ms = started.elapsed().as_secs_f64() * 1000.0;
-            bar.inc(1);
-            Ok((image, ms))
-        };
-        let (exact, _) = shot(TransparencyMode::Exact)?;
+        let (exact, ..) = shooter.mode(&camera, &layout, TransparencyMode::Exact)?;
+        let mut opaque_layout = layout.clone();
+        opaque_layout.organs.iter_mut().filter(|s| s.is_drawn()).for_each(|s| s.opacity = 1.0);
+        let (_, opaque_frame_ms, _) = shooter.mode(&camera, &opaque_layout, TransparencyMode::Screendoor)?;
         let mut images = vec![exact.clone()];
         for mode in MODES {
-            let (image, frame_ms) = shot(mode)?;
+            let (image, frame_ms, passes) = shooter.mode(&camera, &layout, mode)?;
             let (mae, p99) = errors(&image, &exact);
-            rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms });
+            rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms, passes });
             images.push(image);
         }
+        let (_, moving_frame_ms, _) = shooter.shot(&camera, &layout, TransparencySettings::default(), true)?;
+        let curve = curve(&shooter, &camera, &layout, &exact)?;
+        figures.push(ViewFigures { opaque_frame_ms, moving_frame_ms, curve });
         sheet_rows.push(images);
+        bar.inc(1);
     }
     bar.finish_and_clear();
     let regen = mask_regeneration(set, region_px)?;
     std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
     let csv = out.join("transparency.csv");
     vbrain::atomic::write(&csv, |w| {
-        writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms")?;
+        writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms,passes")?;
         for r in &rows {
-            writeln!(w, "{},{},{},{:.4},{:.1},{:.2}", r.view, r.transparent, r.mode.name(), r.mae, r.p99, r.frame_ms)?;
+            let (v, n, m) = (&r.view, r.transparent, r.mode.name());
+            writeln!(w, "{v},{n},{m},{:.4},{:.1},{:.2},{}", r.mae, r.p99, r.frame_ms, r.passes)?;
         }
         Ok(())
     })?;
     let plot = out.join("transparency.png");
-    let series = |value: fn(&Row) -> f64| {
-        MODES
-            .iter()
-            .map(|&m| super::plot::Series {
-                name: m.name().into(),
-                colour: colour(m),
-                points: rows.iter().filter(|r| r.mode == m).map(|r| (r.transparent as f64, value(r))).collect(),
-            })
-            .collect()
-    };
-    super::plot::write(
-        &plot,
-        1000,
-        340,
-        &[
-            super::plot::Panel {
-                title: "mean absolute error against exact (8-bit units)".into(),
-                x_label: "transparent organs in the view".into(),
-                series: series(|r| r.mae),
-            },
-            super::plot::Panel {
-                title: "frame time (ms)".into(),
-                x_label: "transparent organs in the view".into(),
-                series: series(|r| r.frame_ms),
-            },
-        ],
-    )?;
+    write_plot(&plot, &rows, &figures)?;
     let sheet = out.join("transparency-sheet.png");
     write_sheet(&sheet, &sheet_rows, size)?;
     let mean = |m: TransparencyMode| {
@@ -219,19 +312,33 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     if json_out {
         let views: Vec<_> = VIEWS
             .iter()
-            .map(|spec| {
+            .zip(&figures)
+            .map(|(spec, fig)| {
                 let modes: serde_json::Map<_, _> = rows
                     .iter()
                     .filter(|r| r.view == spec.name)
                     .map(|r| {
-                        (
-                            r.mode.name().to_string(),
-                            json!({"mean_abs_error": r.mae, "p99_error": r.p99, "frame_ms": r.frame_ms}),
-                        )
+                        let figures = json!({"mean_abs_error": r.mae, "p99_error": r.p99, "frame_ms": r.frame_ms,
+                            "passes": r.passes, "cost_over_opaque": r.frame_ms / fig.opaque_frame_ms});
+                        (r.mode.name().to_string(), figures)
                     })
                     .collect();
                 let transparent = rows.iter().find(|r| r.view == spec.name).map(|r| r.transparent);
-                json!({"view": spec.name, "transparent_organs": transparent, "modes": modes})
+                let curve: serde_json::Map<_, _> = CURVE_MODES
+                    .iter()
+                    .map(|&m| {
+                        let key = if m == TransparencyMode::Screendoor { "subsamples" } else { "layers" };
+                        let points: Vec<_> = fig
+                            .curve
+                            .iter()
+                            .filter(|p| p.mode == m)
+                            .map(|p| json!({key: p.setting, "mean_abs_error": p.mae, "frame_ms": p.frame_ms}))
+                            .collect();
+                        (m.name().to_string(), json!(points))
+                    })
+                    .collect();
+                json!({"view": spec.name, "transparent_organs": transparent, "opaque_frame_ms": fig.opaque_frame_ms,
+                    "screendoor_moving_frame_ms": fig.moving_frame_ms, "modes": modes, "curve": curve})
             })
             .collect();
         let means: serde_json::Map<_, _> = MODES.iter().map(|&m| (m.name().to_string(), json!(mean(m)))).collect();
@@ -242,24 +349,20 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
+        let adapter = gpu.adapter_description();
+        println!("{} views at {}x{} on {adapter}; errors against exact, 8-bit units", VIEWS.len(), size.0, size.1);
         println!(
-            "{} views at {}x{} on {}; errors against exact, 8-bit units",
-            VIEWS.len(),
-            size.0,
-            size.1,
-            gpu.adapter_description()
+            "{:<40} {:>6} {:<22} {:>9} {:>6} {:>10} {:>9}",
+            "view", "organs", "mode", "mean err", "p99", "frame ms", "x opaque"
         );
-        println!("{:<40} {:>6} {:<22} {:>9} {:>6} {:>10}", "view", "organs", "mode", "mean err", "p99", "frame ms");
-        for r in &rows {
-            println!(
-                "{:<40} {:>6} {:<22} {:>9.3} {:>6.0} {:>10.1}",
-                r.view,
-                r.transparent,
-                r.mode.name(),
-                r.mae,
-                r.p99,
-                r.frame_ms
-            );
+        for (r, fig) in rows.iter().zip(figures.iter().flat_map(|f| std::iter::repeat_n(f, MODES.len()))) {
+            let (v, n, m) = (&r.view, r.transparent, r.mode.name());
+            let ratio = r.frame_ms / fig.opaque_frame_ms;
+            println!("{v:<40} {n:>6} {m:<22} {:>9.3} {:>6.0} {:>10.1} {ratio:>9.2}", r.mae, r.p99, r.frame_ms);
+        }
+        for (spec, fig) in VIEWS.iter().zip(&figures) {
+            let (o, m) = (fig.opaque_frame_ms, fig.moving_frame_ms);
+            println!("{:<40} opaque {o:.1} ms, screen-door moving {m:.1} ms ({:.2}x)", spec.name, m / o);
         }
         for m in MODES {
             println!("mean over views  {:<22} {:.3}", m.name(), mean(m));
@@ -271,6 +374,56 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     Ok(())
 }
 
+/// Error and frame time per view, and the error-against-time curve of the view with every organ
+/// at 50 %.
+fn write_plot(path: &Path, rows: &[Row], figures: &[ViewFigures]) -> Result<()> {
+    use super::plot::{Panel, Series};
+    let series = |value: fn(&Row) -> f64| {
+        MODES
+            .iter()
+            .map(|&m| Series {
+                name: m.name().into(),
+                colour: colour(m),
+                points: rows.iter().filter(|r| r.mode == m).map(|r| (r.transparent as f64, value(r))).collect(),
+            })
+            .collect()
+    };
+    let last = figures.last().map(|f| f.curve.as_slice()).unwrap_or_default();
+    let curve = CURVE_MODES
+        .iter()
+        .map(|&m| Series {
+            name: m.name().into(),
+            colour: colour(m),
+            points: last.iter().filter(|p| p.mode == m).map(|p| (p.frame_ms, p.mae)).collect(),
+        })
+        .collect();
+    super::plot::write(
+        path,
+        1000,
+        340,
+        &[
+            Panel {
+                title: "mean absolute error against exact (8-bit units)".into(),
+                x_label: "transparent organs in the view".into(),
+                series: series(|r| r.mae),
+            },
+            Panel {
+                title: "frame time (ms)".into(),
+                x_label: "transparent organs in the view".into(),
+                series: series(|r| r.frame_ms),
+            },
+            Panel {
+                title: format!(
+                    "{}: error against frame time (screen-door 4..64 sub-samples, peeling 1..{CURVE_LAYERS} layers)",
+                    VIEWS[VIEWS.len() - 1].name
+                ),
+                x_label: "frame time (ms)".into(),
+                series: curve,
+            },
+        ],
+    )
+}
+
 fn colour(m: TransparencyMode) -> (u8, u8, u8) {
     match m {
         TransparencyMode::Screendoor => (200, 40, 40),
@@ -279,6 +432,8 @@ fn colour(m: TransparencyMode) -> (u8, u8, u8) {
         TransparencyMode::AlphaUnsorted => (230, 150, 30),
         TransparencyMode::AlphaSorted => (40, 160, 80),
         TransparencyMode::WeightedBlended => (140, 60, 170),
+        TransparencyMode::Peel => (20, 170, 190),
+        TransparencyMode::DualPeel => (90, 90, 30),
         TransparencyMode::Exact => (0, 0, 0),
     }
 }

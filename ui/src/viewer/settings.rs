@@ -161,6 +161,7 @@ impl Settings {
         t.interactive_subsamples = vbrain::transparency::clamp_subsamples(t.interactive_subsamples);
         t.region_px = t.region_px.clamp(4, 128);
         t.k = t.k.clamp(1, 16);
+        t.peel_layers = t.peel_layers.clamp(1, vbrain::transparency::MAX_PEEL_LAYERS);
         for (v, default) in self.background.iter_mut().zip(d.background) {
             *v = unit(*v, default);
         }

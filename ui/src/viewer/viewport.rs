@@ -444,6 +444,8 @@ impl Viewport {
             background: settings.background_linear(false),
             transparency: settings.transparency,
             moving: self.moving,
+            // Still: one more screen-door pass a frame into the image, until all are in.
+            refine: !self.moving,
             highlight: input.highlight,
             selection: input.selected,
             clip: &section.planes,
@@ -474,8 +476,8 @@ impl Viewport {
         if let Some(text) = failed {
             out.push(Action::NotifyOnce(text));
         }
-        if self.moving {
-            // Draw once more when the motion stops, with the full masks.
+        if self.moving || stats.subsamples_done < stats.subsamples_total {
+            // Draw once more when the motion stops, and again until the image has every sub-sample.
             ui.ctx().request_repaint();
         }
         self.stats = stats;
@@ -536,13 +538,13 @@ fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, sta
     }
     if faded {
         let t = &settings.transparency;
-        let mut line = format!("transparency: {}, {} passes", t.mode.name(), stats.passes);
+        let mut line = format!("transparency: {}, {} passes this frame", t.mode.name(), stats.passes);
         if t.mode.mask_method().is_some() {
+            let (done, total) = (stats.subsamples_done, stats.subsamples_total);
+            let state = if done < total { "refining" } else { "converged" };
             line += &format!(
-                "\nmasks: {} sub-samples, {} configurations, {:.2} ms",
-                stats.passes * 4,
-                stats.mask_configs,
-                stats.mask_ms
+                "\n{state}: {done} of {total} sub-samples\nmasks: {} configurations, {:.2} ms",
+                stats.mask_configs, stats.mask_ms
             );
         }
         lines.push(line);
