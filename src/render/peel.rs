@@ -14,9 +14,12 @@
 //! its query read back before the next: the stall peeling pays for stopping early).
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{module, Composite, OrganPipeline, OrganPipelines, PipelineFactory, OVER, SAMPLE_COUNT};
+use super::pipelines::{
+    fullscreen_pipeline, module, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory, OVER,
+    SAMPLE_COUNT,
+};
 use super::scene::GpuScene;
-use super::target::{Target, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{image_view, Target, DEPTH_FORMAT, HDR_FORMAT};
 use crate::error::{Error, Result};
 use std::sync::Mutex;
 
@@ -27,8 +30,8 @@ pub(super) struct Peel {
     layer: OrganPipelines,
     /// Dual peeling's init and peel pipelines, where the device blends 32-bit floats.
     dual: Option<[OrganPipelines; 2]>,
+    /// A per-sample image blended under what is in front: each layer, then the opaque image.
     under: wgpu::RenderPipeline,
-    opaque_under: wgpu::RenderPipeline,
     back: wgpu::RenderPipeline,
     final_pass: wgpu::RenderPipeline,
     present: wgpu::RenderPipeline,
@@ -52,10 +55,9 @@ struct Images {
     peel_binds: [wgpu::BindGroup; 2],
     /// `dual_binds[i]` reads `near[i]`, `far[i]`, `front[i]`.
     dual_binds: [wgpu::BindGroup; 2],
+    /// Reads `layer`: a peeled layer, or a dual pass's back layer.
     layer_bind: wgpu::BindGroup,
     opaque_bind: wgpu::BindGroup,
-    /// Reads the dual pass's back layer (`layer`).
-    back_bind: wgpu::BindGroup,
     /// `final_binds[i]` reads `front[i]` over the opaque image with the back layers.
     final_binds: [wgpu::BindGroup; 2],
     present_bind: wgpu::BindGroup,
@@ -155,33 +157,18 @@ impl Peel {
             ]
         });
         let shader = module(device, &super::PEEL_SHADER);
-        let fullscreen = |label, layout: &wgpu::BindGroupLayout, fragment, blend| {
-            let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                label: Some(label),
-                bind_group_layouts: &[Some(layout)],
-                immediate_size: 0,
-            });
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(label),
-                layout: Some(&pipeline_layout),
-                vertex: wgpu::VertexState {
-                    module: &shader,
-                    entry_point: Some("vs_fullscreen"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
-                },
-                primitive: Default::default(),
+        let fullscreen = |label, layout, fragment, blend| {
+            let targets = [hdr(blend)];
+            let spec = FullscreenPipeline {
+                label,
+                module: &shader,
+                layout,
+                fragment,
+                targets: &targets,
                 depth_stencil: None,
-                multisample: wgpu::MultisampleState { count: SAMPLE_COUNT, ..Default::default() },
-                fragment: Some(wgpu::FragmentState {
-                    module: &shader,
-                    entry_point: Some(fragment),
-                    compilation_options: Default::default(),
-                    targets: &[hdr(blend)],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
+                samples: SAMPLE_COUNT,
+            };
+            fullscreen_pipeline(device, spec)
         };
         // Front to back: what is already in front lets (1 - its alpha) through.
         let under = wgpu::BlendComponent {
@@ -195,7 +182,6 @@ impl Peel {
             layer,
             dual,
             under: fullscreen("peel under", &sample_layout, "fs_sample", under),
-            opaque_under: fullscreen("peel opaque under", &sample_layout, "fs_sample", under),
             back: fullscreen("dual back", &sample_layout, "fs_back", Some(OVER)),
             final_pass: fullscreen("dual final", &final_layout, "fs_dual_final", None),
             present: composite.pipeline(device, "present", "fs_copy", super::COLOR_FORMAT, None),
@@ -208,20 +194,7 @@ impl Peel {
     }
 
     fn images(&self, device: &wgpu::Device, composite: &Composite, target: &Target) -> Images {
-        let make = |label, format| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width: target.width, height: target.height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: SAMPLE_COUNT,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        };
+        let make = |label, format| image_view(device, label, [target.width, target.height], format, SAMPLE_COUNT);
         let two = |label, format| [make(label, format), make(label, format)];
         let (depth, near, far, front) = (
             two("peel depth", DEPTH_FORMAT),
@@ -238,7 +211,6 @@ impl Peel {
             dual_binds: pair(&|i| views_bind(device, &self.dual_layout, 2, &[&near[i], &far[i], &front[i]])),
             layer_bind: views_bind(device, &self.sample_layout, 0, &[&layer]),
             opaque_bind: views_bind(device, &self.sample_layout, 0, &[&hdr.msaa]),
-            back_bind: views_bind(device, &self.sample_layout, 0, &[&layer]),
             final_binds: pair(&|i| views_bind(device, &self.final_layout, 0, &[&front[i], &hdr.msaa])),
             present_bind: composite.images(device, [&hdr.resolved, &hdr.resolved, &hdr.resolved]),
             layer,
@@ -436,7 +408,7 @@ impl PeelFrame<'_> {
             {
                 let mut p = pass(&mut encoder, &[(&hdr.msaa, None)], None, None, Some(&query));
                 p.set_pipeline(&pe.back);
-                p.set_bind_group(0, &images.back_bind, &[]);
+                p.set_bind_group(0, &images.layer_bind, &[]);
                 p.begin_occlusion_query(0);
                 p.draw(0..3, 0..1);
                 p.end_occlusion_query();
@@ -478,7 +450,7 @@ impl Technique for PeelFrame<'_> {
         } else {
             let passes = self.peel(f, &images, &faded, layers)?;
             let mut p = pass(encoder, &[(&images.accum, None)], Some(&hdr.resolved), None, None);
-            p.set_pipeline(&pe.opaque_under);
+            p.set_pipeline(&pe.under);
             p.set_bind_group(0, &images.opaque_bind, &[]);
             p.draw(0..3, 0..1);
             passes

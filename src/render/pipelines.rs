@@ -134,10 +134,50 @@ pub(super) const OVER: wgpu::BlendState = wgpu::BlendState {
     alpha: wgpu::BlendComponent::OVER,
 };
 
+/// What differs between full-screen pipelines: one triangle over the target from the module's
+/// `vs_fullscreen`, reading one bind group.
+pub(super) struct FullscreenPipeline<'a> {
+    pub label: &'a str,
+    pub module: &'a wgpu::ShaderModule,
+    pub layout: &'a wgpu::BindGroupLayout,
+    pub fragment: &'a str,
+    pub targets: &'a [Option<wgpu::ColorTargetState>],
+    pub depth_stencil: Option<wgpu::DepthStencilState>,
+    pub samples: u32,
+}
+
+pub(super) fn fullscreen_pipeline(device: &wgpu::Device, spec: FullscreenPipeline) -> wgpu::RenderPipeline {
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(spec.label),
+        bind_group_layouts: &[Some(spec.layout)],
+        immediate_size: 0,
+    });
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(spec.label),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: spec.module,
+            entry_point: Some("vs_fullscreen"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: Default::default(),
+        depth_stencil: spec.depth_stencil,
+        multisample: wgpu::MultisampleState { count: spec.samples, ..Default::default() },
+        fragment: Some(wgpu::FragmentState {
+            module: spec.module,
+            entry_point: Some(spec.fragment),
+            compilation_options: Default::default(),
+            targets: spec.targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// Full-screen passes over up to three float images (composite.wgsl).
 pub(super) struct Composite {
     pub images_layout: wgpu::BindGroupLayout,
-    pipeline_layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
 }
 
@@ -157,12 +197,7 @@ impl Composite {
             label: Some("images"),
             entries: &[texture(0), texture(1), texture(2)],
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("images"),
-            bind_group_layouts: &[Some(&images_layout)],
-            immediate_size: 0,
-        });
-        Composite { images_layout, pipeline_layout, module: module(device, &super::COMPOSITE_SHADER) }
+        Composite { images_layout, module: module(device, &super::COMPOSITE_SHADER) }
     }
 
     /// A full-screen pipeline of fragment entry point `fragment` into `format`.
@@ -174,27 +209,18 @@ impl Composite {
         format: wgpu::TextureFormat,
         blend: Option<wgpu::BlendState>,
     ) -> wgpu::RenderPipeline {
-        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some(label),
-            layout: Some(&self.pipeline_layout),
-            vertex: wgpu::VertexState {
+        fullscreen_pipeline(
+            device,
+            FullscreenPipeline {
+                label,
                 module: &self.module,
-                entry_point: Some("vs_fullscreen"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            primitive: Default::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module: &self.module,
-                entry_point: Some(fragment),
-                compilation_options: Default::default(),
+                layout: &self.images_layout,
+                fragment,
                 targets: &target(format, blend),
-            }),
-            multiview_mask: None,
-            cache: None,
-        })
+                depth_stencil: None,
+                samples: 1,
+            },
+        )
     }
 
     /// The bind group of three images (`image`, `accum`, `reveal` in composite.wgsl).

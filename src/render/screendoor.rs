@@ -14,9 +14,12 @@
 //! the opaque image and the running mean are kept in the pool between those calls.
 
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
-use super::pipelines::{module, target, Composite, OrganPipeline, OrganPipelines, PipelineFactory, SAMPLE_COUNT};
+use super::pipelines::{
+    fullscreen_pipeline, module, target, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
+    SAMPLE_COUNT,
+};
 use super::scene::{uniform_entry, GpuScene};
-use super::target::{Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{image_view, Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
 use super::tiles::{tiling, Rect, Tiling, ATLAS_BUDGET_PX, GAP};
 use super::uniforms::{GatherUniform, ScreendoorUniform, MAX_PASSES, SLOT};
 use crate::error::Result;
@@ -176,45 +179,18 @@ impl Screendoor {
             entries: &[gather_uniform, texture(4, float, false)],
         });
         let shader = module(device, &super::SCREENDOOR_SHADER);
-        let fullscreen =
-            |label, layout: &wgpu::BindGroupLayout, fragment, targets: &[Option<wgpu::ColorTargetState>]| {
-                let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-                    label: Some(label),
-                    bind_group_layouts: &[Some(layout)],
-                    immediate_size: 0,
-                });
-                let restoring = fragment == "fs_restore";
-                device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                    label: Some(label),
-                    layout: Some(&pipeline_layout),
-                    vertex: wgpu::VertexState {
-                        module: &shader,
-                        entry_point: Some("vs_fullscreen"),
-                        compilation_options: Default::default(),
-                        buffers: &[],
-                    },
-                    primitive: Default::default(),
-                    depth_stencil: restoring.then(|| wgpu::DepthStencilState {
-                        format: DEPTH_FORMAT,
-                        depth_write_enabled: Some(true),
-                        depth_compare: Some(wgpu::CompareFunction::Always),
-                        stencil: Default::default(),
-                        bias: Default::default(),
-                    }),
-                    multisample: wgpu::MultisampleState {
-                        count: if restoring { SAMPLE_COUNT } else { 1 },
-                        ..Default::default()
-                    },
-                    fragment: Some(wgpu::FragmentState {
-                        module: &shader,
-                        entry_point: Some(fragment),
-                        compilation_options: Default::default(),
-                        targets,
-                    }),
-                    multiview_mask: None,
-                    cache: None,
-                })
-            };
+        let fullscreen = |label, layout, fragment, targets, depth_stencil, samples| {
+            let spec = FullscreenPipeline { label, module: &shader, layout, fragment, targets, depth_stencil, samples };
+            fullscreen_pipeline(device, spec)
+        };
+        // The opaque depth, written whatever was there.
+        let restored_depth = wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Always),
+            stencil: Default::default(),
+            bias: Default::default(),
+        };
         let mean = wgpu::BlendComponent {
             src_factor: wgpu::BlendFactor::Constant,
             dst_factor: wgpu::BlendFactor::OneMinusConstant,
@@ -224,8 +200,15 @@ impl Screendoor {
         Screendoor {
             opaque,
             masked,
-            restore: fullscreen("tile restore", &restore_layout, "fs_restore", &target(HDR_FORMAT, None)),
-            gather: fullscreen("gather", &gather_layout, "fs_gather", &target(HDR_FORMAT, mean)),
+            restore: fullscreen(
+                "tile restore",
+                &restore_layout,
+                "fs_restore",
+                &target(HDR_FORMAT, None),
+                Some(restored_depth),
+                SAMPLE_COUNT,
+            ),
+            gather: fullscreen("gather", &gather_layout, "fs_gather", &target(HDR_FORMAT, mean), None, 1),
             present: composite.pipeline(device, "present", "fs_copy", COLOR_FORMAT, None),
             layout,
             restore_layout,
@@ -280,22 +263,7 @@ impl Screendoor {
         }
         let max = device.limits().max_texture_dimension_2d;
         let size = need.map(|v| v.div_ceil(256).saturating_mul(256).min(max).max(v));
-        let make = |label, format, samples, usage| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some(label),
-                    size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: samples,
-                    dimension: wgpu::TextureDimension::D2,
-                    format,
-                    usage,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        };
-        let attach = wgpu::TextureUsages::RENDER_ATTACHMENT;
-        let resolved = make("atlas resolved", HDR_FORMAT, 1, attach | wgpu::TextureUsages::TEXTURE_BINDING);
+        let resolved = image_view(device, "atlas resolved", size, HDR_FORMAT, 1);
         let gather_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("gather"),
             layout: &self.gather_layout,
@@ -306,8 +274,8 @@ impl Screendoor {
         });
         Atlas {
             size,
-            msaa: make("atlas msaa", HDR_FORMAT, SAMPLE_COUNT, attach),
-            depth: make("atlas depth", DEPTH_FORMAT, SAMPLE_COUNT, attach),
+            msaa: image_view(device, "atlas msaa", size, HDR_FORMAT, SAMPLE_COUNT),
+            depth: image_view(device, "atlas depth", size, DEPTH_FORMAT, SAMPLE_COUNT),
             resolved,
             gather_bind,
         }

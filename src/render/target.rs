@@ -111,22 +111,8 @@ impl Target {
     /// The float images, made on first use.
     pub(crate) fn hdr(&self, device: &wgpu::Device) -> &Hdr {
         self.hdr.get_or_init(|| {
-            let make = |label, format, samples| {
-                // Multisampled ones too: screen-door's tiles read the opaque image per sample.
-                let usage = wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING;
-                device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
-                        mip_level_count: 1,
-                        sample_count: samples,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage,
-                        view_formats: &[],
-                    })
-                    .create_view(&wgpu::TextureViewDescriptor::default())
-            };
+            // Multisampled ones too: screen-door's tiles read the opaque image per sample.
+            let make = |label, format, samples| image_view(device, label, [self.width, self.height], format, samples);
             let samples = super::SAMPLE_COUNT;
             Hdr {
                 msaa: make("hdr msaa", HDR_FORMAT, samples),
@@ -140,20 +126,7 @@ impl Target {
 
     /// The outline mask (single-sampled, [`MASK_FORMAT`]), made on first use.
     pub(crate) fn mask(&self, device: &wgpu::Device) -> &wgpu::TextureView {
-        self.mask.get_or_init(|| {
-            device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some("outline mask"),
-                    size: wgpu::Extent3d { width: self.width, height: self.height, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: MASK_FORMAT,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&wgpu::TextureViewDescriptor::default())
-        })
+        self.mask.get_or_init(|| image_view(device, "outline mask", [self.width, self.height], MASK_FORMAT, 1))
     }
 
     pub fn aspect(&self) -> f32 {
@@ -183,6 +156,29 @@ impl Target {
         let bytes = read_texture(device, queue, &self.ids, 4, [x, y], [1, 1], wgpu::TextureAspect::All)?;
         Ok(Some(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]])))
     }
+}
+
+/// A view of a new 2D image of `size` pixels that passes draw into and later passes read
+/// (`RENDER_ATTACHMENT | TEXTURE_BINDING`).
+pub(crate) fn image_view(
+    device: &wgpu::Device,
+    label: &str,
+    size: [u32; 2],
+    format: wgpu::TextureFormat,
+    samples: u32,
+) -> wgpu::TextureView {
+    device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d { width: size[0], height: size[1], depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        })
+        .create_view(&wgpu::TextureViewDescriptor::default())
 }
 
 /// Copies a `size` region at `origin` of a single-sampled 2D texture into host memory, removing the
