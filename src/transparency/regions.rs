@@ -184,7 +184,11 @@ pub fn group_masks(
             let order = order(present);
             let mut table = base.clone();
             for &o in &order[k..] {
-                table.add(opacity(o), split(k));
+                let split = match p.method {
+                    MaskMethod::TabularNec => SplitOrder::Shuffled { priorities: &priorities[..k], seed: o as u64 + 1 },
+                    _ => split(k),
+                };
+                table.add(opacity(o), split);
             }
             gpu(&order, table.masks())
         })

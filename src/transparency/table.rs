@@ -41,6 +41,10 @@ pub enum SplitOrder<'a> {
     Table,
     /// Neighbourhood error compensation: indices of earlier masks, highest priority (nearest) first.
     Priorities(&'a [usize]),
+    /// Compensation as `Priorities`, with the rows of equal rank split in an order shuffled by
+    /// `seed`: for masks after the K nearest, which all share those priorities and would otherwise
+    /// split in one order, and so come out identical at equal opacities (and hide each other).
+    Shuffled { priorities: &'a [usize], seed: u64 },
     /// An explicit permutation of the rows (the pixel tree's random order).
     Given(&'a [usize]),
 }
@@ -114,9 +118,12 @@ impl MaskTable {
     pub fn add(&mut self, alpha: f32, order: SplitOrder) -> Mask {
         let alpha = f64::from(alpha.clamp(0.0, 1.0));
         // Ranks must fit the counting sort's byte keys.
-        let order = match order {
-            SplitOrder::Priorities(p) if p.len() > 100 => SplitOrder::Priorities(&p[..100]),
-            o => o,
+        let (order, seed) = match order {
+            SplitOrder::Priorities(p) if p.len() > 100 => (SplitOrder::Priorities(&p[..100]), None),
+            SplitOrder::Shuffled { priorities: p, seed } => {
+                (SplitOrder::Priorities(&p[..p.len().min(100)]), Some(seed))
+            }
+            o => (o, None),
         };
         let rows = self.rows.len();
         self.order.clear();
@@ -143,6 +150,15 @@ impl MaskTable {
                 for (r, &k) in self.keys.iter().enumerate() {
                     self.order[starts[usize::from(k)]] = r;
                     starts[usize::from(k)] += 1;
+                }
+                if let Some(seed) = seed {
+                    // starts[k] is now where rank k ends.
+                    let mut rng = crate::rng::XorShift::seeded(seed);
+                    let mut from = 0;
+                    for &end in &starts[..ranks] {
+                        rng.shuffle(&mut self.order[from..end]);
+                        from = end;
+                    }
                 }
             }
             _ => self.order.extend(0..rows),
