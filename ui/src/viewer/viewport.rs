@@ -538,7 +538,8 @@ fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, sta
     }
     if faded {
         let t = &settings.transparency;
-        let mut line = format!("transparency: {}, {} passes this frame", t.mode.name(), stats.passes);
+        let passes = if stats.passes == 1 { "pass" } else { "passes" };
+        let mut line = format!("transparency: {}, {} {passes} this frame", t.mode.name(), stats.passes);
         if t.mode.mask_method().is_some() {
             let (done, total) = (stats.subsamples_done, stats.subsamples_total);
             let state = if done < total { "refining" } else { "converged" };
