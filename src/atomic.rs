@@ -1,5 +1,6 @@
-//! Atomic file writes: write a temporary file beside the target, flush it to disk, then rename it.
-//! A crash or a full disk leaves either the old file or the new one, never half of one.
+//! Atomic writes: a file is written as a temporary file beside the target, flushed to disk, then
+//! renamed; a folder is written whole into a staging folder beside it, which then takes its place.
+//! A crash or a full disk leaves either the old file or folder or the new one, never half of one.
 
 use crate::error::{Error, Result};
 use std::io::Write;
@@ -42,6 +43,50 @@ fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<
     result.map_err(io)
 }
 
+/// How many entries the folder `dir` holds (0 where it does not exist); an error where `dir` is
+/// not a folder. Commands that replace a folder ask before replacing one that holds anything.
+pub fn folder_entries(dir: &Path) -> Result<usize> {
+    match std::fs::metadata(dir) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(0),
+        Err(e) => Err(Error::io(dir, e)),
+        Ok(m) if !m.is_dir() => Err(Error::parse(dir, None, "exists and is not a folder")),
+        Ok(_) => Ok(std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?.count()),
+    }
+}
+
+/// Writes the folder `dir` whole: `fill` writes into an empty staging folder beside it, which then
+/// takes `dir`'s place. An existing `dir` is moved aside first and removed only once the new one
+/// is in place; if `fill` or a move fails, `dir` is as it was and the staging folder is gone.
+pub fn write_folder(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    let parent = match dir.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
+        _ => std::path::PathBuf::from("."),
+    };
+    let name = dir.file_name().ok_or_else(|| Error::NotAFileName { path: dir.to_path_buf() })?.to_string_lossy();
+    std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+    let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&staging);
+    std::fs::create_dir(&staging).map_err(|e| Error::io(&staging, e))?;
+    let placed = fill(&staging).and_then(|()| {
+        if !dir.exists() {
+            return std::fs::rename(&staging, dir).map_err(|e| Error::io(dir, e));
+        }
+        let old = parent.join(format!(".{name}.old-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&old);
+        std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
+        if let Err(e) = std::fs::rename(&staging, dir) {
+            let _ = std::fs::rename(&old, dir);
+            return Err(Error::io(dir, e));
+        }
+        let _ = std::fs::remove_dir_all(&old);
+        Ok(())
+    });
+    if placed.is_err() {
+        let _ = std::fs::remove_dir_all(&staging);
+    }
+    placed
+}
+
 /// Writes `image` as a PNG file, atomically; with `replace` false an existing file is refused.
 pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result<()> {
     let mut bytes = Vec::new();
@@ -71,5 +116,28 @@ mod tests {
         assert_eq!(std::fs::read(&p).ok().as_deref(), Some(&b"two"[..]));
         // No temporary file is left behind.
         assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
+    }
+
+    #[test]
+    fn a_folder_is_replaced_whole_or_not_at_all() {
+        let dir = tempfile::tempdir().unwrap();
+        let set = dir.path().join("set");
+        assert_eq!(folder_entries(&set).unwrap(), 0);
+        write_folder(&set, |d| write(&d.join("a"), |w| w.write_all(b"1"))).unwrap();
+        assert_eq!(folder_entries(&set).unwrap(), 1);
+        // A failing fill leaves the old folder as it was, and nothing beside it.
+        let failed = write_folder(&set, |d| {
+            write(&d.join("b"), |w| w.write_all(b"2"))?;
+            Err(Error::parse(d, None, "disk full"))
+        });
+        assert!(failed.is_err());
+        assert_eq!(std::fs::read(set.join("a")).ok().as_deref(), Some(&b"1"[..]));
+        assert!(!set.join("b").exists());
+        assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
+        // A fill that succeeds replaces the folder: the old files are gone.
+        write_folder(&set, |d| write(&d.join("b"), |w| w.write_all(b"2"))).unwrap();
+        assert!(!set.join("a").exists() && set.join("b").exists());
+        assert_eq!(std::fs::read_dir(dir.path()).map(|d| d.count()).unwrap_or(0), 1);
+        assert!(folder_entries(&set.join("b")).is_err(), "a file is not a folder");
     }
 }

@@ -7,8 +7,10 @@ use std::path::PathBuf;
 pub enum Error {
     #[error("{}{}: {message}", path.display(), line.map(|l| format!(":{l}")).unwrap_or_default())]
     Parse { path: PathBuf, line: Option<usize>, message: String },
-    #[error("{}: {source}", path.display())]
-    Io { path: PathBuf, source: std::io::Error },
+    /// The OS error is part of the message and deliberately not a `source`, so that a chain of
+    /// causes (`{:#}`) prints it once.
+    #[error("{}: {error}", path.display())]
+    Io { path: PathBuf, error: std::io::Error },
     #[error("{}: cannot encode: {message}", path.display())]
     Encode { path: PathBuf, message: String },
     #[error("{}: not a file name", path.display())]
@@ -27,6 +29,15 @@ pub enum Error {
     /// A wgpu operation (poll, buffer mapping, read-back) failed.
     #[error("GPU {operation}: {message}")]
     Gpu { operation: &'static str, message: String },
+    #[error("{what}: out of GPU memory; choose a smaller image size")]
+    GpuMemory { what: &'static str },
+    #[error(
+        "image size {width}x{height} needs about {:.1} GiB of render targets, more than the {:.1} GiB \
+         this GPU can give; choose a smaller size",
+        *bytes as f64 / (1u64 << 30) as f64,
+        *budget as f64 / (1u64 << 30) as f64
+    )]
+    TargetMemory { width: u32, height: u32, bytes: u64, budget: u64 },
     #[error("image size {width}x{height} outside 1..={max} pixels per side")]
     ImageSize { width: u32, height: u32, max: u32 },
     #[error("organ \"{organ}\" needs a {bytes}-byte buffer; this GPU allows {max}")]
@@ -39,7 +50,7 @@ impl Error {
     }
 
     pub fn io(path: impl Into<PathBuf>, source: std::io::Error) -> Self {
-        Error::Io { path: path.into(), source }
+        Error::Io { path: path.into(), error: source }
     }
 
     pub(crate) fn gpu(operation: &'static str, message: impl std::fmt::Display) -> Self {

@@ -21,6 +21,27 @@ impl Transform {
         Transform { translation: Vec3::ZERO, rotation_deg: Vec3::ZERO, scale: 1.0, pivot }
     }
 
+    /// Largest translation per axis a file may give, millimetres (100 m).
+    pub const MAX_TRANSLATION: f32 = 1e5;
+    /// Scales a file may give.
+    pub const SCALES: std::ops::RangeInclusive<f32> = 1e-3..=1e3;
+
+    /// A transform from a file's numbers (translation mm, rotation degrees, scale), or what is
+    /// wrong with them: not finite, a translation beyond [`Self::MAX_TRANSLATION`], a rotation
+    /// beyond +-1e6 degrees, a scale outside [`Self::SCALES`].
+    pub fn from_parts(translation: [f32; 3], rotation: [f32; 3], scale: f32, pivot: Vec3) -> Result<Transform, String> {
+        if !translation.iter().all(|v| v.is_finite() && v.abs() <= Self::MAX_TRANSLATION) {
+            return Err(format!("translation {translation:?} is not within +-{} mm", Self::MAX_TRANSLATION));
+        }
+        if !rotation.iter().all(|v| v.is_finite() && v.abs() <= 1e6) {
+            return Err(format!("rotation {rotation:?} is not degrees within +-1000000"));
+        }
+        if !Self::SCALES.contains(&scale) {
+            return Err(format!("scale {scale} is not in {}..={}", Self::SCALES.start(), Self::SCALES.end()));
+        }
+        Ok(Transform { translation: translation.into(), rotation_deg: rotation.into(), scale, pivot })
+    }
+
     pub fn is_identity(&self) -> bool {
         self.translation == Vec3::ZERO && self.rotation_deg == Vec3::ZERO && self.scale == 1.0
     }

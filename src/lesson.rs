@@ -16,7 +16,7 @@
 use crate::clip::Section;
 use crate::error::{Error, Result};
 use crate::labels::Which;
-use crate::layout::Layout;
+use crate::layout::{Layout, Transform};
 use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;
 use crate::scene_file::{CameraMode, CameraState};
@@ -158,6 +158,23 @@ impl Lesson {
         if lesson.steps.is_empty() {
             return Err(Error::parse(path, None, "a lesson needs at least one step"));
         }
+        for (i, step) in lesson.steps.iter().enumerate() {
+            let problem = crate::scene_file::angle_problem("view", step.view)
+                .or_else(|| {
+                    (!(step.zoom.is_finite() && step.zoom > 1e-4 && step.zoom <= 1e4))
+                        .then(|| format!("zoom {} is not in (0.0001, 10000]", step.zoom))
+                })
+                .or_else(|| step.camera.as_ref().and_then(|c| c.problem()))
+                .or_else(|| {
+                    step.place.iter().find_map(|(id, p)| {
+                        let t = Transform::from_parts(p.translation, p.rotation, p.scale, glam::Vec3::ZERO);
+                        t.err().map(|problem| format!("placement of \"{id}\": {problem}"))
+                    })
+                });
+            if let Some(problem) = problem {
+                return Err(Error::parse(path, None, format!("step {}: {problem}", i + 1)));
+            }
+        }
         Ok(lesson)
     }
 
@@ -255,7 +272,7 @@ impl Lesson {
     }
 
     pub fn load(path: &Path) -> Result<Lesson> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input::read_text(path, crate::input::Kind::Document)?;
         Lesson::parse(&text, path)
     }
 
@@ -390,10 +407,8 @@ impl Step {
         for (id, p) in &self.place {
             for i in set.select(id) {
                 let t = &mut layout.organs[i].transform;
-                let finite = |v: [f32; 3]| glam::Vec3::from(v.map(|x| if x.is_finite() { x } else { 0.0 }));
-                t.translation = finite(p.translation);
-                t.rotation_deg = finite(p.rotation);
-                t.scale = if p.scale.is_finite() && p.scale > 0.0 { p.scale } else { 1.0 };
+                *t = Transform::from_parts(p.translation, p.rotation, p.scale, t.pivot)
+                    .unwrap_or(Transform::identity(t.pivot));
             }
         }
         let (navigator, fly) = match &self.camera {

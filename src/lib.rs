@@ -28,6 +28,7 @@ pub mod cull;
 pub mod edit;
 pub mod error;
 pub mod history;
+pub mod input;
 pub mod json_file;
 pub mod lab;
 pub mod labels;

@@ -88,6 +88,18 @@ impl CameraState {
         }
     }
 
+    /// What makes this camera unusable, if anything: a target beyond 1 km of the origin, a
+    /// distance not in (0, 10 km], an angle beyond +-1,000,000 degrees, or any non-number.
+    pub fn problem(&self) -> Option<String> {
+        if !self.target.iter().all(|v| v.is_finite() && v.abs() <= 1e6) {
+            return Some(format!("camera target {:?} is not a point within 1 km (1e6 mm) of the origin", self.target));
+        }
+        if !(self.distance.is_finite() && self.distance > 0.0 && self.distance <= 1e7) {
+            return Some(format!("camera distance {} is not in (0, 1e7] mm", self.distance));
+        }
+        angle_problem("camera", [self.azimuth, self.elevation])
+    }
+
     pub fn navigator(&self) -> Navigator {
         Navigator {
             target: Vec3::from(self.target),
@@ -182,13 +194,25 @@ impl SceneFile {
     }
 
     /// Parses a scene file's text; `path` names it in errors.
+    /// A camera that makes no picture is refused; render settings out of range are brought into
+    /// it (as the viewer's settings are).
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
-        crate::json_file::parse(text, path, FORMAT, "scene")
+        let mut scene: SceneFile = crate::json_file::parse(text, path, FORMAT, "scene")?;
+        if let Some(problem) = scene.camera.problem() {
+            return Err(Error::parse(path, None, problem));
+        }
+        for e in &scene.organs {
+            Transform::from_parts(e.translation, e.rotation, e.scale, Vec3::ZERO)
+                .map_err(|problem| Error::parse(path, None, format!("organ \"{}\": {problem}", e.id)))?;
+        }
+        scene.render.transparency = scene.render.transparency.clamped();
+        scene.render.background = scene.render.background.map(|c| if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.0 });
+        Ok(scene)
     }
 
     /// Reads a scene file.
     pub fn load(path: &Path) -> Result<SceneFile> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input::read_text(path, crate::input::Kind::Document)?;
         SceneFile::parse(&text, path)
     }
 
@@ -213,12 +237,8 @@ impl SceneFile {
                         visible: e.visible,
                         opacity: if e.opacity.is_finite() { e.opacity.clamp(0.0, 1.0) } else { 1.0 },
                         colour: e.colour.map(|c| if c.is_finite() { c.clamp(0.0, 1.0) } else { 0.5 }),
-                        transform: Transform {
-                            translation: finite(Vec3::from(e.translation)),
-                            rotation_deg: finite(Vec3::from(e.rotation)),
-                            scale: if e.scale.is_finite() && e.scale > 0.0 { e.scale } else { 1.0 },
-                            pivot,
-                        },
+                        transform: Transform::from_parts(e.translation, e.rotation, e.scale, pivot)
+                            .unwrap_or(Transform::identity(pivot)),
                     };
                 }
                 None => unknown.push(e.id.as_str()),
@@ -236,12 +256,11 @@ impl SceneFile {
     }
 }
 
-fn finite(v: Vec3) -> Vec3 {
-    if v.is_finite() {
-        v
-    } else {
-        Vec3::ZERO
-    }
+/// A problem with azimuth and elevation `angles` (of `what`): not finite, or beyond +-1e6 degrees
+/// (where a degree no longer holds a pixel's precision).
+pub(crate) fn angle_problem(what: &str, angles: [f32; 2]) -> Option<String> {
+    (!angles.iter().all(|a| a.is_finite() && a.abs() <= 1e6))
+        .then(|| format!("{what} angles {angles:?} are not degrees within +-1000000"))
 }
 
 /// Up to five ids quoted, then how many more.

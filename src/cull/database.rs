@@ -159,11 +159,10 @@ impl Database {
         };
         let path = dir.join(FILE);
         let unusable = |problem| Error::OccluderDb { path: path.clone(), problem };
-        let text = match std::fs::read(&path) {
-            Ok(t) => t,
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(None),
-            Err(e) => return Err(Error::io(&path, e)),
-        };
+        if !path.exists() {
+            return Ok(None);
+        }
+        let text = crate::input::read(&path, crate::input::Kind::Manifest)?;
         let db: Database =
             serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
         if db.version != VERSION {

@@ -15,59 +15,7 @@ use glam::{Mat4, Vec3, Vec4};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-/// One named label of a label table.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Label {
-    pub index: i64,
-    pub name: String,
-    pub colour: Option<[f32; 3]>,
-}
-
-/// Reads a label table: CSV `index,name` (an optional header line; further columns ignored) or a
-/// FreeSurfer colour look-up table (`index name r g b a`, `#` comments).
-pub fn read_label_table(path: &Path) -> Result<Vec<Label>> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    let text = std::str::from_utf8(&bytes).map_err(|_| Error::parse(path, None, "label table is not UTF-8 text"))?;
-    parse_label_table(text, path)
-}
-
-pub fn parse_label_table(text: &str, path: &Path) -> Result<Vec<Label>> {
-    let mut labels = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') {
-            continue;
-        }
-        let err = |m: String| Error::parse(path, Some(n + 1), m);
-        let fields: Vec<&str> = if line.contains(',') {
-            line.split(',').map(|f| f.trim().trim_matches('"')).collect()
-        } else {
-            line.split_whitespace().collect()
-        };
-        let Ok(index) = fields[0].parse::<i64>() else {
-            if labels.is_empty() && n == 0 {
-                continue; // a header line
-            }
-            return Err(err(format!("label index `{}` is not an integer", fields[0])));
-        };
-        let name = fields.get(1).copied().unwrap_or("").to_string();
-        if name.is_empty() {
-            return Err(err(format!("label {index} has no name")));
-        }
-        // FreeSurfer LUT rows carry r g b (0..255) after the name.
-        let colour = if !line.contains(',') && fields.len() >= 5 {
-            let c: Vec<u8> = fields[2..5].iter().filter_map(|f| f.parse().ok()).collect();
-            (c.len() == 3).then(|| [c[0], c[1], c[2]].map(|v| v as f32 / 255.0))
-        } else {
-            None
-        };
-        labels.push(Label { index, name, colour });
-    }
-    if labels.is_empty() {
-        return Err(Error::parse(path, None, "no labels in the table"));
-    }
-    Ok(labels)
-}
+pub use super::label_table::{parse_label_table, read_label_table, Label, LabelTable};
 
 /// A label volume: labels on a grid (x fastest) and the voxel-to-world affine.
 pub struct LabelVolume {
@@ -76,18 +24,38 @@ pub struct LabelVolume {
     pub affine: Mat4,
 }
 
-/// Reads a NIfTI-1 label volume (`.nii` or `.nii.gz`).
+/// The most voxels a label volume may have (2^28, e.g. 640^3): each becomes an 8-byte label and
+/// passes through several masks while surfaces are extracted.
+pub const MAX_VOXELS: usize = 1 << 28;
+
+/// Reads a NIfTI-1 label volume (`.nii` or `.nii.gz`). The header is read and checked first (its
+/// rank and dimensions, naming the field), so a header claiming a huge volume is refused before
+/// its voxels are read.
 pub fn read_volume(path: &Path) -> Result<LabelVolume> {
-    use nifti::{NiftiObject, NiftiVolume, ReaderOptions};
+    use nifti::{NiftiHeader, NiftiObject, NiftiVolume, ReaderOptions};
     let bad = |m: String| Error::parse(path, None, m);
-    let obj = ReaderOptions::new().read_file(path).map_err(|e| bad(format!("not a readable NIfTI volume: {e}")))?;
-    let h = obj.header().clone();
+    crate::input::check_file(path, crate::input::Kind::Volume)?;
+    let h =
+        NiftiHeader::from_file(path).map_err(|e| bad(format!("not a readable NIfTI header: {}", nifti_message(&e))))?;
     let rank = h.dim[0] as usize;
     if !(3..=4).contains(&rank) || (rank == 4 && h.dim[4] > 1) {
-        return Err(bad(format!("expected a 3-D label volume, found {rank} dimensions {:?}", &h.dim[1..=rank.min(7)])));
+        let dims = &h.dim[1..=rank.clamp(1, 7)];
+        return Err(bad(format!("header field dim: expected a 3-D label volume, found {rank} dimensions {dims:?}")));
+    }
+    if let Some(axis) = (1..=3).find(|&a| h.dim[a] == 0) {
+        return Err(bad(format!("header field dim[{axis}] is 0: the volume has no voxels")));
     }
     let dims = [h.dim[1] as usize, h.dim[2] as usize, h.dim[3] as usize];
     let count = dims[0] * dims[1] * dims[2];
+    if count > MAX_VOXELS {
+        return Err(bad(format!(
+            "header field dim: {}x{}x{} voxels is more than vbrain imports ({MAX_VOXELS})",
+            dims[0], dims[1], dims[2]
+        )));
+    }
+    let obj = ReaderOptions::new()
+        .read_file(path)
+        .map_err(|e| bad(format!("not a readable NIfTI volume: {}", nifti_message(&e))))?;
     let volume = obj.into_volume();
     let labels = decode_labels(volume.raw_data(), volume.data_type(), h.endianness == nifti::Endianness::Big, count)
         .map_err(bad)?;
@@ -96,7 +64,20 @@ pub fn read_volume(path: &Path) -> Result<LabelVolume> {
     Ok(LabelVolume { dims, labels, affine })
 }
 
-/// Decodes `count` voxels of raw NIfTI data into integer labels (floats are rounded, non-finite is 0).
+/// A NIfTI reader's error in words (its I/O errors have no message of their own).
+fn nifti_message(e: &nifti::NiftiError) -> String {
+    match e {
+        nifti::NiftiError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
+            "the file ends before its header or voxel data do".into()
+        }
+        nifti::NiftiError::Io(io) => io.to_string(),
+        nifti::NiftiError::UnsupportedDataType(t) => format!("header field datatype: {t:?} is not supported"),
+        other => other.to_string(),
+    }
+}
+
+/// Decodes `count` voxels of raw NIfTI data into integer labels. A float volume must hold whole
+/// numbers (a probability or intensity map is not a label volume); non-finite voxels are refused.
 fn decode_labels(
     raw: &[u8],
     ty: nifti::NiftiType,
@@ -126,10 +107,18 @@ fn decode_labels(
         }
         b
     };
-    let float = |v: f64| if v.is_finite() { v.round() as i64 } else { 0 };
-    Ok(raw[..count * size]
+    let mut not_label: Option<(usize, f64)> = None;
+    let mut float = |i: usize, v: f64| {
+        if !(v.is_finite() && (v - v.round()).abs() <= 1e-3 && v.abs() < 9e15) {
+            not_label.get_or_insert((i, v));
+            return 0;
+        }
+        v.round() as i64
+    };
+    let labels = raw[..count * size]
         .chunks_exact(size)
-        .map(|c| {
+        .enumerate()
+        .map(|(i, c)| {
             let b = word(c);
             match ty {
                 T::Uint8 => b[0] as i64,
@@ -138,12 +127,18 @@ fn decode_labels(
                 T::Uint16 => u16::from_le_bytes([b[0], b[1]]) as i64,
                 T::Int32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
                 T::Uint32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
-                T::Float32 => float(f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64),
+                T::Float32 => float(i, f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64),
                 T::Int64 | T::Uint64 => i64::from_le_bytes(b),
-                _ => float(f64::from_le_bytes(b)),
+                _ => float(i, f64::from_le_bytes(b)),
             }
         })
-        .collect())
+        .collect();
+    match not_label {
+        Some((i, v)) => Err(format!(
+            "voxel {i} holds {v}: a float volume must hold whole-number labels (is this a probability or intensity map?)"
+        )),
+        None => Ok(labels),
+    }
 }
 
 /// The voxel-to-world affine of a header: sform if set, else qform, else the pixel sizes.
@@ -393,18 +388,6 @@ fn blur121(values: &mut [f32], dims: [usize; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn label_tables() {
-        let p = Path::new("t.csv");
-        let csv = parse_label_table("index,name\n0,Unknown\n17,Left-Hippocampus\n", p).unwrap();
-        assert_eq!(csv[1], Label { index: 17, name: "Left-Hippocampus".into(), colour: None });
-        let lut = parse_label_table("# FreeSurfer\n  17  Left-Hippocampus  220 216 20 0\n", p).unwrap();
-        assert_eq!(lut[0].colour, Some([220.0 / 255.0, 216.0 / 255.0, 20.0 / 255.0]));
-        let e = parse_label_table("index,name\n1,a\nx,b\n", p).unwrap_err().to_string();
-        assert!(e.contains("t.csv:3"), "{e}");
-        assert!(parse_label_table("", p).is_err());
-    }
 
     #[test]
     fn two_cubes_two_organs_in_world_space() {

@@ -6,6 +6,7 @@
 //! does not stop the rest: it is reported in [`Loaded::errors`] and left out.
 
 pub mod import;
+pub mod label_table;
 pub mod manifest;
 pub mod names;
 pub mod obj;
@@ -229,9 +230,15 @@ impl OrganSet {
         }
     }
 
-    /// Writes the set as a folder: `organset.json`, `meshes/<id>.vbo` and the stand-ins, each file
-    /// atomically.
+    /// Writes the set as the folder `dir`: `organset.json`, `meshes/<id>.vbo` and the stand-ins,
+    /// staged beside it and moved into place whole ([`crate::atomic::write_folder`]), replacing
+    /// what `dir` held. Callers ask first where `dir` holds anything
+    /// ([`crate::atomic::folder_entries`]).
     pub fn save(&self, dir: &Path) -> Result<()> {
+        crate::atomic::write_folder(dir, |staging| self.write_into(staging))
+    }
+
+    fn write_into(&self, dir: &Path) -> Result<()> {
         let meshes = dir.join("meshes");
         std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
         for o in &self.organs {
@@ -248,7 +255,7 @@ impl OrganSet {
     /// and nothing is written.
     pub fn save_stand_ins(&self, dir: &Path) -> Result<()> {
         let path = dir.join(MANIFEST_FILE);
-        let text = std::fs::read(&path).map_err(|e| Error::io(&path, e))?;
+        let text = crate::input::read(&path, crate::input::Kind::Manifest)?;
         let mut manifest: Manifest =
             serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
         self.write_stand_ins(dir)?;
@@ -330,7 +337,7 @@ fn mesh_files_in(dir: &Path) -> Result<Vec<PathBuf>> {
 
 /// Reads the manifest; a problem with the manifest itself is fatal, a problem with one organ is not.
 pub fn open_manifest(path: &Path) -> Result<Loaded> {
-    let text = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input::read(path, crate::input::Kind::Manifest)?;
     let manifest: Manifest =
         serde_json::from_slice(&text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
     let problems = manifest.validate();
@@ -395,7 +402,7 @@ fn load_solids(
         organs.sort_unstable();
         organs.dedup();
         let owner = format!("solid \"{}\"", entry.id);
-        let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(&dir.join(p), &owner, warnings));
+        let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(dir, p, &owner, warnings));
         solids.push(Solid { id: entry.id.clone(), organs, stand_in });
     }
     solids
@@ -403,8 +410,8 @@ fn load_solids(
 
 /// Reads an occluder stand-in (of `owner`, for the warnings), or warns and gives none: a broken
 /// stand-in costs only speed.
-fn read_stand_in(path: &Path, owner: &str, warnings: &mut Vec<String>) -> Option<StandIn> {
-    match obj::read(path) {
+fn read_stand_in(dir: &Path, path: &str, owner: &str, warnings: &mut Vec<String>) -> Option<StandIn> {
+    match crate::input::inside(dir, path).and_then(|p| obj::read(&p)) {
         Ok(f) => {
             warnings.extend(f.warnings);
             let mut mesh = Mesh::default();
@@ -420,7 +427,7 @@ fn read_stand_in(path: &Path, owner: &str, warnings: &mut Vec<String>) -> Option
 
 fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(Organ, Vec<String>)> {
     entry.validate().map_err(|m| Error::parse(manifest_path, None, m.to_string()))?;
-    let file = obj::read(&dir.join(&entry.mesh))?;
+    let file = obj::read(&crate::input::inside(dir, &entry.mesh)?)?;
     let mut mesh = Mesh::default();
     for o in &file.objects {
         mesh.append(&o.mesh);
@@ -429,7 +436,7 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
     let mut warnings = file.warnings;
     // A broken stand-in costs only speed: the organ occludes with its own triangles.
     let owner = format!("organ \"{}\"", entry.id);
-    let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(&dir.join(p), &owner, &mut warnings));
+    let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(dir, p, &owner, &mut warnings));
     let organ = Organ {
         stand_in,
         group: entry.group.clone(),

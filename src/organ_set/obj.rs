@@ -38,16 +38,13 @@ pub struct ObjFile {
     pub warnings: Vec<String>,
 }
 
-/// The largest mesh file vbrain reads (1 GiB): beyond that a file is surely not a mesh.
-pub const MAX_FILE_BYTES: u64 = 1 << 30;
+/// The largest vertex coordinate a mesh may have, millimetres (1 km): beyond it the camera's depth
+/// range and the shading lose their precision.
+pub const MAX_COORDINATE: f32 = 1e6;
 
 /// Reads an OBJ or VBO file from disk.
 pub fn read(path: &Path) -> Result<ObjFile> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
-    if meta.len() > MAX_FILE_BYTES {
-        return Err(Error::parse(path, None, format!("file of {} bytes is too large for a mesh", meta.len())));
-    }
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::input::read(path, crate::input::Kind::Mesh)?;
     let stem = path.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
     parse(&bytes, path, &stem)
 }
@@ -67,6 +64,7 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
     let (models, _) = tobj::load_obj_buf(&mut text.as_bytes(), &tobj::GPU_LOAD_OPTIONS, loader)
         .map_err(|e| Error::parse(path, None, format!("OBJ reader: {e}")))?;
     let mut objects: Vec<ObjObject> = Vec::new();
+    let mut degenerate: Option<String> = None;
     for model in models {
         let m = model.mesh;
         if m.indices.is_empty() {
@@ -86,6 +84,14 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
         mesh.validate().map_err(|e| Error::parse(path, None, e.to_string()))?;
         let name =
             if model.name.is_empty() || model.name == "unnamed_object" { default_name.to_string() } else { model.name };
+        if !has_area(&mesh) {
+            // Nothing to draw, and no bounds to frame: left out, like a broken file of a folder.
+            let problem =
+                format!("every triangle of \"{name}\" has zero area (its vertices coincide or lie on a line)");
+            missing.borrow_mut().push(format!("{}: {problem}: left out", path.display()));
+            degenerate.get_or_insert(problem);
+            continue;
+        }
         // tobj splits an object at each `usemtl`; pieces of one name are one organ again.
         match objects.iter_mut().find(|o| o.name == name) {
             Some(o) => o.mesh.append(&mesh),
@@ -93,9 +99,17 @@ pub fn parse(bytes: &[u8], path: &Path, default_name: &str) -> Result<ObjFile> {
         }
     }
     if objects.is_empty() {
-        return Err(Error::parse(path, None, "no faces"));
+        return Err(Error::parse(path, None, degenerate.unwrap_or_else(|| "no faces".into())));
     }
     Ok(ObjFile { objects, warnings: missing.into_inner() })
+}
+
+/// Does some triangle of `mesh` have an area?
+fn has_area(mesh: &Mesh) -> bool {
+    mesh.indices.chunks_exact(3).any(|t| {
+        let p = |i: u32| glam::Vec3::from(mesh.positions[i as usize]);
+        (p(t[1]) - p(t[0])).cross(p(t[2]) - p(t[0])).length_squared() > 0.0
+    })
 }
 
 /// Validates every line; returns the text for `tobj` on success (polyline `l` and point `p`
@@ -130,6 +144,11 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
                 }
                 if nums.len() == 4 && nums[3] == 0.0 {
                     return Err(err("`v` with w = 0".into()));
+                }
+                if let Some(c) = nums[..3].iter().find(|c| c.abs() > MAX_COORDINATE) {
+                    return Err(err(format!(
+                        "coordinate {c} is beyond +-{MAX_COORDINATE} mm (1 km); vbrain's meshes are in millimetres"
+                    )));
                 }
                 counts[0] += 1;
             }

@@ -89,6 +89,33 @@ pub fn subdivide(mesh: &Mesh, n: usize) -> Mesh {
 /// A copy of the set with every organ subdivided to level `n`; `progress` hears of each organ.
 /// Each organ keeps its original mesh (or its stand-in) as occluder stand-in: it lies exactly on
 /// the subdivided surface with `n * n` times fewer triangles.
+/// What a copy at level `n` will hold, estimated before any work (upper bounds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Estimate {
+    pub triangles: u64,
+    /// Vertices of the organ with the most: a mesh indexes them with 32 bits.
+    pub largest_organ_vertices: u64,
+    /// Bytes in memory for the copy: vertices (position and normal), indices and hierarchy.
+    pub memory_bytes: u64,
+}
+
+/// The copy of `set` at level `n`: per organ, each of F triangles gives n^2, and at most
+/// 3F(n-1) + F(n-1)(n-2)/2 new vertices (each edge counted once per triangle).
+pub fn estimate(set: &OrganSet, n: usize) -> Estimate {
+    let n = n.max(1) as u64;
+    let mut e = Estimate { triangles: 0, largest_organ_vertices: 0, memory_bytes: 0 };
+    for o in &set.organs {
+        let (v, f) = (o.mesh().positions.len() as u64, o.mesh().triangle_count() as u64);
+        let vertices = v + 3 * f * (n - 1) + f * (n - 1) * n.saturating_sub(2) / 2;
+        let triangles = f * n * n;
+        e.triangles += triangles;
+        e.largest_organ_vertices = e.largest_organ_vertices.max(vertices);
+        // 24 bytes per vertex, 12 per triangle's indices, about 40 per triangle of hierarchy.
+        e.memory_bytes += vertices * 24 + triangles * (12 + 40);
+    }
+    e
+}
+
 pub fn scale_set(set: &OrganSet, n: usize, progress: super::import::Progress) -> OrganSet {
     let mut out = set.clone();
     out.title = format!("{} (x{})", set.title, n * n);

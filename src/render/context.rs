@@ -46,6 +46,7 @@ impl GpuContext {
             ..Default::default()
         }))
         .map_err(|e| Error::Device { adapter: adapter.get_info().name, message: e.to_string() })?;
+        super::guard::log_uncaptured(&device);
         Ok(GpuContext { instance, adapter, device, queue })
     }
 

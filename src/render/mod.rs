@@ -12,13 +12,15 @@
 //! reference), `debug` (the
 //! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
 //! and selected organs, over the finished frame). `uniforms` holds the
-//! structs shared with WGSL, `pipelines` what the techniques build them with.
+//! structs shared with WGSL, `pipelines` what the techniques build them with; [`guard`] turns GPU
+//! errors (out of memory above all) into errors and checks a target's size before it is made.
 
 mod blend;
 mod context;
 mod debug;
 mod exact;
 mod frame;
+pub mod guard;
 mod ids;
 mod outline;
 mod peel;

@@ -34,6 +34,10 @@ pub struct Renderer {
 impl Renderer {
     /// Creates the pipelines and uploads the set's meshes.
     pub fn new(device: &wgpu::Device, set: &OrganSet) -> Result<Renderer> {
+        super::guard::guarded(device, "uploading the organs", || Self::make(device, set))
+    }
+
+    fn make(device: &wgpu::Device, set: &OrganSet) -> Result<Renderer> {
         let scene = GpuScene::new(device, set)?;
         let factory = PipelineFactory { device, shader: module(device, &super::ORGAN_SHADER) };
         let composite = Composite::new(device);
@@ -103,16 +107,19 @@ impl Renderer {
         target: &Target,
         input: &FrameInput,
     ) -> Result<RenderStats> {
-        let mut encoder = device.create_command_encoder(&Default::default());
-        let frame = Frame { device, queue, scene: &self.scene, input, target };
-        let mut stats = technique.record(&frame, &mut encoder)?;
-        queue.submit([encoder.finish()]);
-        if !input.highlight.is_empty() || input.selection.is_some() {
-            // Its own submission: it rewrites the organ uniforms the technique drew with.
+        let mut stats = super::guard::guarded(device, "drawing the frame", || {
             let mut encoder = device.create_command_encoder(&Default::default());
-            self.outline.record(device, queue, (&self.scene, &self.composite), (input, target), &mut encoder);
+            let frame = Frame { device, queue, scene: &self.scene, input, target };
+            let stats = technique.record(&frame, &mut encoder)?;
             queue.submit([encoder.finish()]);
-        }
+            if !input.highlight.is_empty() || input.selection.is_some() {
+                // Its own submission: it rewrites the organ uniforms the technique drew with.
+                let mut encoder = device.create_command_encoder(&Default::default());
+                self.outline.record(device, queue, (&self.scene, &self.composite), (input, target), &mut encoder);
+                queue.submit([encoder.finish()]);
+            }
+            Ok(stats)
+        })?;
         let states = &input.layout.organs;
         for i in (0..self.scene.organ_count().min(states.len())).filter(|&i| states[i].is_drawn()) {
             let triangles: u32 = self.scene.ranges(i, input.draw).iter().map(|r| (r.end - r.start) / 3).sum();

@@ -52,11 +52,16 @@ pub(crate) const HDR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Fl
 pub(crate) const REVEAL_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R16Float;
 
 impl Target {
+    /// A target of `width` x `height` pixels, refused where the adapter cannot make it
+    /// ([`super::guard::check_target`]); a GPU error while its images are made is an error too.
     pub fn new(device: &wgpu::Device, width: u32, height: u32) -> Result<Target> {
-        let max = device.limits().max_texture_dimension_2d;
-        if width == 0 || height == 0 || width > max || height > max {
-            return Err(Error::ImageSize { width, height, max });
-        }
+        let software = device.adapter_info().device_type == wgpu::DeviceType::Cpu;
+        let available = software.then(super::guard::available_memory).flatten();
+        super::guard::check_target(&device.limits(), software, available, width, height)?;
+        super::guard::guarded(device, "making the render target", || Ok(Self::make(device, width, height)))
+    }
+
+    fn make(device: &wgpu::Device, width: u32, height: u32) -> Target {
         let make = |label, format, samples, usage, view_formats: &[wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -80,7 +85,7 @@ impl Target {
         let color = make("target color", COLOR_FORMAT, 1, painted, &[plain]);
         let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC, &[]);
         static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-        Ok(Target {
+        Target {
             id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             width,
             height,
@@ -101,7 +106,7 @@ impl Target {
             ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
             hdr: std::sync::OnceLock::new(),
             mask: std::sync::OnceLock::new(),
-        })
+        }
     }
 
     pub(crate) fn id(&self) -> u64 {

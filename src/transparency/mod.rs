@@ -184,6 +184,27 @@ impl Default for TransparencySettings {
 /// The most layers the depth-peeling modes may be asked to peel.
 pub const MAX_PEEL_LAYERS: usize = 64;
 
+/// Mask region sides in pixels that every command, the viewer and scene files accept.
+pub const REGION_PX: std::ops::RangeInclusive<u32> = 4..=256;
+
+/// Nearest organs that error compensation may favour (K) in every command, the viewer and scene
+/// files.
+pub const K_RANGE: std::ops::RangeInclusive<usize> = 1..=64;
+
+impl TransparencySettings {
+    /// The settings with every value inside what the renderer and the menus accept (settings and
+    /// scene files are input): sub-samples among [`SUBSAMPLE_CHOICES`], regions in [`REGION_PX`],
+    /// K in [`K_RANGE`], peel layers 1..=[`MAX_PEEL_LAYERS`].
+    pub fn clamped(mut self) -> TransparencySettings {
+        self.subsamples = clamp_subsamples(self.subsamples);
+        self.interactive_subsamples = clamp_subsamples(self.interactive_subsamples);
+        self.region_px = self.region_px.clamp(*REGION_PX.start(), *REGION_PX.end());
+        self.k = self.k.clamp(*K_RANGE.start(), *K_RANGE.end());
+        self.peel_layers = self.peel_layers.clamp(1, MAX_PEEL_LAYERS);
+        self
+    }
+}
+
 /// Sub-sample counts the renderer supports (4 per pass).
 pub const SUBSAMPLE_CHOICES: [usize; 5] = [4, 8, 16, 32, 64];
 

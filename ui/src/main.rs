@@ -7,7 +7,7 @@ fn main() -> std::process::ExitCode {
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
     let args = cli::Args::parse();
     match args.command {
-        None => match vbrain_ui::viewer::app::run(args.path) {
+        None => match vbrain_ui::viewer::run(args.path) {
             Ok(()) => std::process::ExitCode::SUCCESS,
             Err(e) => {
                 eprintln!("error: {e:#}");

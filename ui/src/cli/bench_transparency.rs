@@ -1,13 +1,13 @@
 //! `vbrain bench-transparency`: the transparency modes against the exact reference (see
 //! [`crate::lab::transparency_bench`]).
 
-use super::common::open_reporting;
+use super::common::open_set;
 use super::BenchTransparencyArgs;
 use anyhow::Result;
 
 pub fn run(args: &BenchTransparencyArgs) -> Result<bool> {
-    let (set, ok) = open_reporting(&args.path)?;
+    let set = open_set(&args.path)?;
     let size = (args.size.width, args.size.height);
     crate::lab::transparency_bench::run(&set, size, args.region, &args.out, args.json)?;
-    Ok(ok)
+    Ok(true)
 }

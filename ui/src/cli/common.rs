@@ -10,13 +10,25 @@ use vbrain::layout::Layout;
 use vbrain::organ_set::{self, Loaded, OrganSet};
 
 /// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
+/// For `info`, which checks a set: a broken organ makes its exit status 1.
 pub fn open_reporting(path: &Path) -> Result<(OrganSet, bool)> {
+    open_labelled(path, "error: ", "")
+}
+
+/// Opens a set for a command that writes something from it (an image, a benchmark): a broken
+/// organ is a warning and is left out, and the command goes on to exit 0, so that it never both
+/// writes its output and reports failure.
+pub fn open_set(path: &Path) -> Result<OrganSet> {
+    Ok(open_labelled(path, "warning: ", " (left out)")?.0)
+}
+
+fn open_labelled(path: &Path, label: &str, left_out: &str) -> Result<(OrganSet, bool)> {
     let Loaded { set, errors, warnings } = organ_set::open(path).map_err(|e| anyhow!(e))?;
     for w in &warnings {
         eprintln!("warning: {w}");
     }
     for e in &errors {
-        eprintln!("error: {e}");
+        eprintln!("{label}{e}{left_out}");
     }
     if set.organs.is_empty() {
         bail!("{}: no organ could be loaded", path.display());
@@ -79,20 +91,14 @@ pub fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
 /// Refuses an output folder that already holds files (a user's organ set, say) unless `force`,
 /// and a path that is not a folder.
 pub fn writable_folder(out: &Path, force: bool) -> Result<()> {
-    match std::fs::metadata(out) {
-        Err(_) => Ok(()),
-        Ok(m) if !m.is_dir() => bail!("{}: exists and is not a folder", out.display()),
-        Ok(_) => {
-            let held = std::fs::read_dir(out).map_err(|e| anyhow!("{}: {e}", out.display()))?.count();
-            if held > 0 && !force {
-                bail!(
-                    "{}: already holds {held} files or folders; give --force to replace them, or a new folder",
-                    out.display()
-                );
-            }
-            Ok(())
-        }
+    let held = vbrain::atomic::folder_entries(out)?;
+    if held > 0 && !force {
+        bail!(
+            "{}: already holds {held} files or folders; give --force to replace them, or a new folder",
+            out.display()
+        );
     }
+    Ok(())
 }
 
 /// Refuses to write an image over a file that is not a PNG image (a manifest, say) unless `force`.

@@ -21,9 +21,9 @@ pub fn run(args: &ImportArgs) -> Result<bool> {
         bar.set_message(what.to_string());
     };
     let import = if args.seamless { import::import_seamless } else { import::import };
-    let (set, warnings) = import(&vol, &table, &opts, &mut progress)?;
+    let (set, warnings) = import(&vol, &table.labels, &opts, &mut progress)?;
     bar.finish_and_clear();
-    for w in &warnings {
+    for w in table.warnings.iter().chain(&warnings) {
         eprintln!("warning: {w}");
     }
     set.save(&args.out)?;

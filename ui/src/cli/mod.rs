@@ -119,8 +119,8 @@ pub struct QuizArgs {
     /// Only this group's organs (an id or a group path such as "Basal ganglia")
     #[arg(long)]
     pub group: Option<String>,
-    /// Questions (at most one per structure in scope)
-    #[arg(long, default_value_t = 10, value_parser = at_least_one)]
+    /// Questions, 1..=200 (at most one per structure in scope)
+    #[arg(long, default_value_t = 10, value_parser = count(1, 200))]
     pub questions: usize,
     /// Seed: the same seed gives the same quiz
     #[arg(long, default_value_t = 1)]
@@ -211,11 +211,11 @@ pub struct RenderArgs {
     /// Screen-door sub-samples per pixel: 4, 8, 16, 32 or 64 [default: 64]
     #[arg(long, value_parser = values::subsamples)]
     pub subsamples: Option<usize>,
-    /// Screen-door mask region side in pixels [default: 32]
+    /// Screen-door mask region side in pixels, 4..=256 [default: 32]
     #[arg(long, value_parser = region())]
     pub region: Option<u32>,
-    /// Nearest organs that the masks' error compensation favours [default: 6]
-    #[arg(long, value_parser = at_least_one)]
+    /// Nearest organs that the masks' error compensation favours, 1..=64 [default: 6]
+    #[arg(long, value_parser = k())]
     pub k: Option<usize>,
     /// Most layers `peel` and `dual-peel` peel, 1..=64 [default: 8]
     #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=vbrain::transparency::MAX_PEEL_LAYERS as u64))]
@@ -240,11 +240,11 @@ pub struct ImportArgs {
     /// Write into --out even where it already holds files
     #[arg(long)]
     pub force: bool,
-    /// Triangle budget for the whole set
-    #[arg(long, default_value_t = 200_000)]
+    /// Triangle budget for the whole set, 100..=20000000
+    #[arg(long, default_value_t = 200_000, value_parser = count(100, 20_000_000))]
     pub triangles: usize,
-    /// Smoothing iterations (Taubin)
-    #[arg(long, default_value_t = 10)]
+    /// Smoothing iterations (Taubin), 0..=1000
+    #[arg(long, default_value_t = 10, value_parser = count(0, 1000))]
     pub smooth: usize,
     /// Title of the new set (default: the volume's file name)
     #[arg(long)]
@@ -260,8 +260,8 @@ pub struct ImportArgs {
 #[derive(clap::Args)]
 pub struct BenchArgs {
     pub path: PathBuf,
-    /// Frames of the orbit (the thesis: 475)
-    #[arg(long, default_value_t = 475)]
+    /// Frames of the orbit (the thesis: 475), 1..=100000
+    #[arg(long, default_value_t = 475, value_parser = count(1, 100_000))]
     pub frames: usize,
     /// Image size, WxH
     #[arg(long, default_value = "512x512", value_parser = values::size)]
@@ -272,11 +272,11 @@ pub struct BenchArgs {
     pub cull: Vec<CullMode>,
     #[command(flatten)]
     pub layout: LayoutArgs,
-    /// Occluder triangle budget per frame (triangles facing the eye)
-    #[arg(long, default_value_t = CullSettings::default().occluder_triangles)]
+    /// Occluder triangle budget per frame (triangles facing the eye), 1..=10000000
+    #[arg(long, default_value_t = CullSettings::default().occluder_triangles, value_parser = count(1, 10_000_000))]
     pub occluder_triangles: usize,
-    /// Culling raster size, WxH
-    #[arg(long, default_value = "128x128", value_parser = values::size)]
+    /// Culling raster size, WxH, each side 16..=2048
+    #[arg(long, default_value = "128x128", value_parser = values::raster_size)]
     pub raster: Size,
     /// Camera path: orbit (the Virtual Brain run) or a city walkthrough route: best, average, worst
     #[arg(long, default_value = "orbit", value_parser = values::route())]
@@ -285,8 +285,8 @@ pub struct BenchArgs {
     /// (or ps) or mos
     #[arg(long, default_value = "auto", value_parser = values::selection())]
     pub selection: Selection,
-    /// Most occluder leaves per frame (the thesis's city runs: 64)
-    #[arg(long)]
+    /// Most occluder leaves per frame (the thesis's city runs: 64), 1..=1048576
+    #[arg(long, value_parser = count(1, 1 << 20))]
     pub occluders: Option<usize>,
     /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
@@ -303,16 +303,17 @@ pub struct MasksArgs {
     /// Mask size, WxH sub-samples (the thesis: 16x16 and 32x32)
     #[arg(long, default_value = "16x16", value_parser = values::size)]
     pub mask: Size,
-    /// Transparent objects stacked per trial
-    #[arg(long, default_value_t = 16)]
+    /// Transparent objects stacked per trial, 1..=256
+    #[arg(long, default_value_t = 16, value_parser = count(1, 256))]
     pub objects: usize,
-    #[arg(long, default_value_t = 1000)]
+    /// Trials, 1..=1000000
+    #[arg(long, default_value_t = 1000, value_parser = count(1, 1_000_000))]
     pub trials: usize,
-    /// One opacity for every object (default: random per object)
-    #[arg(long)]
+    /// One opacity for every object, 0..=1 (default: random per object)
+    #[arg(long, value_parser = values::unit)]
     pub alpha: Option<f32>,
-    /// Objects that neighbourhood error compensation favours
-    #[arg(long, default_value_t = 6)]
+    /// Objects that neighbourhood error compensation favours, 1..=64
+    #[arg(long, default_value_t = 6, value_parser = k())]
     pub k: usize,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
@@ -342,14 +343,15 @@ pub struct BenchTransparencyArgs {
 #[derive(clap::Args)]
 pub struct OccludersArgs {
     pub path: PathBuf,
-    /// Directions of the viewpoint grid on a sphere around the set (each at two distances)
-    #[arg(long, default_value_t = 32)]
+    /// Directions of the viewpoint grid on a sphere around the set (each at two distances),
+    /// 1..=4096
+    #[arg(long, default_value_t = 32, value_parser = count(1, 4096))]
     pub grid: usize,
-    /// Most occluders kept per viewpoint
-    #[arg(long, default_value_t = 128)]
+    /// Most occluders kept per viewpoint, 1..=4096
+    #[arg(long, default_value_t = 128, value_parser = count(1, 4096))]
     pub limit: usize,
-    /// Culling raster side, pixels
-    #[arg(long, default_value_t = 128)]
+    /// Culling raster side, pixels, 16..=2048
+    #[arg(long, default_value_t = 128, value_parser = count(16, 2048))]
     pub raster: usize,
     /// Show organs hidden by default (e.g. skull), by id or group
     #[arg(long, num_args = 1..)]
@@ -365,8 +367,8 @@ pub struct OccludersArgs {
     /// average, worst)
     #[arg(long, default_value = "orbit", value_parser = values::route())]
     pub views: Route,
-    /// Experiment ID-render size (square), for first hit and projected size
-    #[arg(long, default_value_t = 512)]
+    /// Experiment ID-render size (square), for first hit and projected size, 16..=4096
+    #[arg(long, default_value_t = 512, value_parser = count(16, 4096))]
     pub image: usize,
     /// Folder for occluders.csv and occluders.png (experiment)
     #[arg(long, default_value = "bench-out")]
@@ -389,8 +391,9 @@ pub struct CityArgs {
 #[derive(clap::Args)]
 pub struct ScaleArgs {
     pub set: PathBuf,
-    /// Density factor K: each triangle becomes n*n with n = round(sqrt(K))
-    #[arg(long)]
+    /// Density factor K, 1..=10000: each triangle becomes n*n with n = round(sqrt(K)); a factor
+    /// whose copy would not fit in memory is refused before any work
+    #[arg(long, value_parser = values::float_in(1.0, 10_000.0))]
     pub factor: f64,
     #[arg(long)]
     pub out: PathBuf,
@@ -404,21 +407,22 @@ pub struct ScaleArgs {
 #[derive(clap::Args)]
 pub struct StandInsArgs {
     pub path: PathBuf,
-    /// Stand-in triangles as a share of the organ's
-    #[arg(long, default_value_t = 0.0625)]
+    /// Stand-in triangles as a share of the organ's, 0.001..=1
+    #[arg(long, default_value_t = 0.0625, value_parser = values::float_in(0.001, 1.0))]
     pub ratio: f64,
-    /// Most inward offset of the stand-in from the surface, millimetres
-    #[arg(long, default_value_t = 2.0)]
+    /// Most inward offset of the stand-in from the surface, millimetres, 0.01..=50
+    #[arg(long, default_value_t = 2.0, value_parser = values::f32_in(0.01, 50.0))]
     pub offset: f32,
-    /// Organs with fewer triangles get none
-    #[arg(long, default_value_t = 2048)]
+    /// Organs with fewer triangles get none, 4..=100000000
+    #[arg(long, default_value_t = 2048, value_parser = count(4, 100_000_000))]
     pub min_triangles: usize,
-    /// Triangles of each solid's stand-in (a solid: organs the manifest lists as filling one)
-    #[arg(long, default_value_t = 4096)]
+    /// Triangles of each solid's stand-in (a solid: organs the manifest lists as filling one),
+    /// 4..=1000000
+    #[arg(long, default_value_t = 4096, value_parser = count(4, 1_000_000))]
     pub solid_triangles: usize,
     /// Most inward offset of a solid's stand-in, millimetres (deeper than an organ's: a solid's
-    /// folded surface simplifies with fewer triangles left out there)
-    #[arg(long, default_value_t = 4.0)]
+    /// folded surface simplifies with fewer triangles left out there), 0.01..=50
+    #[arg(long, default_value_t = 4.0, value_parser = values::f32_in(0.01, 50.0))]
     pub solid_offset: f32,
     /// Output folder (default: the set's own folder)
     #[arg(long)]
@@ -427,17 +431,21 @@ pub struct StandInsArgs {
     pub json: bool,
 }
 
-/// A screen-door mask region side, 1..=256 pixels.
+/// A screen-door mask region side in pixels, in [`vbrain::transparency::REGION_PX`].
 fn region() -> clap::builder::RangedU64ValueParser<u32> {
-    clap::builder::RangedU64ValueParser::new().range(1..=256)
+    let r = vbrain::transparency::REGION_PX;
+    clap::builder::RangedU64ValueParser::new().range(u64::from(*r.start())..=u64::from(*r.end()))
 }
 
-fn at_least_one(s: &str) -> anyhow::Result<usize> {
-    match s.parse::<usize>() {
-        Ok(0) => anyhow::bail!("must be at least 1"),
-        Ok(n) => Ok(n),
-        Err(e) => Err(anyhow::anyhow!("{e}")),
-    }
+/// K, the nearest organs error compensation favours, in [`vbrain::transparency::K_RANGE`].
+fn k() -> clap::builder::RangedU64ValueParser<usize> {
+    let r = vbrain::transparency::K_RANGE;
+    count(*r.start() as u64, *r.end() as u64)
+}
+
+/// A count a user types, in `lo..=hi` (each option's help states its bounds).
+fn count(lo: u64, hi: u64) -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(lo..=hi)
 }
 
 /// Runs one command and gives the exit status.

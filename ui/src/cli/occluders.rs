@@ -1,14 +1,14 @@
 //! `vbrain occluders`: minimum occluder sets pre-computed beside a set, or with `--experiment`
 //! the occluder-selection experiment (see [`crate::lab::occluders`]).
 
-use super::common::{apply_visibility, open_reporting};
+use super::common::{apply_visibility, open_set};
 use super::OccludersArgs;
 use crate::lab::occluders::{self, Options};
 use anyhow::Result;
 use vbrain::layout::Layout;
 
 pub fn run(args: &OccludersArgs) -> Result<bool> {
-    let (set, ok) = open_reporting(&args.path)?;
+    let set = open_set(&args.path)?;
     let mut layout = Layout::new(&set);
     apply_visibility(&set, &mut layout, &args.show, &args.hide)?;
     let opts = Options {
@@ -24,5 +24,5 @@ pub fn run(args: &OccludersArgs) -> Result<bool> {
     } else {
         occluders::preprocess(&args.path, &set, &layout, &opts)?;
     }
-    Ok(ok)
+    Ok(true)
 }

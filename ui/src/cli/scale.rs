@@ -6,13 +6,32 @@ use anyhow::{bail, Result};
 use vbrain::organ_set::scale;
 
 pub fn run(args: &ScaleArgs) -> Result<bool> {
-    let factor = args.factor;
-    if !(1.0..=10_000.0).contains(&factor) {
-        bail!("factor {factor} outside 1..10000");
-    }
     writable_folder(&args.out, args.force)?;
     let (set, ok) = open_reporting(&args.set)?;
-    let n = scale::level_for_factor(factor);
+    if !ok {
+        bail!("{}: some organs did not load (above); a scaled copy would leave them out", args.set.display());
+    }
+    let n = scale::level_for_factor(args.factor);
+    let e = scale::estimate(&set, n);
+    let gib = |b: u64| b as f64 / (1u64 << 30) as f64;
+    eprintln!("scale: level {n} makes about {} triangles in {:.2} GiB of memory", e.triangles, gib(e.memory_bytes));
+    if e.largest_organ_vertices > u64::from(u32::MAX) {
+        bail!(
+            "factor {}: an organ would have {} vertices, more than a mesh indexes (2^32)",
+            args.factor,
+            e.largest_organ_vertices
+        );
+    }
+    if let Some(available) = available_memory() {
+        if e.memory_bytes > available / 10 * 8 {
+            bail!(
+                "factor {}: the copy needs about {:.2} GiB and {:.2} GiB of memory is available; give a smaller --factor",
+                args.factor,
+                gib(e.memory_bytes),
+                gib(available)
+            );
+        }
+    }
     let bar = progress_bar(set.organs.len() as u64);
     let scaled = scale::scale_set(&set, n, &mut |done, _, what| {
         bar.set_position(done as u64);
@@ -20,5 +39,13 @@ pub fn run(args: &ScaleArgs) -> Result<bool> {
     });
     bar.finish_and_clear();
     scaled.save(&args.out)?;
-    Ok(summary(args.json, "scale", &scaled, &args.out)? && ok)
+    summary(args.json, "scale", &scaled, &args.out)
+}
+
+/// The memory the system can give this process now (Linux's MemAvailable), if it says.
+fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
 }

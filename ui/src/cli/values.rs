@@ -126,6 +126,40 @@ pub fn size(s: &str) -> Result<Size> {
     Ok(Size { width, height })
 }
 
+/// A culling raster size, `WxH`, each side in 16..=2048 (the occlusion maps cost W*H per frame).
+pub fn raster_size(s: &str) -> Result<Size> {
+    let size = size(s)?;
+    if !(16..=2048).contains(&size.width) || !(16..=2048).contains(&size.height) {
+        bail!("raster {}x{} outside 16..2048 per side", size.width, size.height);
+    }
+    Ok(size)
+}
+
+/// A number in `lo..=hi` (finite).
+pub fn float_in(lo: f64, hi: f64) -> impl TypedValueParser<Value = f64> {
+    move |s: &str| -> Result<f64> {
+        let v: f64 = s.trim().parse().map_err(|e| anyhow!("\"{s}\": {e}"))?;
+        if !(lo..=hi).contains(&v) {
+            bail!("{v} outside {lo}..={hi}");
+        }
+        Ok(v)
+    }
+}
+
+/// A number in `lo..=hi` (finite), as an `f32`.
+pub fn f32_in(lo: f64, hi: f64) -> impl TypedValueParser<Value = f32> {
+    float_in(lo, hi).map(|v| v as f32)
+}
+
+/// A share or opacity in 0..=1.
+pub fn unit(s: &str) -> Result<f32> {
+    let v: f32 = s.trim().parse().map_err(|e| anyhow!("\"{s}\": {e}"))?;
+    if !(0.0..=1.0).contains(&v) {
+        bail!("{v} outside 0..1");
+    }
+    Ok(v)
+}
+
 /// Camera angles around the set, `AZ,EL` in degrees from the anterior view.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {

@@ -3,7 +3,7 @@
 //! thesis Figure 22 (culled % and frame time per frame) and, with `--json`, a machine-readable
 //! summary keyed by mode.
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{bail, Result};
 use serde_json::json;
 use std::path::Path;
 use vbrain::cull::{CullMode, CullSettings};
@@ -31,6 +31,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
     if opts.frames == 0 {
         bail!("--frames must be at least 1");
     }
+    super::output_folder(opts.out)?;
     let gpu = vbrain::render::GpuContext::headless()?;
     let bar = indicatif::ProgressBar::new((opts.frames * modes.len()) as u64);
     let records = bench::run(
@@ -49,7 +50,6 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         &mut |d, _| bar.set_position(d as u64),
     )?;
     bar.finish_and_clear();
-    std::fs::create_dir_all(opts.out).map_err(|e| anyhow!("{}: {e}", opts.out.display()))?;
     let csv = opts.out.join("bench.csv");
     vbrain::atomic::write(&csv, |w| write_csv(&records, w))?;
     let plot = opts.out.join("bench.png");

@@ -35,12 +35,12 @@ pub fn run(opts: &MasksOptions) -> Result<()> {
     if e.alpha.is_some_and(|a| !(0.0..=1.0).contains(&a)) {
         bail!("--alpha outside 0..1");
     }
+    super::output_folder(opts.out)?;
     let bar = indicatif::ProgressBar::new(e.trials as u64);
     let started = std::time::Instant::now();
     let outcome = experiment::run(e, &MaskMethod::ALL, |t| bar.set_position(t as u64));
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
-    std::fs::create_dir_all(opts.out).map_err(|err| anyhow::anyhow!("{}: {err}", opts.out.display()))?;
     let csv = opts.out.join("masks.csv");
     vbrain::atomic::write(&csv, |w| {
         writeln!(w, "method,level,min_faulty,mean_faulty,max_faulty")?;

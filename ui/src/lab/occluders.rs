@@ -3,7 +3,7 @@
 //! occluder-selection experiment of thesis Figure 14 (printed, CSV, PNG plot, and with `--json`
 //! one object keyed `ps`, `fh`, `mos`).
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{bail, Result};
 use serde_json::json;
 use std::path::Path;
 use vbrain::camera::Camera;
@@ -87,6 +87,7 @@ pub fn experiment_cameras(set: &OrganSet, layout: &Layout, views: Route) -> Vec<
 
 pub fn experiment(set: &OrganSet, layout: &Layout, opts: &Options) -> Result<()> {
     check(opts)?;
+    super::output_folder(opts.out)?;
     let cameras = experiment_cameras(set, layout, opts.views);
     let counts: Vec<usize> = experiment::COUNTS.iter().copied().filter(|&n| n <= opts.params.limit.max(1)).collect();
     let bar = indicatif::ProgressBar::new(cameras.len() as u64);
@@ -96,7 +97,6 @@ pub fn experiment(set: &OrganSet, layout: &Layout, opts: &Options) -> Result<()>
     });
     bar.finish_and_clear();
     let seconds = started.elapsed().as_secs_f64();
-    std::fs::create_dir_all(opts.out).map_err(|e| anyhow!("{}: {e}", opts.out.display()))?;
     let methods = [
         ("ps", &results.ps, (40, 110, 200)),
         ("fh", &results.fh, (230, 150, 30)),

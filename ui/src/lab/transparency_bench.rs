@@ -7,7 +7,7 @@
 //! contact sheet (one row per view, one column per mode in the order printed). It also times mask
 //! regeneration at 1920x1080 with every organ at 50 % opacity.
 
-use anyhow::{anyhow, bail, Result};
+use anyhow::{bail, Result};
 use serde_json::json;
 use std::path::Path;
 use std::time::Instant;
@@ -259,6 +259,7 @@ fn curve(s: &Shooter, camera: &Camera, layout: &Layout, exact: &image::RgbaImage
 }
 
 pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_out: bool) -> Result<()> {
+    super::output_folder(out)?;
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size.0, size.1)?;
@@ -291,7 +292,6 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     }
     bar.finish_and_clear();
     let regen = mask_regeneration(set, region_px)?;
-    std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
     let csv = out.join("transparency.csv");
     vbrain::atomic::write(&csv, |w| {
         writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms,passes")?;

@@ -22,9 +22,10 @@ use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
 use super::viewport::{self, Viewport};
-use anyhow::{anyhow, Result};
+use super::window::default_set_path;
+use anyhow::Result;
 use eframe::egui;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use vbrain::camera::View;
 use vbrain::cull::database::Database;
 use vbrain::edit::{Edit, Organs};
@@ -45,48 +46,6 @@ pub struct AppOptions {
     pub recovery: Option<PathBuf>,
     /// The file of quiz results kept per set ([`quiz_history_path`]; `None` keeps none).
     pub quiz_history: Option<PathBuf>,
-}
-
-/// Where the viewer keeps its recovery file: beside its settings.
-pub fn recovery_path() -> Option<PathBuf> {
-    eframe::storage_dir("vbrain").map(|d| d.join("recovery.vbscene"))
-}
-
-/// Where the viewer keeps quiz results: beside its settings.
-pub fn quiz_history_path() -> Option<PathBuf> {
-    eframe::storage_dir("vbrain").map(|d| d.join("quiz-history.csv"))
-}
-
-/// The default organ set: `organs/brain` under the working directory, else beside the sources.
-pub fn default_set_path() -> PathBuf {
-    let here = PathBuf::from("organs/brain");
-    if here.is_dir() {
-        return here;
-    }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
-}
-
-/// Opens the viewer window.
-pub fn run(path: Option<PathBuf>) -> Result<()> {
-    let options = eframe::NativeOptions {
-        renderer: eframe::Renderer::Wgpu,
-        viewport: egui::ViewportBuilder::default()
-            .with_title("vbrain")
-            .with_inner_size([1280.0, 820.0])
-            .with_drag_and_drop(true),
-        ..Default::default()
-    };
-    eframe::run_native(
-        "vbrain",
-        options,
-        Box::new(move |cc| {
-            Ok(Box::new(App::new(
-                cc,
-                AppOptions { path, recovery: recovery_path(), quiz_history: quiz_history_path() },
-            )))
-        }),
-    )
-    .map_err(|e| anyhow!("could not open the viewer window: {e}"))
 }
 
 /// The viewer's windows.
@@ -137,6 +96,10 @@ pub struct App {
 impl App {
     pub fn new(cc: &eframe::CreationContext, options: AppOptions) -> App {
         let settings = Settings::load(cc.storage);
+        if let Some(rs) = &cc.wgpu_render_state {
+            // A GPU error the renderer's scopes do not catch is reported, not a panic.
+            vbrain::render::guard::log_uncaptured(&rs.device);
+        }
         let mut app = App {
             gpu: cc.wgpu_render_state.clone(),
             scene: None,
@@ -616,15 +579,22 @@ impl eframe::App for App {
         };
         Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
         let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
+        // Side panels never take the 3-D view's place, whatever their contents' widths.
+        let width = ui.max_rect().width();
         let actions = Panel::left("organs")
             .default_size(330.0)
+            .max_size((width * 0.3).max(200.0))
             .resizable(true)
             .show(ui, |ui| panel.show(ui, scene, selected))
             .inner;
         self.perform(&ctx, actions);
         if self.lesson.is_open() {
-            let actions =
-                Panel::right("lesson").default_size(320.0).resizable(true).show(ui, |ui| self.lesson.show(ui)).inner;
+            let actions = Panel::right("lesson")
+                .default_size(320.0)
+                .max_size(side_max(width))
+                .resizable(true)
+                .show(ui, |ui| self.lesson.show(ui))
+                .inner;
             self.perform(&ctx, actions);
         }
         if self.quiz.open {
@@ -636,6 +606,7 @@ impl eframe::App for App {
             let quiz = &mut self.quiz;
             let actions = Panel::right("quiz")
                 .default_size(320.0)
+                .max_size(side_max(width))
                 .resizable(true)
                 .show(ui, |ui| quiz.show(ui, &name, &info, now))
                 .inner;
@@ -649,6 +620,7 @@ impl eframe::App for App {
             });
             let actions = Panel::right("inspector")
                 .default_size(300.0)
+                .max_size(side_max(width))
                 .resizable(true)
                 .show(ui, |ui| match scene.zip(selected) {
                     Some((scene, sel)) => inspector(ui, scene, sel, marks),
@@ -696,4 +668,9 @@ impl eframe::App for App {
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         self.settings.save(storage);
     }
+}
+
+/// The widest a right-hand panel may be in a window `width` points wide.
+fn side_max(width: f32) -> f32 {
+    (width * 0.22).max(200.0)
 }

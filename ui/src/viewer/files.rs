@@ -133,12 +133,19 @@ impl ImportWindow {
 /// The import job: reads the table and the volume, builds the set and saves it; gives its folder.
 pub fn import(request: &ImportRequest, progress: &Progress) -> Result<PathBuf> {
     use vbrain::organ_set::import;
+    let held = vbrain::atomic::folder_entries(&request.out)?;
+    if held > 0 {
+        anyhow::bail!(
+            "{} already holds {held} files or folders; choose a new folder for the set",
+            request.out.display()
+        );
+    }
     let table = import::read_label_table(&request.labels)?;
     progress.set(0, 1, "reading volume");
     let vol = import::read_volume(&request.volume)?;
     let title = request.volume.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
     let opts = import::ImportOptions { triangles: request.triangles, title, ..Default::default() };
-    let (set, _warnings) = import::import(&vol, &table, &opts, &mut |d, t, m| progress.set(d, t, m))?;
+    let (set, _warnings) = import::import(&vol, &table.labels, &opts, &mut |d, t, m| progress.set(d, t, m))?;
     set.save(&request.out)?;
     Ok(request.out.clone())
 }

@@ -204,9 +204,9 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
             }
         });
     }
-    let r = ui.add(egui::Slider::new(&mut t.region_px, 4..=128).text("region (pixels)"));
+    let r = ui.add(egui::Slider::new(&mut t.region_px, vbrain::transparency::REGION_PX).text("region (pixels)"));
     accessible(&r, "Mask region size");
-    let r = ui.add(egui::Slider::new(&mut t.k, 1..=16).text("K nearest organs compensated"));
+    let r = ui.add(egui::Slider::new(&mut t.k, vbrain::transparency::K_RANGE).text("K nearest organs compensated"));
     accessible(&r, "Neighbourhood error compensation K");
     if ui.button("Defaults").clicked() {
         *t = TransparencySettings::default();

@@ -11,7 +11,8 @@
 //! Modules: [`app`] (state, frame, actions), [`menus`], [`panels`] (organ tree), [`inspector`],
 //! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
 //! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
-//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets).
+//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window and
+//! the viewer's files).
 
 pub mod action;
 pub mod app;
@@ -31,6 +32,8 @@ pub mod shortcuts;
 pub mod status;
 pub mod viewport;
 pub mod widgets;
+pub mod window;
 
 pub use action::Action;
-pub use app::{run, App, AppOptions};
+pub use app::{App, AppOptions};
+pub use window::run;

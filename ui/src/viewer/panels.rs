@@ -53,6 +53,10 @@ impl Group {
     }
 }
 
+/// The deepest group the tree shows: deeper parts of a group path are shown joined in one row,
+/// so a hand-made set nested thousands deep costs neither stack nor width.
+pub const MAX_TREE_DEPTH: usize = 8;
+
 /// The tree of the organs matching `filter`: any of their names (name, id, Latin name, synonyms)
 /// or their group, case- and accent-insensitively.
 fn tree(scene: &Scene, filter: &str) -> Group {
@@ -60,7 +64,12 @@ fn tree(scene: &Scene, filter: &str) -> Group {
     let mut root = Group::default();
     for (i, o) in scene.set().organs.iter().enumerate() {
         if names::matches_folded(o, &folded) || names::fold(&o.group).contains(&folded) {
-            let path: Vec<&str> = o.group.split('/').filter(|s| !s.is_empty()).collect();
+            let parts: Vec<&str> = o.group.split('/').filter(|s| !s.is_empty()).collect();
+            let mut path: Vec<String> = parts.iter().take(MAX_TREE_DEPTH - 1).map(|s| s.to_string()).collect();
+            if parts.len() >= MAX_TREE_DEPTH {
+                path.push(parts[MAX_TREE_DEPTH - 1..].join("/"));
+            }
+            let path: Vec<&str> = path.iter().map(String::as_str).collect();
             root.insert(&path, i);
         }
     }
@@ -80,7 +89,7 @@ impl OrganPanel {
             ui.label("No organ set loaded.");
             return out;
         };
-        ui.heading(&scene.set().title);
+        ui.add(egui::Label::new(RichText::new(&scene.set().title).heading()).truncate());
         ui.label(format!("{} organs, {} triangles", scene.set().organs.len(), scene.set().triangle_count()));
         ui.horizontal(|ui| {
             let r =
@@ -151,7 +160,8 @@ impl Rows<'_> {
         if r.changed() {
             self.edit(Edit::Visible { organs: group.organs(), visible });
         }
-        ui.label(RichText::new(&group.name).strong());
+        // Long names are cut to the panel's width (hover shows them whole).
+        ui.add(egui::Label::new(RichText::new(&group.name).strong()).truncate());
         let all_opaque = organs.iter().all(|&i| layout.organs[i].opacity >= 1.0);
         let r = ui.selectable_label(!all_opaque, "T").on_hover_text("Transparency of the whole group");
         accessible(&r, format!("Transparency of group {}", group.name));
@@ -201,7 +211,7 @@ impl Rows<'_> {
             if r.changed() {
                 self.edit(Edit::Opacity { organs: Organs::One(i), opacity });
             }
-            let r = ui.selectable_label(self.selected == Some(i), name);
+            let r = ui.add(egui::Button::selectable(self.selected == Some(i), name.as_str()).truncate());
             accessible(&r, format!("Select {name}"));
             if r.clicked() {
                 self.out.push(Action::Select(Some(i)));

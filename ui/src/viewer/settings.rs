@@ -144,8 +144,8 @@ impl Settings {
 
     /// The settings with every value inside the range its menu offers (a hand-edited settings file
     /// is input): culling raster 32..=512 square, occluder triangles 128..=131,072, ratios and
-    /// colours 0..=1, sub-samples among the supported counts, regions 4..=128 pixels, K 1..=16,
-    /// export sizes 1..=8192. A value that is not a number takes its default.
+    /// colours 0..=1, the transparency settings as [`vbrain::transparency::TransparencySettings::clamped`] brings
+    /// them, export sizes 1..=8192. A value that is not a number takes its default.
     pub fn clamped(mut self) -> Settings {
         let d = Settings::default();
         let unit = |v: f32, default: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { default };
@@ -156,12 +156,7 @@ impl Settings {
         c.adaptive_ratio = unit(c.adaptive_ratio, d.cull.adaptive_ratio);
         c.hole_tolerance = c.hole_tolerance.filter(|t| t.is_finite()).map(|t| t.clamp(0.0, 0.5));
         c.occluder_leaves = c.occluder_leaves.map(|n| n.clamp(1, 1 << 20));
-        let t = &mut self.transparency;
-        t.subsamples = vbrain::transparency::clamp_subsamples(t.subsamples);
-        t.interactive_subsamples = vbrain::transparency::clamp_subsamples(t.interactive_subsamples);
-        t.region_px = t.region_px.clamp(4, 128);
-        t.k = t.k.clamp(1, 16);
-        t.peel_layers = t.peel_layers.clamp(1, vbrain::transparency::MAX_PEEL_LAYERS);
+        self.transparency = self.transparency.clamped();
         for (v, default) in self.background.iter_mut().zip(d.background) {
             *v = unit(*v, default);
         }
@@ -245,7 +240,7 @@ mod tests {
         let s = Settings::load(Some(&store));
         assert_eq!((s.cull.width, s.cull.height), (512, 512));
         assert_eq!(s.cull.adaptive_ratio, Settings::default().cull.adaptive_ratio);
-        assert_eq!((s.transparency.subsamples, s.transparency.region_px, s.transparency.k), (64, 4, 16));
+        assert_eq!((s.transparency.subsamples, s.transparency.region_px, s.transparency.k), (64, 4, 64));
         assert_eq!(s.background, [Settings::default().background[0], 0.0, 0.5]);
         assert_eq!(s.export.custom, [1, super::MAX_EXPORT_SIDE]);
         // What the menus offer is kept as it is.

@@ -239,7 +239,7 @@ impl App {
     pub(super) fn load_quiz_history(&mut self) {
         let (Some(path), Some(scene)) = (&self.quiz_history, &self.scene) else { return };
         let title = csv_field(&scene.set().title);
-        let text = std::fs::read_to_string(path).unwrap_or_default();
+        let text = vbrain::input::read_text(path, vbrain::input::Kind::Document).unwrap_or_default();
         self.quiz.history = text
             .lines()
             .filter_map(|l| {
