@@ -187,11 +187,10 @@ impl Occluders {
     /// `None` where it lies off the screen.
     fn rect(&self, lo: Vec3, hi: Vec3) -> Option<PixelRect> {
         let (wf, hf) = (self.maps.width as f32, self.maps.height as f32);
-        (hi.x > 0.0 && hi.y > 0.0 && lo.x < wf && lo.y < hf).then(|| PixelRect {
-            x0: first_pixel(lo.x, wf),
-            y0: first_pixel(lo.y, hf),
-            x1: last_pixel(hi.x, wf),
-            y1: last_pixel(hi.y, hf),
+        (hi.x > 0.0 && hi.y > 0.0 && lo.x < wf && lo.y < hf).then(|| {
+            let (x0, y0) = (first_pixel(lo.x, wf), first_pixel(lo.y, hf));
+            // A box flat in screen space still covers the pixel its span lies in.
+            PixelRect { x0, y0, x1: last_pixel(hi.x, wf).max(x0), y1: last_pixel(hi.y, hf).max(y0) }
         })
     }
 }

@@ -52,8 +52,9 @@ pub(crate) fn project_box(mvp: &Mat4, b: &Bounds, w: usize, h: usize) -> ScreenB
     let (wf, hf) = (w as f32, h as f32);
     let (px0, px1) = ((x_lo + 1.0) * 0.5 * wf, (x_hi + 1.0) * 0.5 * wf);
     let (py0, py1) = ((1.0 - y_hi) * 0.5 * hf, (1.0 - y_lo) * 0.5 * hf);
-    let (x0, x1) = (first_pixel(px0, wf), last_pixel(px1, wf));
-    let (y0, y1) = (first_pixel(py0, hf), last_pixel(py1, hf));
+    // A box flat in screen space (a plane seen edge-on) still covers the pixel its span lies in.
+    let (x0, y0) = (first_pixel(px0, wf), first_pixel(py0, hf));
+    let (x1, y1) = (last_pixel(px1, wf).max(x0), last_pixel(py1, hf).max(y0));
     ScreenBox::Rect { rect: PixelRect { x0, y0, x1, y1 }, z: z_lo, far: z_hi, inside }
 }
 

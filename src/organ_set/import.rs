@@ -390,6 +390,15 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_float_volume_must_hold_whole_numbers() {
+        let raw: Vec<u8> = [2.0f32, 17.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
+        assert_eq!(decode_labels(&raw, nifti::NiftiType::Float32, false, 3), Ok(vec![2, 17, 0]));
+        let raw: Vec<u8> = [2.0f32, 0.37, f32::NAN].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let e = decode_labels(&raw, nifti::NiftiType::Float32, false, 3).unwrap_err();
+        assert!(e.contains("voxel 1 holds 0.37") && e.contains("whole-number"), "{e}");
+    }
+
+    #[test]
     fn two_cubes_two_organs_in_world_space() {
         let dims = [20, 12, 12];
         let mut labels = vec![0i64; 20 * 12 * 12];

@@ -1,5 +1,5 @@
-//! The core's integration tests, one binary (linked once): the architecture, loading, the default
-//! set, culling, occluders, rendering, shaders and transparency. GPU tests run on any adapter
+//! The core's integration tests, one binary (linked once): the architecture, loading (and fuzzed
+//! input), the default set, culling, occluders, rendering, shaders and transparency. GPU tests run on any adapter
 //! (lavapipe in CI); with none they fail and say what to install.
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // test helpers may panic
@@ -8,6 +8,7 @@ mod architecture;
 mod common;
 mod culling;
 mod default_set;
+mod input_fuzz;
 mod loading;
 mod occluders;
 mod quiz;

@@ -49,6 +49,9 @@ fn the_database_round_trips_and_goes_stale() {
     let mut changed = loaded.set.clone();
     changed.organs[1].set_mesh(cube(Vec3::ZERO, Vec3::splat(7.0), 6));
     changed.save(&dir).unwrap();
+    // Saving a set replaces its folder whole; the database made for the old set is put back.
+    assert!(!dir.join(database::FILE).exists(), "a saved set keeps no file of the folder it replaced");
+    db.save(&dir).unwrap();
     let reloaded = organ_set::open(&dir).unwrap();
     match Database::load_for(&dir, &reloaded.set) {
         Err(e @ vbrain::Error::OccluderDb { problem: DbProblem::Stale, .. }) => {

@@ -9,6 +9,7 @@ mod bench;
 mod bench_transparency;
 mod city;
 pub mod common;
+mod export;
 mod import;
 mod info;
 mod lesson;
@@ -67,6 +68,9 @@ pub enum Command {
     /// Build occluder stand-ins: for each closed organ, a coarse mesh verified to lie inside it,
     /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo)
     StandIns(StandInsArgs),
+    /// Export a scene or a set as glTF 2.0 (.glb) for Blender, slides and web viewers: the organs
+    /// it shows, with names, colours, opacities, transforms, groups and info, cut by its planes
+    Export(ExportArgs),
 }
 
 #[derive(clap::Args)]
@@ -405,6 +409,32 @@ pub struct ScaleArgs {
 }
 
 #[derive(clap::Args)]
+pub struct ExportArgs {
+    /// A scene (.vbscene) or an organ set (folder, manifest, mesh files)
+    pub path: PathBuf,
+    /// The binary glTF file to write
+    #[arg(long)]
+    pub gltf: PathBuf,
+    /// Replace --gltf where it already exists
+    #[arg(long)]
+    pub force: bool,
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+    /// Clip plane (repeatable, at most 4): axial=MM, coronal=MM, sagittal=MM (each :flip to keep
+    /// the other side) or NX,NY,NZ,D; replaces the scene's planes
+    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
+    pub clip: Vec<vbrain::clip::ClipPlane>,
+    /// Solid cut faces on closed organs (on or off; default: the scene's, else on)
+    #[arg(long, value_parser = values::on_off)]
+    pub caps: Option<bool>,
+    /// Organs (ids or groups, separated by commas) the planes do not cut
+    #[arg(long, value_delimiter = ',')]
+    pub whole: Vec<String>,
+    #[arg(long)]
+    pub json: bool,
+}
+
+#[derive(clap::Args)]
 pub struct StandInsArgs {
     pub path: PathBuf,
     /// Stand-in triangles as a share of the organ's, 0.001..=1
@@ -475,5 +505,6 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::City(args) => city::run(&args),
         Command::Scale(args) => scale::run(&args),
         Command::StandIns(args) => stand_ins::run(&args),
+        Command::Export(args) => export::run(&args),
     }
 }

@@ -91,6 +91,8 @@ pub enum Action {
         path: String,
         size: [u32; 2],
     },
+    /// Write the scene as a glTF model into the file `path` (as typed: `.glb` added if missing).
+    ExportGltf(String),
     /// Camera to a standard view of the set.
     View(View),
     ResetCamera,
@@ -116,6 +118,7 @@ pub enum Window {
     OpenMeshes,
     Import,
     Export,
+    ExportGltf,
     Sections,
     Quiz,
 }

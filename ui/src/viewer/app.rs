@@ -8,13 +8,14 @@
 
 use super::action::{Action, Window};
 use super::document::{self, Document};
-use super::export::ExportWindow;
+use super::export::{ExportWindow, GltfWindow};
 use super::files::{self, ImportWindow, OpenWindow};
 use super::inspector::{inspector, Marks};
 use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
 use super::panels::OrganPanel;
+use super::paths::default_set_path;
 use super::quiz_panel::QuizPanel;
 use super::scene::Scene;
 use super::sections::Sections;
@@ -22,7 +23,6 @@ use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
 use super::viewport::{self, Viewport};
-use super::window::default_set_path;
 use anyhow::Result;
 use eframe::egui;
 use std::path::PathBuf;
@@ -42,9 +42,9 @@ mod scene_files;
 pub struct AppOptions {
     /// What to open; `None` opens the default brain (or the last set, if the settings say so).
     pub path: Option<PathBuf>,
-    /// The recovery file for unsaved changes ([`recovery_path`] for the viewer; `None` writes none).
+    /// The recovery file for unsaved changes ([`recovery_path`](super::paths::recovery_path) for the viewer; `None` writes none).
     pub recovery: Option<PathBuf>,
-    /// The file of quiz results kept per set ([`quiz_history_path`]; `None` keeps none).
+    /// The file of quiz results kept per set ([`quiz_history_path`](super::paths::quiz_history_path); `None` keeps none).
     pub quiz_history: Option<PathBuf>,
 }
 
@@ -55,6 +55,7 @@ pub struct Dialogs {
     pub open_meshes: OpenWindow,
     pub import: ImportWindow,
     pub export: ExportWindow,
+    pub gltf: GltfWindow,
 }
 
 /// A set read off the UI thread, with the paths it came from.
@@ -369,6 +370,7 @@ impl App {
                     Window::OpenMeshes => self.dialogs.open_meshes.open = true,
                     Window::Import => self.dialogs.import.open = true,
                     Window::Export => self.dialogs.export.open = true,
+                    Window::ExportGltf => self.dialogs.gltf.open = true,
                     Window::Sections => self.sections.open = true,
                     Window::Quiz => {
                         self.quiz.open = true;
@@ -381,6 +383,7 @@ impl App {
                     self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
                 }
                 Action::Export { path, size } => self.export(&path, size),
+                Action::ExportGltf(path) => self.export_gltf(&path),
                 Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
                 Action::ResetCamera => {
                     if let Some(s) = &self.scene {
@@ -532,7 +535,9 @@ impl App {
         }
         if let Some(scene) = &self.scene {
             let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
-            let actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
+            let mut actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
+            let folder = self.settings.export.folder.as_deref();
+            actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder));
             self.perform(ctx, actions);
         }
     }
@@ -579,11 +584,14 @@ impl eframe::App for App {
         };
         Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
         let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
-        // Side panels never take the 3-D view's place, whatever their contents' widths.
+        // Side panels never take the 3-D view's place, whatever their contents' widths: beyond their
+        // default widths, the organ panel and the right-hand panels leave the view 45 % of the width.
         let width = ui.max_rect().width();
+        let rights = [self.lesson.is_open(), self.quiz.open, self.settings.show_inspector && self.selected.is_some()];
+        let right_width = rights.iter().filter(|&&shown| shown).count() as f32 * side_max(width);
         let actions = Panel::left("organs")
             .default_size(330.0)
-            .max_size((width * 0.3).max(200.0))
+            .max_size((width * 0.55 - right_width).max(330.0))
             .resizable(true)
             .show(ui, |ui| panel.show(ui, scene, selected))
             .inner;
@@ -670,7 +678,8 @@ impl eframe::App for App {
     }
 }
 
-/// The widest a right-hand panel may be in a window `width` points wide.
+/// The widest a right-hand panel may be in a window `width` points wide: never narrower than the
+/// panels' default widths, so only long texts are cut.
 fn side_max(width: f32) -> f32 {
-    (width * 0.22).max(200.0)
+    (width * 0.3).max(320.0)
 }

@@ -1,7 +1,8 @@
 //! Screenshot export: the current view rendered offscreen at the asked size through the same
 //! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over
 //! an existing file; and the export window, which asks for the size and the file and returns an
-//! [`Action::Export`].
+//! [`Action::Export`]. The glTF window asks for a file and returns an [`Action::ExportGltf`]: the
+//! scene as a 3-D model ([`vbrain::gltf`]).
 
 use super::action::Action;
 use super::settings::{ExportSettings, ExportSize};
@@ -73,16 +74,69 @@ pub fn export(
     Ok(path)
 }
 
-/// The file to write for the path typed: `.png` added if it has no extension.
-pub fn file_path(typed: &str) -> Result<PathBuf> {
+/// The file to write for the path typed: `extension` (`png`, `glb`) added if it has none.
+pub fn file_path(typed: &str, extension: &str) -> Result<PathBuf> {
     let mut path = PathBuf::from(typed.trim());
     if path.as_os_str().is_empty() {
         bail!("no file name");
     }
     if path.extension().is_none() {
-        path.set_extension("png");
+        path.set_extension(extension);
     }
     Ok(path)
+}
+
+/// Writes `glb` to `path` (or, if that exists, to the next free name, which is returned),
+/// atomically and never over an existing file.
+pub fn write_glb(path: &Path, glb: &[u8]) -> Result<PathBuf> {
+    let path = unused_path(path);
+    vbrain::atomic::write_new(&path, |w| w.write_all(glb))?;
+    Ok(path)
+}
+
+/// The "Export glTF model" window: a file, and Save.
+#[derive(Default)]
+pub struct GltfWindow {
+    pub open: bool,
+    pub path: PathField,
+    /// The last export's result, shown in the window.
+    pub last: Option<String>,
+}
+
+impl GltfWindow {
+    /// The window for a set titled `title`; proposes `<set>-<time>.glb` in the screenshots' folder.
+    pub fn show(&mut self, ctx: &egui::Context, title: &str, folder: Option<&Path>) -> Vec<Action> {
+        if self.open && self.path.text.is_empty() {
+            let name = default_file_name(title, std::time::SystemTime::now()).replace(".png", ".glb");
+            self.path.text = folder.unwrap_or(Path::new("")).join(name).display().to_string();
+        }
+        let mut open = self.open;
+        let mut save = false;
+        egui::Window::new("Export glTF model").open(&mut open).collapsible(false).show(ctx, |ui| {
+            ui.label("The organs shown, with their colours, opacities, moves, groups and info texts, cut by the");
+            ui.label("section planes. Opens in Blender, slide software and web viewers.");
+            self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
+            save = ui.button("Save").clicked();
+            if let Some(last) = &self.last {
+                ui.label(last);
+            }
+        });
+        self.open = open;
+        if save {
+            vec![Action::ExportGltf(self.path.text.clone())]
+        } else {
+            Vec::new()
+        }
+    }
+
+    /// After an export: as [`ExportWindow::finished`].
+    pub fn finished(&mut self, message: String, saved: bool) {
+        if saved {
+            self.path.text.clear();
+            self.open = false;
+        }
+        self.last = Some(message);
+    }
 }
 
 /// The "Export screenshot" window.

@@ -97,6 +97,14 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
     if ui.add_enabled(scene.is_some(), export).clicked() {
         out.push(Action::Show(Window::Export));
     }
+    let gltf = egui::Button::new("Export glTF model...");
+    if ui
+        .add_enabled(scene.is_some(), gltf)
+        .on_hover_text("The organs shown, as a 3-D model for Blender or a web page")
+        .clicked()
+    {
+        out.push(Action::Show(Window::ExportGltf));
+    }
     ui.separator();
     if ui.button("Quit").clicked() {
         out.push(Action::Quit);

@@ -11,8 +11,8 @@
 //! Modules: [`app`] (state, frame, actions), [`menus`], [`panels`] (organ tree), [`inspector`],
 //! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
 //! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
-//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window and
-//! the viewer's files).
+//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window),
+//! [`paths`] (the viewer's files).
 
 pub mod action;
 pub mod app;
@@ -24,6 +24,7 @@ pub mod jobs;
 pub mod lesson_panel;
 pub mod menus;
 pub mod panels;
+pub mod paths;
 pub mod quiz_panel;
 pub mod scene;
 pub mod sections;

@@ -53,6 +53,17 @@ impl Group {
     }
 }
 
+/// The most characters of a name a row shows: longer names end in "…".
+pub const MAX_ROW_NAME: usize = 64;
+
+/// `name`, cut to [`MAX_ROW_NAME`] characters.
+fn short(name: &str) -> std::borrow::Cow<'_, str> {
+    match name.char_indices().nth(MAX_ROW_NAME) {
+        Some((at, _)) => format!("{}…", &name[..at]).into(),
+        None => name.into(),
+    }
+}
+
 /// The deepest group the tree shows: deeper parts of a group path are shown joined in one row,
 /// so a hand-made set nested thousands deep costs neither stack nor width.
 pub const MAX_TREE_DEPTH: usize = 8;
@@ -160,8 +171,8 @@ impl Rows<'_> {
         if r.changed() {
             self.edit(Edit::Visible { organs: group.organs(), visible });
         }
-        // Long names are cut to the panel's width (hover shows them whole).
-        ui.add(egui::Label::new(RichText::new(&group.name).strong()).truncate());
+        // Long names are cut short (hover shows them whole); the panel's width is capped too.
+        ui.label(RichText::new(short(&group.name)).strong()).on_hover_text(&group.name);
         let all_opaque = organs.iter().all(|&i| layout.organs[i].opacity >= 1.0);
         let r = ui.selectable_label(!all_opaque, "T").on_hover_text("Transparency of the whole group");
         accessible(&r, format!("Transparency of group {}", group.name));
@@ -211,7 +222,8 @@ impl Rows<'_> {
             if r.changed() {
                 self.edit(Edit::Opacity { organs: Organs::One(i), opacity });
             }
-            let r = ui.add(egui::Button::selectable(self.selected == Some(i), name.as_str()).truncate());
+            let r = ui.selectable_label(self.selected == Some(i), short(name));
+            let r = if short(name).len() < name.len() { r.on_hover_text(name.as_str()) } else { r };
             accessible(&r, format!("Select {name}"));
             if r.clicked() {
                 self.out.push(Action::Select(Some(i)));

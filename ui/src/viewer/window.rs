@@ -1,30 +1,11 @@
-//! The viewer's window and where it keeps its files: the native options (default and smallest
-//! size, in egui points), the default organ set, the recovery and quiz-history files beside
-//! eframe's settings, and [`run`], which opens the window on an [`App`].
+//! The viewer's native window: its options (default and smallest size, in egui points) and
+//! [`run`], which opens the window on an [`App`] with the files [`super::paths`] names.
 
 use super::app::{App, AppOptions};
+use super::paths::{quiz_history_path, recovery_path};
 use anyhow::{anyhow, Result};
 use eframe::egui;
-use std::path::{Path, PathBuf};
-
-/// Where the viewer keeps its recovery file: beside its settings.
-pub fn recovery_path() -> Option<PathBuf> {
-    eframe::storage_dir("vbrain").map(|d| d.join("recovery.vbscene"))
-}
-
-/// Where the viewer keeps quiz results: beside its settings.
-pub fn quiz_history_path() -> Option<PathBuf> {
-    eframe::storage_dir("vbrain").map(|d| d.join("quiz-history.csv"))
-}
-
-/// The default organ set: `organs/brain` under the working directory, else beside the sources.
-pub fn default_set_path() -> PathBuf {
-    let here = PathBuf::from("organs/brain");
-    if here.is_dir() {
-        return here;
-    }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain")
-}
+use std::path::PathBuf;
 
 /// The smallest window, in points: the panels and a usable 3-D view. A stored window geometry
 /// (eframe keeps it with the settings) smaller than this, or not a number, opens at this size;
@@ -58,4 +39,17 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
         }),
     )
     .map_err(|e| anyhow!("could not open the viewer window: {e}"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_window_has_a_smallest_size() {
+        let options = native_options();
+        assert_eq!(options.viewport.min_inner_size, Some(egui::Vec2::from(MIN_WINDOW)));
+        let default = options.viewport.inner_size.unwrap_or_default();
+        assert!(default.x >= MIN_WINDOW[0] && default.y >= MIN_WINDOW[1]);
+    }
 }

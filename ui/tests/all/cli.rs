@@ -4,11 +4,11 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn vbrain(args: &[&str]) -> Output {
+pub(crate) fn vbrain(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_vbrain")).args(args).output().unwrap()
 }
 
-fn brain() -> String {
+pub(crate) fn brain() -> String {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain").display().to_string()
 }
 
@@ -176,7 +176,7 @@ fn a_broken_organ_is_reported_and_the_rest_listed() {
 
 /// A minimal NIfTI-1 file (gzip-compressed when the name ends in .gz): int16 labels, 2 mm voxels,
 /// sform with a mirrored x axis as radiological volumes have.
-fn write_nifti(path: &Path, dims: [usize; 3], labels: &[i16]) {
+pub(crate) fn write_nifti(path: &Path, dims: [usize; 3], labels: &[i16]) {
     let mut h = vec![0u8; 352];
     let put = |h: &mut Vec<u8>, at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
     put(&mut h, 0, &348i32.to_le_bytes());
@@ -211,7 +211,7 @@ fn write_nifti(path: &Path, dims: [usize; 3], labels: &[i16]) {
     std::fs::write(path, h).unwrap();
 }
 
-fn two_blobs(dir: &Path, name: &str) -> PathBuf {
+pub(crate) fn two_blobs(dir: &Path, name: &str) -> PathBuf {
     let dims = [24, 16, 16];
     let mut labels = vec![0i16; 24 * 16 * 16];
     for z in 4..12 {

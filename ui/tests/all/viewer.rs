@@ -539,7 +539,8 @@ fn play_a_shipped_lesson_step_by_step() {
 fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     use vbrain_ui::viewer::action::{Action, Window};
     use vbrain_ui::viewer::settings::LabelMode;
-    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
+    // Tall enough that the Sections window leaves the plane's handle, mid-view, uncovered.
+    let mut h = harness_of(egui::Vec2::new(760.0, 640.0));
     let dir = tempfile::tempdir().unwrap();
     let gyrus = organ(&h, "superiorfrontal_l");
     let name = h.state().scene().unwrap().set().organs[gyrus].name.clone();
@@ -600,4 +601,55 @@ fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     h.run_steps(3);
     assert_eq!(h.state().sections().current, section, "{:?}", messages(&h));
     assert_eq!(h.state().chosen_labels(), &[gyrus]);
+}
+
+/// A hand-made set that tests the panels' limits: a 3,000-character name with no space, a long
+/// description, a group 500 deep, and 300 organs in all. The window keeps its 3-D view.
+#[test]
+fn long_names_deep_groups_and_many_organs_leave_the_view_in_place() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    let mut organs = Vec::new();
+    for i in 0..300 {
+        let (x, y) = ((i % 20) as f32 * 12.0, (i / 20) as f32 * 12.0);
+        let obj = format!(
+            "v {x} {y} 0\nv {} {y} 0\nv {x} {} 0\nv {x} {y} 8\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n",
+            x + 8.0,
+            y + 8.0
+        );
+        std::fs::write(dir.path().join(format!("meshes/o{i}.obj")), obj).unwrap();
+        let (name, group, info) = if i == 0 {
+            let deep: Vec<String> = (0..500).map(|d| format!("level{d}")).collect();
+            ("N".repeat(3000), deep.join("/"), "A long description. ".repeat(2000))
+        } else {
+            (format!("Organ {i}"), format!("Group {}", i % 7), String::new())
+        };
+        let colour = "#c08080";
+        organs.push(serde_json::json!({"id": format!("o{i}"), "name": name, "mesh": format!("meshes/o{i}.obj"),
+            "colour": colour, "group": group, "info": info}));
+    }
+    let manifest = serde_json::json!({"format": "vbrain-organ-set/1", "title": "T".repeat(500), "organs": organs});
+    std::fs::write(dir.path().join("organset.json"), manifest.to_string()).unwrap();
+    let set = dir.path().to_path_buf();
+    let size = egui::Vec2::new(1000.0, 640.0);
+    let mut h = Harness::builder().with_size(size).wgpu().build_eframe(move |cc| {
+        App::new(cc, AppOptions { path: Some(set.clone()), recovery: None, quiz_history: None })
+    });
+    for _ in 0..600 {
+        h.step();
+        if h.state().scene().is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    assert_eq!(h.state().scene().map(|s| s.set().organs.len()), Some(300), "{:?}", messages(&h));
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![vbrain_ui::viewer::Action::Select(Some(0))]);
+    h.run_steps(4);
+    let view = h.state().viewport().rect();
+    // The organ panel at its default width (330 points), the inspector at most 320.
+    assert!(view.width() >= size.x - 660.0 && view.height() >= size.y * 0.5, "3-D view squeezed to {view:?}");
+    let image = h.state().read_image().unwrap();
+    let background = *image.get_pixel(0, 0);
+    assert!(image.pixels().filter(|&&p| p != background).count() > 1000, "the organs are drawn");
 }

@@ -1,5 +1,5 @@
 //! The app's figure: the Sections window (clip planes, cut faces, organs kept whole) with the
-//! planes' handles, the labels (which organs, the chosen list) and the screenshot export. Changes to either count as
+//! planes' handles, the labels (which organs, the chosen list) and the exports (screenshot, glTF model). Changes to either count as
 //! unsaved changes of the scene. A child module of the app, so it reaches its state.
 
 use super::App;
@@ -96,11 +96,29 @@ impl App {
         self.notify(message, !saved);
     }
 
+    /// Writes the scene as a glTF model (the organs drawn, cut by the current section).
+    pub(super) fn export_gltf(&mut self, typed: &str) {
+        let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
+            let path = export::file_path(typed, "glb")?;
+            let glb = vbrain::gltf::glb(scene.set(), scene.layout(), &self.sections.current);
+            Ok((export::write_glb(&path, &glb)?, glb.len()))
+        });
+        let (message, saved) = match written {
+            Ok((path, bytes)) => {
+                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                (format!("saved {} ({:.1} MB)", path.display(), bytes as f64 / 1e6), true)
+            }
+            Err(e) => (format!("glTF model not saved: {e:#}"), false),
+        };
+        self.dialogs.gltf.finished(message.clone(), saved);
+        self.notify(message, !saved);
+    }
+
     fn export_view(&self, path: &str, size: [u32; 2]) -> Result<PathBuf> {
         let scene = self.scene.as_ref().context("no organ set")?;
         let rs = self.gpu.as_ref().context("no GPU")?;
         let camera = self.viewport.camera(scene);
-        let path = export::file_path(path)?;
+        let path = export::file_path(path, "png")?;
         let frame = FrameInput {
             background: self.settings.background_linear(self.settings.export.transparent),
             transparency: self.settings.transparency,

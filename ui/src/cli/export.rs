@@ -1,0 +1,58 @@
+//! `vbrain export`: a scene or a set as a binary glTF 2.0 file (`--gltf OUT.glb`) for Blender,
+//! slides and web viewers: the organs it shows, with their names, colours, opacities, transforms,
+//! groups and info texts, cut by its clip planes with solid cut faces ([`vbrain::gltf`]).
+
+use super::common::{apply_layout_args, open_set, organs};
+use super::ExportArgs;
+use anyhow::{anyhow, bail, Result};
+use serde_json::json;
+use vbrain::clip::Section;
+use vbrain::layout::Layout;
+use vbrain::scene_file::SceneFile;
+
+pub fn run(args: &ExportArgs) -> Result<bool> {
+    let out = &args.gltf;
+    if out.is_dir() {
+        bail!("{}: is a folder; give a file name ending in .glb", out.display());
+    }
+    if out.exists() && !args.force {
+        bail!("{}: already exists; give --force to replace it", out.display());
+    }
+    let is_scene = args.path.extension().is_some_and(|e| e == vbrain::scene_file::EXTENSION);
+    let scene = if is_scene { Some(SceneFile::load(&args.path).map_err(|e| anyhow!(e))?) } else { None };
+    let set_path = scene.as_ref().map_or_else(|| args.path.clone(), |s| s.set_path(&args.path));
+    if scene.is_some() && !set_path.exists() {
+        bail!("{}: the scene's organ set {} is not there", args.path.display(), set_path.display());
+    }
+    let set = open_set(&set_path)?;
+    let mut layout = Layout::new(&set);
+    if let Some(s) = &scene {
+        let applied = s.apply(&set);
+        for w in &applied.warnings {
+            eprintln!("warning: {}: {w}", args.path.display());
+        }
+        layout = applied.layout;
+    }
+    apply_layout_args(&set, &mut layout, &args.layout)?;
+    let planes =
+        if args.clip.is_empty() { scene.as_ref().map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
+    if planes.len() > vbrain::clip::MAX_PLANES {
+        bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
+    }
+    let caps = args.caps.or(scene.as_ref().map(|s| s.caps)).unwrap_or(true);
+    let whole_names =
+        if args.whole.is_empty() { scene.as_ref().map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
+    let mut whole = Vec::new();
+    for key in &whole_names {
+        whole.extend(organs(&set, key).map_err(|e| anyhow!("--whole: {e}"))?);
+    }
+    let glb = vbrain::gltf::glb(&set, &layout, &Section { planes, caps, whole });
+    vbrain::atomic::write(out, |w| w.write_all(&glb)).map_err(|e| anyhow!(e))?;
+    let drawn = layout.organs.iter().filter(|o| o.is_drawn()).count();
+    if args.json {
+        println!("{}", json!({"out": out, "bytes": glb.len(), "organs": drawn}));
+    } else {
+        println!("wrote {} ({} organs, {:.1} MB)", out.display(), drawn, glb.len() as f64 / 1e6);
+    }
+    Ok(true)
+}

@@ -1,0 +1,172 @@
+//! Input that passes the door must not break anything deeper: the `vbrain` commands run with the
+//! kinds of input a user's own files and fingers produce (too large, not a file, not a number,
+//! out of range, a link out of the set, a table with quotes), each refused with a message that
+//! names the problem, or accepted with a warning, and never a panic or a half-written output.
+
+use super::cli::{brain, two_blobs, vbrain};
+use std::path::Path;
+use std::process::Output;
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Fails (exit status 1 or 2, never a panic's 101) with `expect` in its message.
+fn refused(args: &[&str], expect: &str) {
+    let o = vbrain(args);
+    let code = o.status.code();
+    assert!(matches!(code, Some(1 | 2)), "{args:?} exited {code:?}: {}", stderr(&o));
+    assert!(stderr(&o).contains(expect), "{args:?}: expected \"{expect}\" in: {}", stderr(&o));
+    assert!(!stderr(&o).contains("panicked"), "{args:?}: {}", stderr(&o));
+}
+
+const TRIANGLE: &str = "v 0 0 0\nv 10 0 0\nv 0 10 0\nf 1 2 3\n";
+
+#[test]
+fn typed_counts_and_sizes_have_bounds() {
+    let b = brain();
+    let out = tempfile::tempdir().unwrap();
+    let png = out.path().join("x.png");
+    let png = png.to_str().unwrap();
+    // Sizes the texture limit accepts but the memory does not: an error before any target.
+    refused(&["render", &b, "--size", "12000x12000", "--out", png], "GiB");
+    refused(&["render", &b, "--size", "16384x16384", "--out", png], "choose a smaller size");
+    assert!(!Path::new(png).exists());
+    for (args, what) in [
+        (vec!["bench", &b, "--frames", "0"], "--frames"),
+        (vec!["bench", &b, "--frames", "100001"], "--frames"),
+        (vec!["bench", &b, "--raster", "65535x65535"], "--raster"),
+        (vec!["masks", "--k", "0"], "--k"),
+        (vec!["masks", "--objects", "100000"], "--objects"),
+        (vec!["masks", "--alpha", "1.5"], "--alpha"),
+        (vec!["occluders", &b, "--grid", "0"], "--grid"),
+        (vec!["occluders", &b, "--grid", "1000000"], "--grid"),
+        (vec!["import", "v.nii", "--labels", "t.csv", "--out", "o", "--smooth", "1001"], "--smooth"),
+        (vec!["scale", &b, "--factor", "0.5", "--out", "o"], "--factor"),
+        (vec!["scale", &b, "--factor", "nan", "--out", "o"], "--factor"),
+        (vec!["render", &b, "--k", "0", "--out", png], "--k"),
+        (vec!["render", &b, "--region", "0", "--out", png], "--region"),
+    ] {
+        refused(&args, what);
+    }
+}
+
+#[test]
+fn reads_refuse_what_is_not_a_regular_file_or_leaves_the_set() {
+    refused(&["info", "/dev/null"], "not a regular file");
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    #[cfg(unix)]
+    {
+        let fifo = d.join("pipe.obj");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status().unwrap();
+        assert!(made.success());
+        // Read, it would block for ever; it is refused before.
+        refused(&["info", fifo.to_str().unwrap()], "not a regular file");
+        // A mesh path that passes the manifest's check but links out of the set's folder.
+        std::fs::write(d.join("outside.obj"), TRIANGLE).unwrap();
+        let set = d.join("set");
+        std::fs::create_dir(&set).unwrap();
+        std::os::unix::fs::symlink(d.join("outside.obj"), set.join("link.obj")).unwrap();
+        std::fs::write(set.join("inside.obj"), TRIANGLE).unwrap();
+        let manifest = r##"{"format": "vbrain-organ-set/1", "title": "t", "organs": [
+            {"id": "a", "name": "A", "mesh": "link.obj", "colour": "#ff0000"},
+            {"id": "b", "name": "B", "mesh": "inside.obj", "colour": "#00ff00"}]}"##;
+        std::fs::write(set.join("organset.json"), manifest).unwrap();
+        let o = vbrain(&["info", set.to_str().unwrap()]);
+        assert!(stderr(&o).contains("outside the set's folder"), "{}", stderr(&o));
+        assert!(String::from_utf8_lossy(&o.stdout).contains('B'), "the rest still loads");
+    }
+    // An OS error is printed once, with its path.
+    let o = vbrain(&["info", "/no/such/set"]);
+    assert_eq!(stderr(&o).matches("os error 2").count(), 1, "{}", stderr(&o));
+    assert!(!stderr(&o).contains("Os {"), "no Debug text: {}", stderr(&o));
+}
+
+#[test]
+fn meshes_that_cannot_be_framed_or_shaded_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let far = dir.path().join("far.obj");
+    std::fs::write(&far, "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    refused(&["info", far.to_str().unwrap()], "far.obj:2");
+    let flat = dir.path().join("flat.obj");
+    std::fs::write(&flat, "v 0 0 0\nv 1 1 1\nv 2 2 2\nf 1 2 3\n").unwrap();
+    refused(&["info", flat.to_str().unwrap()], "zero area");
+}
+
+#[test]
+fn a_render_with_a_broken_organ_writes_and_warns_and_exits_0() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("good.obj"), TRIANGLE).unwrap();
+    std::fs::write(dir.path().join("bad.obj"), "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n").unwrap();
+    let png = dir.path().join("out.png");
+    let o = vbrain(&["render", dir.path().to_str().unwrap(), "--size", "64x64", "--out", png.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("warning: ") && stderr(&o).contains("bad.obj:4"), "{}", stderr(&o));
+    assert!(png.exists());
+}
+
+#[test]
+fn scenes_whose_camera_or_transforms_are_not_numbers_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let (scene, png) = (dir.path().join("s.vbscene"), dir.path().join("s.png"));
+    let (scene_s, png_s) = (scene.to_str().unwrap(), png.to_str().unwrap());
+    let b = brain();
+    let saved = vbrain(&["render", &b, "--size", "32x32", "--out", png_s, "--save-scene", scene_s]);
+    assert!(saved.status.success(), "{}", stderr(&saved));
+    let text = std::fs::read_to_string(&scene).unwrap();
+    let edit = |key: &str, value: &str| -> String {
+        let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        v["camera"][key] = serde_json::from_str(value).unwrap();
+        v.to_string()
+    };
+    for (key, value, expect) in [("distance", "1e39", "camera distance"), ("azimuth", "-1e300", "camera angles")] {
+        std::fs::write(&scene, edit(key, value)).unwrap();
+        refused(&["render", "--scene", scene_s, "--out", png_s], expect);
+    }
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["organs"][0]["scale"] = serde_json::json!(1e30);
+    std::fs::write(&scene, v.to_string()).unwrap();
+    refused(&["render", "--scene", scene_s, "--out", png_s], "scale");
+}
+
+#[test]
+fn label_tables_are_csv_with_quotes_and_a_repeated_index_names_both_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let vol = two_blobs(dir.path(), "seg.nii");
+    let (v, out) = (vol.to_str().unwrap(), dir.path().join("set"));
+    let o = out.to_str().unwrap();
+    let csv = dir.path().join("labels.csv");
+    std::fs::write(&csv, "index,name\n17,\"Putamen, left\"\n53,\"The \"\"right\"\" one\"\n").unwrap();
+    let r = vbrain(&["import", v, "--labels", csv.to_str().unwrap(), "--out", o, "--json"]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    let info: serde_json::Value = serde_json::from_slice(&r.stdout).unwrap();
+    let names: Vec<&str> = info["organs"].as_array().unwrap().iter().map(|o| o["name"].as_str().unwrap()).collect();
+    assert_eq!(names, ["Putamen, left", "The \"right\" one"]);
+
+    std::fs::write(&csv, "17,a\n53,b\n\n17,c\n").unwrap();
+    let again = dir.path().join("again");
+    refused(
+        &["import", v, "--labels", csv.to_str().unwrap(), "--out", again.to_str().unwrap()],
+        "line 1 and on line 4",
+    );
+    assert!(!again.exists(), "a refused import writes nothing");
+
+    let lut = dir.path().join("lut.txt");
+    std::fs::write(&lut, "17 Left-Thing 300 0 0 0\n53 Right-Thing 10 20 30 0\n").unwrap();
+    let third = dir.path().join("third");
+    let r = vbrain(&["import", v, "--labels", lut.to_str().unwrap(), "--out", third.to_str().unwrap()]);
+    assert!(r.status.success(), "{}", stderr(&r));
+    assert!(stderr(&r).contains("lut.txt:1") && stderr(&r).contains("300 0 0"), "{}", stderr(&r));
+}
+
+#[test]
+fn bench_checks_its_output_folder_before_it_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "").unwrap();
+    let started = std::time::Instant::now();
+    refused(&["bench", &brain(), "--frames", "100000", "--out", file.to_str().unwrap()], "a-file");
+    // 100,000 frames would take hours: it stopped at the folder.
+    assert!(started.elapsed().as_secs() < 60);
+}
