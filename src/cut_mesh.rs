@@ -119,7 +119,7 @@ fn cap(mesh: &Mesh, plane: &ClipPlane) -> Mesh {
     let depth: Vec<usize> = (0..flat.len())
         .map(|i| (0..flat.len()).filter(|&j| j != i && contains(&flat[j], flat[i][0])).count())
         .collect();
-    for outer in (0..flat.len()).filter(|&i| depth[i] % 2 == 0) {
+    for outer in (0..flat.len()).filter(|&i| depth[i].is_multiple_of(2)) {
         let holes: Vec<usize> =
             (0..flat.len()).filter(|&h| depth[h] == depth[outer] + 1 && contains(&flat[outer], flat[h][0])).collect();
         let mut coords: Vec<[f64; 2]> = flat[outer].iter().map(|p| [f64::from(p.x), f64::from(p.y)]).collect();
@@ -136,7 +136,7 @@ fn cap(mesh: &Mesh, plane: &ClipPlane) -> Mesh {
         out.positions.extend(points.iter().map(|&p| <[f32; 3]>::from(p)));
         out.normals.extend(points.iter().map(|_| <[f32; 3]>::from(n)));
         for t in triangles.chunks_exact(3) {
-            let [a, b, c] = [t[0] as usize, t[1] as usize, t[2] as usize];
+            let [a, b, c] = [t[0], t[1], t[2]];
             let facing = (points[b] - points[a]).cross(points[c] - points[a]).dot(n);
             let tri = if facing >= 0.0 { [a, b, c] } else { [a, c, b] };
             out.indices.extend(tri.iter().map(|&k| base + k as u32));

@@ -27,8 +27,15 @@ struct Part {
     cut: bool,
 }
 
+/// A binary glTF file and how many organs it holds.
+pub struct Glb {
+    pub bytes: Vec<u8>,
+    /// Organs exported: drawn, and not wholly cut away.
+    pub organs: usize,
+}
+
 /// The scene as a binary glTF file: the organs `layout` draws, cut by `section`.
-pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Vec<u8> {
+pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Glb {
     let parts: Vec<Part> = (0..set.organs.len())
         .filter(|&i| layout.organs[i].is_drawn())
         .filter_map(|i| {
@@ -45,7 +52,7 @@ pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Vec<u8> {
         })
         .collect();
     let (json, bin) = document(set, layout, section, &parts);
-    pack(&json, &bin)
+    Glb { bytes: pack(&json, &bin), organs: parts.len() }
 }
 
 /// A world-space plane in the space of an organ whose model matrix is `m`: `n · (M q) > d` is
@@ -80,7 +87,7 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32| {
         let offset = bin.len();
         bin.extend_from_slice(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}));
@@ -173,7 +180,7 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
 /// (padded with zeros), each chunk 4-byte aligned.
 fn pack(json: &Value, bin: &[u8]) -> Vec<u8> {
     let mut text = json.to_string().into_bytes();
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let mut out = Vec::with_capacity(28 + text.len() + bin.len());
@@ -222,7 +229,7 @@ mod tests {
         let set = set();
         let mut layout = Layout::new(&set);
         layout.organs[0].opacity = 0.4;
-        let doc = json_of(&glb(&set, &layout, &Section::default()));
+        let doc = json_of(&glb(&set, &layout, &Section::default()).bytes);
         let nodes = doc["nodes"].as_array().unwrap();
         let names: Vec<&str> = nodes.iter().map(|n| n["name"].as_str().unwrap()).collect();
         assert_eq!(names, ["vbrain", "Left", "Lobe", "<A & b>", "B"]);
@@ -235,7 +242,7 @@ mod tests {
         assert!(doc["materials"][1].get("alphaMode").is_none());
         // Hidden organs are left out.
         layout.organs[1].visible = false;
-        let doc = json_of(&glb(&set, &layout, &Section::default()));
+        let doc = json_of(&glb(&set, &layout, &Section::default()).bytes);
         assert_eq!(doc["meshes"].as_array().unwrap().len(), 1);
     }
 
@@ -246,10 +253,10 @@ mod tests {
         let section = Section { planes: vec![ClipPlane::new(Vec3::Z, 0.0).unwrap()], caps: true, whole: vec![1] };
         // Organ a moved 10 mm up: the plane z = 0 lies below it, nothing of it is cut.
         layout.organs[0].transform.translation = Vec3::new(0.0, 0.0, 10.0);
-        let doc = json_of(&glb(&set, &layout, &section));
+        let doc = json_of(&glb(&set, &layout, &section).bytes);
         assert_eq!(doc["accessors"][0]["min"][2], json!(-1.0));
         layout.organs[0].transform.translation = Vec3::ZERO;
-        let doc = json_of(&glb(&set, &layout, &section));
+        let doc = json_of(&glb(&set, &layout, &section).bytes);
         assert_eq!(doc["accessors"][0]["max"][2], json!(0.0), "a is cut at z = 0");
         assert_eq!(doc["accessors"][3]["max"][2], json!(1.0), "b is kept whole");
     }

@@ -47,12 +47,11 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         whole.extend(organs(&set, key).map_err(|e| anyhow!("--whole: {e}"))?);
     }
     let glb = vbrain::gltf::glb(&set, &layout, &Section { planes, caps, whole });
-    vbrain::atomic::write(out, |w| w.write_all(&glb)).map_err(|e| anyhow!(e))?;
-    let drawn = layout.organs.iter().filter(|o| o.is_drawn()).count();
+    vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
     if args.json {
-        println!("{}", json!({"out": out, "bytes": glb.len(), "organs": drawn}));
+        println!("{}", json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs}));
     } else {
-        println!("wrote {} ({} organs, {:.1} MB)", out.display(), drawn, glb.len() as f64 / 1e6);
+        println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);
     }
     Ok(true)
 }

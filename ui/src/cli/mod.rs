@@ -386,6 +386,9 @@ pub struct CityArgs {
     /// Output folder for the organ set
     #[arg(long)]
     pub out: PathBuf,
+    /// Write into --out even where it already holds files
+    #[arg(long)]
+    pub force: bool,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
     #[arg(long)]
@@ -457,6 +460,9 @@ pub struct StandInsArgs {
     /// Output folder (default: the set's own folder)
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Write into --out even where it already holds files
+    #[arg(long)]
+    pub force: bool,
     #[arg(long)]
     pub json: bool,
 }

@@ -2,7 +2,7 @@
 //! its organ (offset inward, simplified, each triangle verified inside) that occlusion culling
 //! rasterises in the organ's place; kept only with at most half the organ's triangles.
 
-use super::common::{open_set, progress_bar};
+use super::common::{open_set, progress_bar, writable_folder};
 use super::StandInsArgs;
 use anyhow::{bail, Result};
 use serde_json::json;
@@ -21,6 +21,9 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     }
     if !(args.solid_offset > 0.0 && args.solid_offset.is_finite()) {
         bail!("--solid-offset {} must be a positive number of millimetres", args.solid_offset);
+    }
+    if let Some(out) = out {
+        writable_folder(out, args.force)?;
     }
     if out.is_none() && !path.join(organ_set::MANIFEST_FILE).is_file() {
         bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);

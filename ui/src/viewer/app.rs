@@ -584,14 +584,13 @@ impl eframe::App for App {
         };
         Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
         let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
-        // Side panels never take the 3-D view's place, whatever their contents' widths: beyond their
-        // default widths, the organ panel and the right-hand panels leave the view 45 % of the width.
+        // Side panels never take the 3-D view's place, whatever their contents' widths.
         let width = ui.max_rect().width();
-        let rights = [self.lesson.is_open(), self.quiz.open, self.settings.show_inspector && self.selected.is_some()];
-        let right_width = rights.iter().filter(|&&shown| shown).count() as f32 * side_max(width);
+        let shown = [self.lesson.is_open(), self.quiz.open, self.settings.show_inspector && self.selected.is_some()];
+        let (left_max, right_max) = side_limits(width, shown.iter().filter(|&&s| s).count());
         let actions = Panel::left("organs")
             .default_size(330.0)
-            .max_size((width * 0.55 - right_width).max(330.0))
+            .max_size(left_max)
             .resizable(true)
             .show(ui, |ui| panel.show(ui, scene, selected))
             .inner;
@@ -599,7 +598,7 @@ impl eframe::App for App {
         if self.lesson.is_open() {
             let actions = Panel::right("lesson")
                 .default_size(320.0)
-                .max_size(side_max(width))
+                .max_size(right_max)
                 .resizable(true)
                 .show(ui, |ui| self.lesson.show(ui))
                 .inner;
@@ -614,7 +613,7 @@ impl eframe::App for App {
             let quiz = &mut self.quiz;
             let actions = Panel::right("quiz")
                 .default_size(320.0)
-                .max_size(side_max(width))
+                .max_size(right_max)
                 .resizable(true)
                 .show(ui, |ui| quiz.show(ui, &name, &info, now))
                 .inner;
@@ -628,7 +627,7 @@ impl eframe::App for App {
             });
             let actions = Panel::right("inspector")
                 .default_size(300.0)
-                .max_size(side_max(width))
+                .max_size(right_max)
                 .resizable(true)
                 .show(ui, |ui| match scene.zip(selected) {
                     Some((scene, sel)) => inspector(ui, scene, sel, marks),
@@ -678,8 +677,15 @@ impl eframe::App for App {
     }
 }
 
-/// The widest a right-hand panel may be in a window `width` points wide: never narrower than the
-/// panels' default widths, so only long texts are cut.
-fn side_max(width: f32) -> f32 {
-    (width * 0.3).max(320.0)
+/// The widest the organ panel and each right-hand panel may be in a window `width` points wide
+/// with `rights` right-hand panels shown. With at most one, neither is capped below its default
+/// width and together they leave the 3-D view 45 % of the window; with more, the organ panel takes
+/// up to 30 % and each right-hand panel 22 % (at least 200 points each).
+fn side_limits(width: f32, rights: usize) -> (f32, f32) {
+    if rights <= 1 {
+        let right = (width * 0.3).max(320.0);
+        ((width * 0.55 - rights as f32 * right).max(330.0), right)
+    } else {
+        ((width * 0.3).max(200.0), (width * 0.22).max(200.0))
+    }
 }

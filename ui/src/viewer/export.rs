@@ -112,9 +112,12 @@ impl GltfWindow {
         }
         let mut open = self.open;
         let mut save = false;
-        egui::Window::new("Export glTF model").open(&mut open).collapsible(false).show(ctx, |ui| {
-            ui.label("The organs shown, with their colours, opacities, moves, groups and info texts, cut by the");
-            ui.label("section planes. Opens in Blender, slide software and web viewers.");
+        let window = egui::Window::new("Export glTF model").open(&mut open).collapsible(false).default_width(520.0);
+        window.show(ctx, |ui| {
+            ui.label(
+                "The organs shown, with their colours, opacities, moves, groups and info texts, cut by the \
+                 section planes. Opens in Blender, slide software and web viewers.",
+            );
             self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
             save = ui.button("Save").clicked();
             if let Some(last) = &self.last {

@@ -51,6 +51,11 @@ fn the_default_brain_cut_coronally_exports_as_valid_gltf() {
     assert!(nodes.iter().any(|n| n["name"] == "Left hemisphere" && n.get("mesh").is_none()));
     // Skull and scalp are hidden by default: not exported.
     assert!(!nodes.iter().any(|n| n["extras"]["id"] == "skull"));
+    // The summary counts the organs in the file: those the cut left something of.
+    let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let with_mesh = nodes.iter().filter(|n| n.get("mesh").is_some()).count();
+    assert_eq!(summary["organs"].as_u64(), Some(with_mesh as u64));
+    assert!(with_mesh > 40 && with_mesh < 99, "{with_mesh} organs: those anterior of the plane are gone");
     // The cut: nothing of an organ lies anterior of y = -20 mm (organ space is world space here).
     let meshes = doc["meshes"].as_array().unwrap();
     for n in nodes.iter().filter(|n| n.get("mesh").is_some()) {

@@ -170,3 +170,15 @@ fn bench_checks_its_output_folder_before_it_runs() {
     // 100,000 frames would take hours: it stopped at the folder.
     assert!(started.elapsed().as_secs() < 60);
 }
+
+#[test]
+fn commands_that_write_a_set_refuse_a_folder_that_holds_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let mine = dir.path().join("mine");
+    std::fs::create_dir(&mine).unwrap();
+    std::fs::write(mine.join("notes.txt"), "mine").unwrap();
+    let m = mine.to_str().unwrap();
+    refused(&["city", "--out", m], "--force");
+    refused(&["stand-ins", &brain(), "--out", m], "--force");
+    assert_eq!(std::fs::read_to_string(mine.join("notes.txt")).unwrap(), "mine");
+}

@@ -101,7 +101,7 @@ impl App {
         let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
             let path = export::file_path(typed, "glb")?;
             let glb = vbrain::gltf::glb(scene.set(), scene.layout(), &self.sections.current);
-            Ok((export::write_glb(&path, &glb)?, glb.len()))
+            Ok((export::write_glb(&path, &glb.bytes)?, glb.bytes.len()))
         });
         let (message, saved) = match written {
             Ok((path, bytes)) => {
