@@ -61,10 +61,12 @@ fn clip_triangles(mesh: &Mesh, planes: &[ClipPlane]) -> Mesh {
         if poly.len() < 3 {
             continue;
         }
+        // Unit normals, as glTF requires: where two interpolated ones cancel, the face's.
+        let face = (corners[1].p - corners[0].p).cross(corners[2].p - corners[0].p).normalize_or(Vec3::Z);
         let base = out.positions.len() as u32;
         for v in &poly {
             out.positions.push(v.p.into());
-            out.normals.push(v.n.normalize_or_zero().into());
+            out.normals.push(v.n.try_normalize().unwrap_or(face).into());
         }
         for k in 1..poly.len() as u32 - 1 {
             out.indices.extend_from_slice(&[base, base + k, base + k + 1]);
