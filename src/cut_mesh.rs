@@ -15,11 +15,11 @@ use glam::{Vec2, Vec3};
 use std::collections::HashMap;
 
 /// `mesh` with what `planes` remove cut away; with `caps` (for closed meshes) the cut faces are
-/// filled. A mesh no plane crosses comes back unchanged; one wholly removed comes back empty.
-pub fn cut(mesh: &Mesh, planes: &[ClipPlane], caps: bool) -> Mesh {
+/// filled. `None` where no plane removes any of it; a mesh wholly removed comes back empty.
+pub fn cut(mesh: &Mesh, planes: &[ClipPlane], caps: bool) -> Option<Mesh> {
     let removes_any = |p: &ClipPlane| mesh.positions.iter().any(|&q| p.removes(Vec3::from(q)));
     if !planes.iter().any(removes_any) {
-        return mesh.clone();
+        return None;
     }
     let mut out = clip_triangles(mesh, planes);
     if caps {
@@ -29,7 +29,7 @@ pub fn cut(mesh: &Mesh, planes: &[ClipPlane], caps: bool) -> Mesh {
             out.append(&cap);
         }
     }
-    compact(out)
+    Some(compact(out))
 }
 
 /// A vertex being clipped: position and normal.
@@ -257,18 +257,18 @@ mod tests {
     fn a_box_cut_in_half_stays_closed_with_half_its_volume() {
         let cube = cuboid(Vec3::splat(-1.0), Vec3::splat(1.0));
         assert!(cube.is_closed_outward());
-        let cut = cut(&cube, &[plane(Vec3::Z, 0.0)], true);
+        let cut = cut(&cube, &[plane(Vec3::Z, 0.0)], true).unwrap();
         assert!((cut.signed_volume() - 4.0).abs() < 1e-4, "{}", cut.signed_volume());
         assert!(cut.positions.iter().all(|p| p[2] <= 1e-6));
         assert_eq!(cut.open_edges(), 0, "the cap closes the cut");
         // Without caps the cut is open.
-        assert!(super::cut(&cube, &[plane(Vec3::Z, 0.0)], false).open_edges() > 0);
+        assert!(super::cut(&cube, &[plane(Vec3::Z, 0.0)], false).unwrap().open_edges() > 0);
     }
 
     #[test]
     fn two_planes_leave_a_quarter_and_a_hollow_box_gets_a_ring() {
         let cube = cuboid(Vec3::splat(-1.0), Vec3::splat(1.0));
-        let quarter = cut(&cube, &[plane(Vec3::Z, 0.0), plane(Vec3::X, 0.0)], true);
+        let quarter = cut(&cube, &[plane(Vec3::Z, 0.0), plane(Vec3::X, 0.0)], true).unwrap();
         assert!((quarter.signed_volume() - 2.0).abs() < 1e-4, "{}", quarter.signed_volume());
         // A box with a box-shaped hole (inner faces inward): the cap is a ring, volume 8 - 1 halved.
         let mut hollow = cube.clone();
@@ -277,14 +277,14 @@ mod tests {
             t.swap(1, 2);
         }
         hollow.append(&inner);
-        let half = cut(&hollow, &[plane(Vec3::Z, 0.0)], true);
+        let half = cut(&hollow, &[plane(Vec3::Z, 0.0)], true).unwrap();
         assert!((half.signed_volume() - 3.5).abs() < 1e-4, "{}", half.signed_volume());
     }
 
     #[test]
     fn untouched_and_wholly_removed_meshes() {
         let cube = cuboid(Vec3::splat(-1.0), Vec3::splat(1.0));
-        assert_eq!(cut(&cube, &[plane(Vec3::Z, 5.0)], true), cube);
-        assert_eq!(cut(&cube, &[plane(Vec3::Z, -5.0)], true).indices.len(), 0);
+        assert_eq!(cut(&cube, &[plane(Vec3::Z, 5.0)], true), None);
+        assert_eq!(cut(&cube, &[plane(Vec3::Z, -5.0)], true).map(|m| m.indices.len()), Some(0));
     }
 }

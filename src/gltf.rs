@@ -15,16 +15,16 @@ use crate::mesh::Mesh;
 use crate::organ_set::OrganSet;
 use glam::{Mat4, Vec4};
 use serde_json::{json, Value};
+use std::borrow::Cow;
 
 /// The matrix of the root node: RAS millimetres to glTF metres, +Y superior, +Z anterior.
 pub const ROOT_MATRIX: [f32; 16] =
     [-0.001, 0.0, 0.0, 0.0, 0.0, 0.0, 0.001, 0.0, 0.0, 0.001, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
 
-/// One organ as exported: its index in the set and its geometry after the cut.
-struct Part {
+/// One organ as exported: its index in the set and its geometry, cut or as it is.
+struct Part<'a> {
     organ: usize,
-    mesh: Mesh,
-    cut: bool,
+    mesh: Cow<'a, Mesh>,
 }
 
 /// A binary glTF file and how many organs it holds.
@@ -46,9 +46,11 @@ pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Glb {
             } else {
                 section.planes.iter().filter_map(|p| in_organ_space(p, &matrix)).collect()
             };
-            let mesh = crate::cut_mesh::cut(organ.mesh(), &planes, section.caps && organ.closed());
-            let cut = mesh != *organ.mesh();
-            (!mesh.indices.is_empty()).then_some(Part { organ: i, mesh, cut })
+            let mesh = match crate::cut_mesh::cut(organ.mesh(), &planes, section.caps && organ.closed()) {
+                Some(cut) => Cow::Owned(cut),
+                None => Cow::Borrowed(organ.mesh()),
+            };
+            (!mesh.indices.is_empty()).then_some(Part { organ: i, mesh })
         })
         .collect();
     let (json, bin) = document(set, layout, section, &parts);
@@ -97,7 +99,8 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
     for part in parts {
         let organ = &set.organs[part.organ];
         let state = &layout.organs[part.organ];
-        let m = &part.mesh;
+        let m: &Mesh = &part.mesh;
+        let is_cut = matches!(part.mesh, Cow::Owned(_));
         let b = m.bounds();
         let pos = view(&mut bin, bytemuck::cast_slice(&m.positions), 34962);
         let nrm = view(&mut bin, bytemuck::cast_slice(&m.normals), 34962);
@@ -109,7 +112,7 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
         accessors.push(json!({"bufferView": idx, "componentType": 5125, "count": m.indices.len(), "type": "SCALAR"}));
         let [r, g, bl] = state.colour.map(linear);
         let opacity = state.opacity.clamp(0.0, 1.0);
-        let mut material = json!({"name": organ.name, "doubleSided": !organ.closed() || (part.cut && !section.caps),
+        let mut material = json!({"name": organ.name, "doubleSided": !organ.closed() || (is_cut && !section.caps),
             "pbrMetallicRoughness": {"baseColorFactor": [r, g, bl, opacity], "metallicFactor": 0.0, "roughnessFactor": 0.6}});
         if opacity < 1.0 {
             material["alphaMode"] = json!("BLEND");

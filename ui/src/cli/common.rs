@@ -1,13 +1,15 @@
 //! What the commands share: opening a set with its problems reported on stderr, applying
 //! `--show`/`--hide`/`--opacity` by organ id or group, the summary of a written set, and progress bars.
 
-use super::LayoutArgs;
+use super::{LayoutArgs, SectionArgs};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
+use vbrain::clip::Section;
 use vbrain::cull::database::Database;
 use vbrain::layout::Layout;
 use vbrain::organ_set::{self, Loaded, OrganSet};
+use vbrain::scene_file::SceneFile;
 
 /// Opens a set and reports its warnings and broken organs on stderr; true if nothing broke.
 /// For `info`, which checks a set: a broken organ makes its exit status 1.
@@ -77,6 +79,23 @@ pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hi
         }
     }
     Ok(())
+}
+
+/// The cross-section `--clip`, `--caps` and `--whole` give, each else the scene's (caps default
+/// on), with at most [`vbrain::clip::MAX_PLANES`] planes; and the names of the organs kept whole,
+/// as a scene file keeps them.
+pub fn section(set: &OrganSet, args: &SectionArgs, scene: Option<&SceneFile>) -> Result<(Section, Vec<String>)> {
+    let planes = if args.clip.is_empty() { scene.map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
+    if planes.len() > vbrain::clip::MAX_PLANES {
+        bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
+    }
+    let caps = args.caps.or(scene.map(|s| s.caps)).unwrap_or(true);
+    let names = if args.whole.is_empty() { scene.map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
+    let mut whole = Vec::new();
+    for key in &names {
+        whole.extend(organs(set, key).map_err(|e| anyhow!("--whole: {e}"))?);
+    }
+    Ok((Section { planes, caps, whole }, names))
 }
 
 /// The organs `key` names: an id or a group ([`OrganSet::select`]).

@@ -2,11 +2,10 @@
 //! slides and web viewers: the organs it shows, with their names, colours, opacities, transforms,
 //! groups and info texts, cut by its clip planes with solid cut faces ([`vbrain::gltf`]).
 
-use super::common::{apply_layout_args, open_set, organs};
+use super::common::{apply_layout_args, open_set, section};
 use super::ExportArgs;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
-use vbrain::clip::Section;
 use vbrain::layout::Layout;
 use vbrain::scene_file::SceneFile;
 
@@ -34,19 +33,8 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         layout = applied.layout;
     }
     apply_layout_args(&set, &mut layout, &args.layout)?;
-    let planes =
-        if args.clip.is_empty() { scene.as_ref().map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
-    if planes.len() > vbrain::clip::MAX_PLANES {
-        bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
-    }
-    let caps = args.caps.or(scene.as_ref().map(|s| s.caps)).unwrap_or(true);
-    let whole_names =
-        if args.whole.is_empty() { scene.as_ref().map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
-    let mut whole = Vec::new();
-    for key in &whole_names {
-        whole.extend(organs(&set, key).map_err(|e| anyhow!("--whole: {e}"))?);
-    }
-    let glb = vbrain::gltf::glb(&set, &layout, &Section { planes, caps, whole });
+    let (section, _) = section(&set, &args.section, scene.as_ref())?;
+    let glb = vbrain::gltf::glb(&set, &layout, &section);
     vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
     if args.json {
         println!("{}", json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs}));

@@ -95,6 +95,23 @@ pub struct LayoutArgs {
     pub opacity: Vec<OrganOpacity>,
 }
 
+/// `--clip`, `--caps` and `--whole`: a cross-section, each option replacing a scene's own.
+#[derive(clap::Args)]
+pub struct SectionArgs {
+    /// Cut the set: axial=MM, coronal=MM or sagittal=MM remove what lies superior, anterior or right
+    /// of that position (world RAS, millimetres; add :flip to keep that side), NX,NY,NZ,D removes
+    /// points where n.p > D (repeatable, up to 4)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
+    pub clip: Vec<vbrain::clip::ClipPlane>,
+    /// Solid cut faces where a plane cuts a closed organ: on or off [default: the scene's, else on]
+    #[arg(long, value_parser = values::on_off)]
+    pub caps: Option<bool>,
+    /// Organs (ids or groups, separated by commas) the clip planes do not cut [default: the
+    /// scene's, else none]
+    #[arg(long, value_delimiter = ',')]
+    pub whole: Vec<String>,
+}
+
 #[derive(clap::Args)]
 #[group(id = "camera", multiple = false)]
 pub struct CameraArgs {
@@ -184,18 +201,8 @@ pub struct RenderArgs {
     /// Outline organs by id or group, seen through what is in front (as a lesson step highlights)
     #[arg(long, num_args = 1..)]
     pub highlight: Vec<String>,
-    /// Cut the set: axial=MM, coronal=MM or sagittal=MM remove what lies superior, anterior or right
-    /// of that position (world RAS, millimetres; add :flip to keep that side), NX,NY,NZ,D removes
-    /// points where n.p > D (repeatable, up to 4)
-    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
-    pub clip: Vec<vbrain::clip::ClipPlane>,
-    /// Solid cut faces where a plane cuts a closed organ: on or off
-    #[arg(long, value_parser = values::on_off)]
-    pub caps: Option<bool>,
-    /// Organs (ids or groups, separated by commas) the clip planes do not cut [default: the
-    /// scene's, else none]
-    #[arg(long, value_delimiter = ',')]
-    pub whole: Vec<String>,
+    #[command(flatten)]
+    pub section: SectionArgs,
     /// Name organs with leader-line labels beside the brain: none, selected (a scene's selection),
     /// all (every organ seen) or ID,ID,... (ids or groups) [default: the scene's, else none]
     #[arg(long)]
@@ -423,16 +430,8 @@ pub struct ExportArgs {
     pub force: bool,
     #[command(flatten)]
     pub layout: LayoutArgs,
-    /// Clip plane (repeatable, at most 4): axial=MM, coronal=MM, sagittal=MM (each :flip to keep
-    /// the other side) or NX,NY,NZ,D; replaces the scene's planes
-    #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
-    pub clip: Vec<vbrain::clip::ClipPlane>,
-    /// Solid cut faces on closed organs (on or off; default: the scene's, else on)
-    #[arg(long, value_parser = values::on_off)]
-    pub caps: Option<bool>,
-    /// Organs (ids or groups, separated by commas) the planes do not cut
-    #[arg(long, value_delimiter = ',')]
-    pub whole: Vec<String>,
+    #[command(flatten)]
+    pub section: SectionArgs,
     #[arg(long)]
     pub json: bool,
 }

@@ -4,7 +4,7 @@
 //! (and over the same bounds: what is drawn and the set's default layout), so a scene renders
 //! alike here and in the viewer.
 
-use super::common::{apply_layout_args, database, open_set, organs};
+use super::common::{apply_layout_args, database, open_set, organs, section};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
 use crate::annotate::Labels;
@@ -85,31 +85,20 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
 
     // Sections and labels: the options given, else the scene's.
     let from_scene = scene.as_ref().map(|(_, s)| s);
-    let clip_planes =
-        if args.clip.is_empty() { from_scene.map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
-    let caps = args.caps.or(from_scene.map(|s| s.caps)).unwrap_or(true);
+    let (section, whole_names) = section(&set, &args.section, from_scene)?;
     let which = Which::parse(args.labels.as_deref().or(from_scene.and_then(|s| s.labels.as_deref())).unwrap_or(""));
-    let whole_names =
-        if args.whole.is_empty() { from_scene.map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
-    let mut whole = Vec::new();
-    for key in &whole_names {
-        whole.extend(organs(&set, key).map_err(|e| anyhow!("--whole: {e}"))?);
-    }
 
     if let Some(out) = &args.save_scene {
         let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
         let render = RenderState { transparency, cull: mode, background: background_srgb };
         let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
-        (file.clip, file.caps, file.whole) = (clip_planes.clone(), caps, whole_names.clone());
+        (file.clip, file.caps, file.whole) = (section.planes.clone(), section.caps, whole_names);
         file.labels = which.key();
         file.save(out).map_err(|e| anyhow!(e))?;
     }
 
-    if clip_planes.len() > vbrain::clip::MAX_PLANES {
-        bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
-    }
     let set_bounds = Layout::new(&set).bounds(&set);
-    for p in &clip_planes {
+    for p in &section.planes {
         if vbrain::clip::side(std::slice::from_ref(p), &set_bounds) != vbrain::clip::Side::Cut {
             let [x, y, z] = set_bounds.min.map(|v| v.round());
             let [a, b, c] = set_bounds.max.map(|v| v.round());
@@ -122,7 +111,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let clip = vbrain::cull::Clip { planes: &clip_planes, caps, whole: &whole };
+    let clip = vbrain::cull::Clip { planes: &section.planes, caps: section.caps, whole: &section.whole };
     let mut culler = Culler::new(database(&path, &set));
     let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
@@ -133,9 +122,9 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         draw_order: order.as_deref(),
         highlight: &highlight,
         selection,
-        clip: &clip_planes,
-        caps,
-        whole: &whole,
+        clip: &section.planes,
+        caps: section.caps,
+        whole: &section.whole,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {
