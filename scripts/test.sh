@@ -18,7 +18,7 @@ if ! have_vulkan_driver; then
         echo "warning: no Vulkan driver found; GPU tests will fail. Install one, e.g. 'sudo apt-get install mesa-vulkan-drivers'" >&2
     fi
 fi
-# The glTF export tests run the Khronos glTF validator (npm package gltf-validator) under Node.js.
+# The export tests run the Khronos glTF validator (npm package gltf-validator) under Node.js.
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
     if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
         echo "No Node.js found: installing Debian's nodejs and npm"
@@ -28,8 +28,18 @@ if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
         echo "warning: no Node.js found; the glTF validator tests will fail. Install nodejs and npm" >&2
     fi
 fi
-if command -v npm >/dev/null && [ ! -d scripts/gltf/node_modules/gltf-validator ]; then
-    npm ci --prefix scripts/gltf --no-audit --no-fund --silent
+# The web page tests open exported pages in Debian's Chromium, driven by playwright-core.
+if [ ! -x /usr/bin/chromium ] && [ -z "${CHROMIUM:-}" ]; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "No Chromium found: installing Debian's chromium"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null
+    else
+        echo "warning: no Chromium found; the web page tests will fail. Install chromium (or set CHROMIUM)" >&2
+    fi
+fi
+if command -v npm >/dev/null && { [ ! -d scripts/web/node_modules/gltf-validator ] || [ ! -d scripts/web/node_modules/playwright-core ]; }; then
+    npm ci --prefix scripts/web --no-audit --no-fund --silent
 fi
 # The Vulkan loader complains without a runtime dir; give it a private one.
 if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "${XDG_RUNTIME_DIR}" ]; then

@@ -48,5 +48,6 @@ pub mod scene_file;
 pub mod surface;
 pub mod transition;
 pub mod transparency;
+pub mod web_page;
 
 pub use error::{Error, Result};

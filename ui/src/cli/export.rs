@@ -1,45 +1,173 @@
-//! `vbrain export`: a scene or a set as a binary glTF 2.0 file (`--gltf OUT.glb`) for Blender,
-//! slides and web viewers: the organs it shows, with their names, colours, opacities, transforms,
-//! groups and info texts, cut by its clip planes with solid cut faces ([`vbrain::gltf`]).
+//! `vbrain export`: a set, a scene or a lesson as a binary glTF 2.0 file (`--gltf OUT.glb`) for
+//! Blender, slides and web viewers ([`vbrain::gltf`]: the organs shown, with their names, colours,
+//! opacities, transforms, groups and info texts, cut by the clip planes with solid cut faces), and
+//! as a self-contained web page (`--web DIR`, [`vbrain::web_page`]); a lesson's glTF file is its
+//! first step, its page every step. Cameras are framed as `vbrain render` frames them.
 
-use super::common::{apply_layout_args, open_set, section};
+use super::common::{apply_layout_args, open_set, section, writable_folder};
 use super::ExportArgs;
+use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
+use std::path::Path;
+use vbrain::camera::{Camera, View as Standard};
+use vbrain::clip::Section;
+use vbrain::labels::Which;
 use vbrain::layout::Layout;
+use vbrain::lesson::Lesson;
+use vbrain::organ_set::OrganSet;
 use vbrain::scene_file::SceneFile;
+use vbrain::web_page::{Page, View};
 
 pub fn run(args: &ExportArgs) -> Result<bool> {
-    let out = &args.gltf;
-    if out.is_dir() {
-        bail!("{}: is a folder; give a file name ending in .glb", out.display());
+    if let Some(out) = &args.gltf {
+        if out.is_dir() {
+            bail!("{}: is a folder; give a file name ending in .glb", out.display());
+        }
+        if out.exists() && !args.force {
+            bail!("{}: already exists; give --force to replace it", out.display());
+        }
     }
-    if out.exists() && !args.force {
-        bail!("{}: already exists; give --force to replace it", out.display());
+    if let Some(dir) = &args.web {
+        writable_folder(dir, args.force)?;
     }
-    let is_scene = args.path.extension().is_some_and(|e| e == vbrain::scene_file::EXTENSION);
-    let scene = if is_scene { Some(SceneFile::load(&args.path).map_err(|e| anyhow!(e))?) } else { None };
-    let set_path = scene.as_ref().map_or_else(|| args.path.clone(), |s| s.set_path(&args.path));
-    if scene.is_some() && !set_path.exists() {
-        bail!("{}: the scene's organ set {} is not there", args.path.display(), set_path.display());
-    }
+    let extension = args.path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let page_of = if extension == vbrain::lesson::EXTENSION { lesson_page } else { scene_page };
+    let set_path = set_path(&args.path)?;
     let set = open_set(&set_path)?;
-    let mut layout = Layout::new(&set);
+    let page = page_of(&set, args)?;
+    let mut summary = json!({});
+    if let Some(out) = &args.gltf {
+        // A lesson's file is its first step; a scene's or set's is what the page shows.
+        let (layout, section) = match page.lesson {
+            true => (&page.views[0].layout, &page.views[0].section),
+            false => (&page.layout, &page.section),
+        };
+        let glb = vbrain::gltf::glb(&set, layout, section);
+        vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
+        if !args.json {
+            println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);
+        }
+        summary["gltf"] = json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs});
+    }
+    if let Some(dir) = &args.web {
+        let files = vbrain::web_page::files(&page);
+        vbrain::atomic::write_folder(dir, |staging| {
+            for (name, bytes) in &files {
+                let path = staging.join(name);
+                if let Some(parent) = path.parent() {
+                    std::fs::create_dir_all(parent).map_err(|e| vbrain::Error::io(parent, e))?;
+                }
+                vbrain::atomic::write(&path, |w| w.write_all(bytes))?;
+            }
+            Ok(())
+        })
+        .map_err(|e| anyhow!(e))?;
+        let bytes: usize = files.iter().map(|(_, b)| b.len()).sum();
+        let steps = if page.lesson { format!("{} steps, ", page.views.len()) } else { String::new() };
+        if !args.json {
+            println!("wrote {} ({steps}{:.1} MB in all)", dir.join("index.html").display(), bytes as f64 / 1e6);
+        }
+        summary["web"] = json!({"out": dir, "bytes": bytes, "steps": page.views.len()});
+    }
+    if args.json {
+        println!("{summary}");
+    }
+    Ok(true)
+}
+
+/// The set a path names: a scene's or a lesson's set (which must be there), else the path itself.
+fn set_path(path: &Path) -> Result<std::path::PathBuf> {
+    let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let set = if extension == vbrain::scene_file::EXTENSION {
+        SceneFile::load(path).map_err(|e| anyhow!(e))?.set_path(path)
+    } else if extension == vbrain::lesson::EXTENSION {
+        Lesson::load(path).map_err(|e| anyhow!(e))?.set_path(path)
+    } else {
+        return Ok(path.to_path_buf());
+    };
+    if !set.exists() {
+        bail!("{}: its organ set {} is not there", path.display(), set.display());
+    }
+    Ok(set)
+}
+
+/// The camera `vbrain render` frames for `layout`.
+fn camera(set: &OrganSet, layout: &Layout, nav: &vbrain::navigation::Navigator) -> Camera {
+    nav.camera(&layout.bounds(set).union(Layout::new(set).bounds(set)))
+}
+
+/// The organs `which` labels among those `layout` draws.
+fn labelled(set: &OrganSet, layout: &Layout, which: &Which, selection: Option<usize>) -> Vec<usize> {
+    let labels = Labels::of(which, set, selection);
+    (0..set.organs.len()).filter(|&o| labels.wants(o) && layout.organs[o].is_drawn()).collect()
+}
+
+/// A set or a scene (with the options' changes) as one view, its cut in the model.
+fn scene_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
+    let scene = match args.path.extension().is_some_and(|e| e == vbrain::scene_file::EXTENSION) {
+        true => Some(SceneFile::load(&args.path).map_err(|e| anyhow!(e))?),
+        false => None,
+    };
+    let (mut layout, mut selection) = (Layout::new(set), None);
     if let Some(s) = &scene {
-        let applied = s.apply(&set);
+        let applied = s.apply(set);
         for w in &applied.warnings {
             eprintln!("warning: {}: {w}", args.path.display());
         }
-        layout = applied.layout;
+        (layout, selection) = (applied.layout, applied.selection);
     }
-    apply_layout_args(&set, &mut layout, &args.layout)?;
-    let (section, _) = section(&set, &args.section, scene.as_ref())?;
-    let glb = vbrain::gltf::glb(&set, &layout, &section);
-    vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
-    if args.json {
-        println!("{}", json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs}));
-    } else {
-        println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);
+    apply_layout_args(set, &mut layout, &args.layout)?;
+    let (section, _) = section(set, &args.section, scene.as_ref())?;
+    let nav = match &scene {
+        Some(s) => s.camera.navigator(),
+        None => {
+            let (azimuth, elevation) = Standard::Anterior.angles();
+            vbrain::navigation::Navigator::framing(&Layout::new(set).bounds(set), azimuth, elevation)
+        }
+    };
+    let which = Which::parse(scene.as_ref().and_then(|s| s.labels.as_deref()).unwrap_or(""));
+    let view = View {
+        title: set.title.clone(),
+        caption: String::new(),
+        labels: labelled(set, &layout, &which, selection),
+        camera: camera(set, &layout, &nav),
+        layout: layout.clone(),
+        highlight: Vec::new(),
+        selection,
+        section: Section::default(),
+    };
+    Ok(Page { set, title: set.title.clone(), layout, section, views: vec![view], lesson: false })
+}
+
+/// A lesson: every organ in the model, uncut; each step shows, fades, colours, places and cuts
+/// them (without cut faces) in the page.
+fn lesson_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
+    let lesson = Lesson::load(&args.path).map_err(|e| anyhow!(e))?;
+    for name in lesson.unknown_names(set) {
+        eprintln!("warning: {}: the set has no organ or group \"{name}\"; left out", args.path.display());
     }
-    Ok(true)
+    let views = lesson
+        .steps
+        .iter()
+        .map(|step| {
+            let v = step.view(set);
+            let which = v.labels.clone().unwrap_or_default();
+            View {
+                title: step.title.clone(),
+                caption: step.caption.clone(),
+                labels: labelled(set, &v.layout, &which, None),
+                camera: camera(set, &v.layout, &v.navigator),
+                layout: v.layout,
+                highlight: v.highlight,
+                selection: None,
+                section: v.section,
+            }
+        })
+        .collect();
+    let mut model = Layout::new(set);
+    for o in &mut model.organs {
+        (o.visible, o.opacity) = (true, 1.0);
+    }
+    Ok(Page { set, title: lesson.title.clone(), layout: model, section: Section::default(), views, lesson: true })
 }

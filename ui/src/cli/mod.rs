@@ -68,8 +68,9 @@ pub enum Command {
     /// Build occluder stand-ins: for each closed organ, a coarse mesh verified to lie inside it,
     /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo)
     StandIns(StandInsArgs),
-    /// Export a scene or a set as glTF 2.0 (.glb) for Blender, slides and web viewers: the organs
-    /// it shows, with names, colours, opacities, transforms, groups and info, cut by its planes
+    /// Export a scene, set or lesson as glTF 2.0 (.glb) for Blender, slides and web viewers (the
+    /// organs it shows, with names, colours, opacities, transforms, groups and info, cut by its
+    /// planes) or as a web page that opens in any browser
     Export(ExportArgs),
 }
 
@@ -419,13 +420,18 @@ pub struct ScaleArgs {
 }
 
 #[derive(clap::Args)]
+#[command(group(clap::ArgGroup::new("output").required(true).multiple(true).args(["gltf", "web"])))]
 pub struct ExportArgs {
-    /// A scene (.vbscene) or an organ set (folder, manifest, mesh files)
+    /// A scene (.vbscene), a lesson (.vblesson) or an organ set (folder, manifest, mesh files)
     pub path: PathBuf,
-    /// The binary glTF file to write
+    /// The binary glTF file to write (a lesson's first step)
     #[arg(long)]
-    pub gltf: PathBuf,
-    /// Replace --gltf where it already exists
+    pub gltf: Option<PathBuf>,
+    /// A folder for a web page that opens in any browser, from a file or a server: index.html,
+    /// the model and the vendored three.js (a lesson's page has its steps)
+    #[arg(long)]
+    pub web: Option<PathBuf>,
+    /// Replace --gltf where it exists, or write into --web where it holds files
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]

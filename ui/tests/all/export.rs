@@ -1,6 +1,8 @@
-//! `vbrain export --gltf`: the default brain, cut, as a glTF file the Khronos validator passes
-//! (run under Node.js from `scripts/gltf`, installed by `scripts/test.sh`), its organs, groups and
-//! texts in the file, and a refusal for what it must not write over or cannot find.
+//! `vbrain export`: the default brain, cut, as a glTF file the Khronos validator passes, its
+//! organs, groups and texts in the file; the default brain and a shipped lesson as web pages that
+//! headless Chromium opens from their files and a student uses (click, hide, next, previous); names
+//! that HTML must escape staying text; and refusals for what must not be written over or cannot be
+//! found. The checkers run under Node.js from `scripts/web` (`scripts/test.sh` installs them).
 
 use super::cli::{brain, vbrain};
 use serde_json::Value;
@@ -21,15 +23,33 @@ fn gltf_json(glb: &[u8]) -> Value {
 /// The Khronos validator's report on `file`; fails saying what to install where Node.js or the
 /// validator is missing.
 fn validate(file: &Path) -> Value {
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/gltf/validate.mjs");
-    let out = Command::new("node").arg(&script).arg(file).output().unwrap_or_else(|e| {
+    node("validate.mjs", &[file])
+}
+
+/// What `scripts/web/page-test.mjs` saw of the page in `dir` (and a screenshot beside it).
+fn open_page(dir: &Path) -> Value {
+    let shot = dir.with_extension("png");
+    let seen = node("page-test.mjs", &[dir, &shot]);
+    assert_eq!(seen["errors"], serde_json::json!([]), "{seen}");
+    seen
+}
+
+/// Runs a checker of `scripts/web` under Node.js and reads the JSON it prints.
+fn node(script: &str, args: &[&Path]) -> Value {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/web").join(script);
+    let out = Command::new("node").arg(&script).args(args).output().unwrap_or_else(|e| {
         panic!("could not run node ({e}): install Node.js (Debian: nodejs npm), then run scripts/test.sh")
     });
     assert!(
         !stderr(&out).contains("ERR_MODULE_NOT_FOUND"),
-        "the glTF validator is not installed: run `npm ci --prefix scripts/gltf` (scripts/test.sh does)"
+        "the checkers are not installed: run `npm ci --prefix scripts/web` (scripts/test.sh does)"
     );
-    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("validator said: {e}: {}", stderr(&out)))
+    assert!(
+        !stderr(&out).contains("Failed to launch"),
+        "Chromium did not start: install Debian's chromium or set CHROMIUM (scripts/test.sh does): {}",
+        stderr(&out)
+    );
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{} said: {e}: {}", script.display(), stderr(&out)))
 }
 
 #[test]
@@ -54,7 +74,7 @@ fn the_default_brain_cut_coronally_exports_as_valid_gltf() {
     // The summary counts the organs in the file: those the cut left something of.
     let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
     let with_mesh = nodes.iter().filter(|n| n.get("mesh").is_some()).count();
-    assert_eq!(summary["organs"].as_u64(), Some(with_mesh as u64));
+    assert_eq!(summary["gltf"]["organs"].as_u64(), Some(with_mesh as u64));
     assert!(with_mesh > 40 && with_mesh < 99, "{with_mesh} organs: those anterior of the plane are gone");
     // The cut: nothing of an organ lies anterior of y = -20 mm (organ space is world space here).
     let meshes = doc["meshes"].as_array().unwrap();
@@ -105,4 +125,60 @@ fn export_refuses_to_overwrite_and_names_a_missing_set() {
     assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
     assert!(stderr(&o).contains("no/such/set"), "{}", stderr(&o));
     assert!(!out.exists());
+}
+
+#[test]
+fn the_default_brain_and_a_lesson_open_as_web_pages() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("brain");
+    let o = vbrain(&["export", &brain(), "--web", page.to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let bytes = summary["web"]["bytes"].as_u64().unwrap();
+    assert!(bytes < 15_000_000, "the page is {bytes} bytes");
+    for file in ["index.html", "scene.glb", "vendor/three/LICENSE", "vendor/three/three.module.min.js"] {
+        assert!(page.join(file).is_file(), "{file}");
+    }
+    let seen = open_page(&page);
+    let shown = seen["pixels"].as_u64().unwrap();
+    assert!(shown > 40_000, "the brain is drawn: {seen}");
+    assert!(seen["clicked_name"].as_str().is_some_and(|n| n.contains("gyrus")), "a click names the gyrus: {seen}");
+    assert!(seen["clicked_info"].as_str().is_some_and(|t| t.len() > 40), "{seen}");
+    let hidden = seen["pixels_without_cerebrum"].as_u64().unwrap();
+    assert!(hidden * 2 < shown, "hiding the cerebrum removes its pixels: {hidden} of {shown}");
+
+    let lesson = dir.path().join("lesson");
+    let ventricles = Path::new(&brain()).join("lessons/ventricles.vblesson");
+    let o = vbrain(&["export", ventricles.to_str().unwrap(), "--web", lesson.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let seen = open_page(&lesson);
+    let captions: Vec<&str> = seen["captions"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+    assert!(captions[0].contains("The brain is hollow"), "step 1's caption, its ** marks gone: {}", captions[0]);
+    assert!(captions[1] != captions[0] && captions[2] == captions[0], "Next and Previous: {captions:?}");
+    assert!(seen["pixels_step_2"].as_u64().unwrap() > 10_000, "{seen}");
+}
+
+#[test]
+fn names_html_would_read_stay_text_and_a_folder_with_files_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let set = dir.path().join("set");
+    std::fs::create_dir(&set).unwrap();
+    std::fs::write(set.join("a.obj"), "v 0 0 0\nv 30 0 0\nv 0 30 0\nv 0 0 30\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n")
+        .unwrap();
+    let name = "<script>alert('x')</script> & <b>bold</b>";
+    let manifest = serde_json::json!({"format": "vbrain-organ-set/1", "title": "A & B <i>",
+        "organs": [{"id": "a", "name": name, "mesh": "a.obj", "colour": "#c08080", "group": "<img src=x onerror=alert(1)>"}]});
+    std::fs::write(set.join("organset.json"), manifest.to_string()).unwrap();
+    let page = dir.path().join("page");
+    let o = vbrain(&["export", set.to_str().unwrap(), "--web", page.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let seen = open_page(&page);
+    assert!(seen["tree_text"].as_str().unwrap().contains(name), "{seen}");
+    assert!(seen["title"].as_str().unwrap().starts_with("A & B <i>"), "{seen}");
+    // The page's folder now holds files: writing it again is refused unless --force.
+    let o = vbrain(&["export", set.to_str().unwrap(), "--web", page.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1), "{}", stderr(&o));
+    assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
+    let o = vbrain(&["export", set.to_str().unwrap(), "--web", page.to_str().unwrap(), "--force"]);
+    assert!(o.status.success(), "{}", stderr(&o));
 }

@@ -1,0 +1,265 @@
+//! A scene, set or lesson as a self-contained web page (issue: share as a web page): `index.html`
+//! holds everything it needs inline, so that it opens from a file (where browsers refuse module
+//! imports and fetches) as from any static server, with nothing fetched from the network. Beside it
+//! go the model (`scene.glb`, [`crate::gltf`]) and the vendored three.js (MIT) with its licence.
+//!
+//! The page (`web/page.html`, `web/page.js`) reads three parts of itself: the three.js modules, as
+//! `data:` URLs in an import map (their relative imports renamed to bare names the map resolves);
+//! the model, base64 in a `<script>` element; and a JSON description (title, camera, labels, and
+//! for a lesson its steps). Conventions of that JSON: positions and directions in glTF space
+//! (metres, +Y superior, +Z anterior: [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1,
+//! organs by id. Every text from the set reaches the page as JSON data and is shown as text, never
+//! parsed as HTML; the JSON is escaped so that no `</script>` can end its element.
+
+use crate::camera::Camera;
+use crate::clip::Section;
+use crate::layout::Layout;
+use crate::organ_set::OrganSet;
+use glam::{Mat4, Vec3};
+use serde_json::{json, Value};
+
+/// The page's template: `{{TITLE}}`, `{{IMPORTMAP}}`, `{{DATA}}`, `{{GLB}}` and `{{APP}}` are filled in.
+const TEMPLATE: &str = include_str!("../web/page.html");
+/// The page's program, an ES module over three.js.
+const APP: &str = include_str!("../web/page.js");
+
+/// The vendored three.js files: (bare name in the import map, file name, text).
+const THREE: [(&str, &str, &str); 5] = [
+    ("three", "three.module.min.js", include_str!("../web/vendor/three/three.module.min.js")),
+    ("three/core", "three.core.min.js", include_str!("../web/vendor/three/three.core.min.js")),
+    ("three/gltf-loader", "GLTFLoader.js", include_str!("../web/vendor/three/GLTFLoader.js")),
+    ("three/orbit-controls", "OrbitControls.js", include_str!("../web/vendor/three/OrbitControls.js")),
+    (
+        "three/buffer-geometry-utils",
+        "BufferGeometryUtils.js",
+        include_str!("../web/vendor/three/BufferGeometryUtils.js"),
+    ),
+];
+/// three.js's licence, written beside the vendored files.
+const THREE_LICENCE: &str = include_str!("../web/vendor/three/LICENSE");
+/// The relative imports of the vendored files, and the bare names they become.
+const RENAMED_IMPORTS: [(&str, &str); 2] = [
+    ("\"./three.core.min.js\"", "\"three/core\""),
+    ("'../utils/BufferGeometryUtils.js'", "'three/buffer-geometry-utils'"),
+];
+
+/// What the page opens on, or one step of a lesson.
+#[derive(Clone, Debug)]
+pub struct View {
+    pub title: String,
+    pub caption: String,
+    pub layout: Layout,
+    pub camera: Camera,
+    /// Organs outlined (a lesson step's highlight).
+    pub highlight: Vec<usize>,
+    /// Organs labelled.
+    pub labels: Vec<usize>,
+    pub selection: Option<usize>,
+    /// The cut the page applies, without cut faces (a lesson's steps; a scene's cut, faces and
+    /// all, is in the model itself).
+    pub section: Section,
+}
+
+/// A page: the set, the model's layout and section, and its views (one, or a lesson's steps).
+pub struct Page<'a> {
+    pub set: &'a OrganSet,
+    pub title: String,
+    /// What the model holds: the organs it draws, as they look before any step.
+    pub layout: Layout,
+    /// The cut baked into the model.
+    pub section: Section,
+    pub views: Vec<View>,
+    /// A lesson (steps with next and previous) rather than one view.
+    pub lesson: bool,
+}
+
+/// The files of the page: (path relative to its folder, bytes).
+pub fn files(page: &Page) -> Vec<(String, Vec<u8>)> {
+    let glb = crate::gltf::glb(page.set, &page.layout, &page.section).bytes;
+    let mut out = vec![("index.html".to_string(), html(page, &glb).into_bytes()), ("scene.glb".to_string(), glb)];
+    for (_, file, text) in THREE {
+        out.push((format!("vendor/three/{file}"), text.as_bytes().to_vec()));
+    }
+    out.push(("vendor/three/LICENSE".to_string(), THREE_LICENCE.as_bytes().to_vec()));
+    out
+}
+
+/// `index.html`: the template with the import map, the description, the model and the program.
+fn html(page: &Page, glb: &[u8]) -> String {
+    let imports: serde_json::Map<String, Value> =
+        THREE.iter().map(|(name, _, text)| (name.to_string(), json!(module_url(text)))).collect();
+    let import_map = json!({ "imports": imports }).to_string();
+    TEMPLATE
+        .replace("{{TITLE}}", &escape_html(&page.title))
+        .replace("{{IMPORTMAP}}", &script_safe(&import_map))
+        .replace("{{DATA}}", &script_safe(&description(page).to_string()))
+        .replace("{{GLB}}", &base64(glb))
+        .replace("{{APP}}", &script_safe(APP))
+}
+
+/// A vendored module as a `data:` URL, its relative imports renamed to the import map's names.
+/// Only what a URL parser would drop or cut (`%`, `#`, line breaks, tabs) is percent-encoded.
+fn module_url(text: &str) -> String {
+    let mut text = text.to_string();
+    for (from, to) in RENAMED_IMPORTS {
+        text = text.replace(from, to);
+    }
+    let mut url = String::with_capacity(text.len() + 64);
+    url.push_str("data:text/javascript;charset=utf-8,");
+    for c in text.chars() {
+        match c {
+            '%' => url.push_str("%25"),
+            '#' => url.push_str("%23"),
+            '\n' => url.push_str("%0A"),
+            '\r' => url.push_str("%0D"),
+            '\t' => url.push_str("%09"),
+            c => url.push(c),
+        }
+    }
+    url
+}
+
+/// Text that may stand inside a `<script>` element: `</` becomes `<\/`, which JSON and JavaScript
+/// strings read alike, so the element cannot be closed early.
+fn script_safe(text: &str) -> String {
+    text.replace("</", "<\\/")
+}
+
+/// Text for HTML: `&`, `<`, `>` and quotes escaped.
+pub fn escape_html(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// Standard base64 with padding.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let b = [chunk[0], chunk.get(1).copied().unwrap_or(0), chunk.get(2).copied().unwrap_or(0)];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+/// A point of RAS millimetres in glTF space.
+fn point(p: Vec3) -> [f32; 3] {
+    Mat4::from_cols_array(&crate::gltf::ROOT_MATRIX).transform_point3(p).to_array()
+}
+
+/// A direction of RAS in glTF space, unit length.
+fn direction(d: Vec3) -> [f32; 3] {
+    Mat4::from_cols_array(&crate::gltf::ROOT_MATRIX).transform_vector3(d).normalize_or(Vec3::Y).to_array()
+}
+
+/// The JSON the page reads.
+fn description(page: &Page) -> Value {
+    let ids = |organs: &[usize]| -> Vec<&str> { organs.iter().map(|&i| page.set.organs[i].id.as_str()).collect() };
+    let views: Vec<Value> = page
+        .views
+        .iter()
+        .map(|v| {
+            let c = &v.camera;
+            let organs: serde_json::Map<String, Value> = page
+                .set
+                .organs
+                .iter()
+                .zip(&v.layout.organs)
+                .map(|(o, s)| {
+                    let m = s.transform.matrix();
+                    let matrix = (m != Mat4::IDENTITY).then(|| m.to_cols_array().to_vec());
+                    let state =
+                        json!({"visible": s.visible, "opacity": s.opacity, "colour": s.colour, "matrix": matrix});
+                    (o.id.clone(), state)
+                })
+                .collect();
+            // A plane removes n.p > d in RAS; three.js keeps n'.p + d' >= 0: n' = -n, d' = d (in metres).
+            let clip: Vec<Value> = v
+                .section
+                .planes
+                .iter()
+                .map(|p| json!({"normal": direction(-p.normal()), "constant": p.d / 1000.0}))
+                .collect();
+            json!({
+                "title": v.title, "caption": v.caption, "organs": organs,
+                "camera": {"eye": point(c.eye), "target": point(c.target), "up": direction(c.up), "fov": c.fov_y},
+                "highlight": ids(&v.highlight), "labels": ids(&v.labels),
+                "selection": v.selection.map(|i| page.set.organs[i].id.clone()), "clip": clip,
+                "whole": ids(&v.section.whole),
+            })
+        })
+        .collect();
+    json!({"title": page.title, "lesson": page.lesson, "views": views})
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Mesh;
+    use crate::organ_set::Organ;
+
+    #[test]
+    fn base64_matches_the_standard() {
+        assert_eq!(base64(b""), "");
+        assert_eq!(base64(b"f"), "Zg==");
+        assert_eq!(base64(b"fo"), "Zm8=");
+        assert_eq!(base64(b"foo"), "Zm9v");
+        assert_eq!(base64(&[0xff, 0xfe, 0x00, 0x01]), "//4AAQ==");
+    }
+
+    #[test]
+    fn names_stay_text_and_modules_lose_their_relative_imports() {
+        let mut set = OrganSet { title: "<b>Brain</b>".into(), ..Default::default() };
+        set.organs.push(Organ::new(
+            "s".into(),
+            "</script><script>alert(1)</script>".into(),
+            [1.0; 3],
+            Mesh::octahedron(),
+        ));
+        let layout = Layout::new(&set);
+        let camera = Camera::orbit(&layout.bounds(&set), 0.0, 0.0);
+        let view = View {
+            title: String::new(),
+            caption: set.organs[0].name.clone(),
+            layout: layout.clone(),
+            camera,
+            highlight: vec![],
+            labels: vec![0],
+            selection: None,
+            section: Section::default(),
+        };
+        let page = Page {
+            set: &set,
+            title: set.title.clone(),
+            layout,
+            section: Section::default(),
+            views: vec![view],
+            lesson: false,
+        };
+        let files = files(&page);
+        let html = String::from_utf8(files[0].1.clone()).unwrap();
+        assert!(html.contains("<title>&lt;b&gt;Brain&lt;/b&gt;"));
+        assert!(!html.contains("</script><script>alert"), "an organ's name cannot close a script element");
+        assert!(html.contains("<\\/script><script>alert(1)<\\/script>"));
+        assert!(!html.contains("./three.core.min.js") && !html.contains("../utils/BufferGeometryUtils.js"));
+        assert!(files.iter().any(|(p, _)| p == "vendor/three/LICENSE"));
+        assert_eq!(&files[1].1[0..4], b"glTF");
+    }
+}

@@ -1,0 +1,303 @@
+// vbrain's web page: the model inlined in the page, an organ tree (show, hide, opacity per organ
+// and group), click to name an organ, labels, and a lesson's steps. Space: glTF (metres, +Y
+// superior, +Z anterior); colours in the description are sRGB. Every text from the set is shown
+// with textContent, never parsed as HTML.
+import * as THREE from 'three';
+import { GLTFLoader } from 'three/gltf-loader';
+import { OrbitControls } from 'three/orbit-controls';
+
+const data = JSON.parse(document.getElementById('vbrain-data').textContent);
+const $ = (id) => document.getElementById(id);
+$('title').textContent = data.title;
+
+// The renderer keeps its image so that tests and screenshots can read it.
+const view = $('view');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+renderer.localClippingEnabled = true;
+view.appendChild(renderer.domElement);
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x1e2128);
+scene.add(new THREE.HemisphereLight(0xffffff, 0x3a3f4a, 2.2));
+const key = new THREE.DirectionalLight(0xffffff, 1.6);
+scene.add(key);
+const camera = new THREE.PerspectiveCamera(30, 1, 0.001, 10);
+scene.add(camera);
+camera.add(key);
+key.position.set(0.3, 0.5, 1);
+const controls = new OrbitControls(camera, renderer.domElement);
+controls.addEventListener('change', () => render());
+
+/** An object's name as the model gives it (three.js keeps a sanitised copy in `name`). */
+const nameOf = (n) => n.userData?.name ?? n.name;
+
+/** id -> { mesh, material, extras, label, shown, opacity, ... } for each organ in the model. */
+const organs = new Map();
+let selected = null;
+
+function decodeModel() {
+  const text = document.getElementById('vbrain-glb').textContent.trim();
+  const binary = atob(text);
+  const bytes = new Uint8Array(binary.length);
+  for (let i = 0; i < binary.length; i++) bytes[i] = binary.charCodeAt(i);
+  return bytes.buffer;
+}
+
+function resize() {
+  const w = view.parentElement.clientWidth, h = view.parentElement.clientHeight;
+  renderer.setSize(w, h);
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+  render();
+}
+
+function render() {
+  renderer.render(scene, camera);
+  placeLabels();
+}
+
+// Opacity: below 1, hashed alpha (order-independent screen-door), with depth as for opaque organs.
+function setOpacity(o, a) {
+  o.opacity = a;
+  const m = o.material;
+  m.opacity = a;
+  m.transparent = false;
+  m.depthWrite = true;
+  m.alphaHash = a < 1;
+  m.needsUpdate = true;
+  o.mesh.visible = o.shown && a > 0;
+  if (o.slider) o.slider.value = a;
+}
+
+function setShown(o, shown) {
+  o.shown = shown;
+  o.mesh.visible = shown && o.opacity > 0;
+  if (o.checkbox) o.checkbox.checked = shown;
+}
+
+function refreshGroups() {
+  for (const g of groups) {
+    const list = g.members.map((id) => organs.get(id));
+    g.checkbox.checked = list.every((o) => o.shown);
+    g.checkbox.indeterminate = !g.checkbox.checked && list.some((o) => o.shown);
+    g.slider.value = Math.max(...list.map((o) => o.opacity));
+  }
+}
+
+function select(id) {
+  if (selected) organs.get(selected).material.emissive.setHex(organs.get(selected).emissive);
+  selected = id;
+  for (const o of organs.values()) o.nameElement?.classList.toggle('selected', o.id === id);
+  const box = $('info');
+  if (!id) {
+    box.style.display = 'none';
+    render();
+    return;
+  }
+  const o = organs.get(id);
+  o.material.emissive.setHex(0x1f4a70);
+  $('selected-name').textContent = o.label;
+  $('selected-latin').textContent = o.extras.latin || '';
+  $('selected-info').textContent = o.extras.info || '';
+  box.style.display = 'block';
+  render();
+}
+
+// The organ tree, from the model's nodes: groups are nodes without a mesh.
+const groups = [];
+function buildTree(node, parent) {
+  for (const child of node.children) {
+    const id = child.userData?.id;
+    if (id !== undefined && organs.has(id)) {
+      const o = organs.get(id);
+      const row = document.createElement('div');
+      row.className = 'organ';
+      o.checkbox = document.createElement('input');
+      o.checkbox.type = 'checkbox';
+      o.checkbox.checked = o.shown;
+      o.checkbox.setAttribute('aria-label', 'Show ' + o.label);
+      o.checkbox.addEventListener('change', () => { setShown(o, o.checkbox.checked); refreshGroups(); render(); });
+      o.slider = slider('Opacity of ' + o.label, o.opacity, (a) => { setOpacity(o, a); render(); });
+      o.nameElement = document.createElement('span');
+      o.nameElement.className = 'name';
+      o.nameElement.textContent = o.label;
+      o.nameElement.title = o.label;
+      o.nameElement.addEventListener('click', () => select(o.id));
+      row.append(o.checkbox, o.slider, o.nameElement);
+      parent.appendChild(row);
+    } else if (child.isObject3D && child.children.length > 0) {
+      const details = document.createElement('details');
+      details.open = groups.length < 3;
+      const summary = document.createElement('summary');
+      const box = document.createElement('input');
+      box.type = 'checkbox';
+      box.setAttribute('aria-label', 'Show group ' + nameOf(child));
+      const name = document.createElement('span');
+      name.className = 'name';
+      name.textContent = nameOf(child);
+      name.title = nameOf(child);
+      const members = [];
+      child.traverse((n) => { if (n.userData?.id !== undefined && organs.has(n.userData.id)) members.push(n.userData.id); });
+      box.addEventListener('click', (e) => e.stopPropagation());
+      box.addEventListener('change', () => {
+        for (const m of members) setShown(organs.get(m), box.checked);
+        refreshGroups();
+        render();
+      });
+      const range = slider('Opacity of group ' + nameOf(child), 1, (a) => {
+        for (const m of members) setOpacity(organs.get(m), a);
+        render();
+      });
+      range.addEventListener('click', (e) => e.stopPropagation());
+      groups.push({ checkbox: box, members, slider: range });
+      summary.append(box, range, name);
+      details.appendChild(summary);
+      parent.appendChild(details);
+      buildTree(child, details);
+    }
+  }
+}
+
+function slider(label, value, changed) {
+  const s = document.createElement('input');
+  s.type = 'range';
+  s.min = 0;
+  s.max = 1;
+  s.step = 0.05;
+  s.value = value;
+  s.setAttribute('aria-label', label);
+  s.addEventListener('input', () => changed(parseFloat(s.value)));
+  return s;
+}
+
+// Labels: a tag over each labelled organ's centre, where that point is in front of the camera.
+let labelled = [];
+function placeLabels() {
+  const layer = $('labels');
+  layer.replaceChildren();
+  const w = renderer.domElement.clientWidth, h = renderer.domElement.clientHeight;
+  for (const id of labelled) {
+    const o = organs.get(id);
+    if (!o || !o.mesh.visible) continue;
+    const sphere = o.mesh.geometry.boundingSphere;
+    const p = sphere.center.clone().applyMatrix4(o.mesh.matrixWorld).project(camera);
+    if (p.z > 1 || Math.abs(p.x) > 1 || Math.abs(p.y) > 1) continue;
+    const tag = document.createElement('div');
+    tag.className = 'label';
+    tag.textContent = o.label;
+    tag.style.left = ((p.x + 1) / 2) * w + 'px';
+    tag.style.top = ((1 - p.y) / 2) * h + 'px';
+    layer.appendChild(tag);
+  }
+}
+
+// A view: the organs' visibility, opacity, colour and placement, the camera, outlines, labels, cuts.
+function showView(v) {
+  for (const [id, s] of Object.entries(v.organs)) {
+    const o = organs.get(id);
+    if (!o) continue;
+    setShown(o, s.visible);
+    setOpacity(o, s.opacity);
+    o.material.color.setRGB(s.colour[0], s.colour[1], s.colour[2], THREE.SRGBColorSpace);
+    o.emissive = v.highlight.includes(id) ? 0x5a3a00 : 0x000000;
+    o.material.emissive.setHex(o.emissive);
+    if (s.matrix) o.mesh.matrix.fromArray(s.matrix);
+    else o.mesh.matrix.identity();
+    o.mesh.matrix.decompose(o.mesh.position, o.mesh.quaternion, o.mesh.scale);
+  }
+  const clipPlanes = v.clip.map((p) => new THREE.Plane(new THREE.Vector3(...p.normal), p.constant));
+  for (const o of organs.values()) {
+    o.material.clippingPlanes = v.whole.includes(o.id) ? [] : clipPlanes;
+    o.material.needsUpdate = true;
+  }
+  labelled = v.labels;
+  camera.position.set(...v.camera.eye);
+  camera.up.set(...v.camera.up);
+  camera.fov = v.camera.fov;
+  controls.target.set(...v.camera.target);
+  camera.updateProjectionMatrix();
+  controls.update();
+  refreshGroups();
+  select(v.selection && organs.has(v.selection) ? v.selection : null);
+}
+
+/** A caption's text, its **bold** runs as <strong>; never parsed as HTML. */
+function setCaption(element, text) {
+  element.replaceChildren();
+  text.split('**').forEach((run, k) => {
+    if (k % 2 === 1) {
+      const strong = document.createElement('strong');
+      strong.textContent = run;
+      element.appendChild(strong);
+    } else {
+      element.appendChild(document.createTextNode(run));
+    }
+  });
+}
+
+let step = 0;
+function showStep(k) {
+  step = Math.max(0, Math.min(data.views.length - 1, k));
+  const v = data.views[step];
+  showView(v);
+  $('step-title').textContent = v.title;
+  setCaption($('caption'), v.caption);
+  $('step-count').textContent = `${step + 1} / ${data.views.length}`;
+  $('previous').disabled = step === 0;
+  $('next').disabled = step === data.views.length - 1;
+}
+
+// Click (not drag) to name an organ.
+let down = null;
+renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+renderer.domElement.addEventListener('pointerup', (e) => {
+  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+  const r = renderer.domElement.getBoundingClientRect();
+  const ndc = new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+  const ray = new THREE.Raycaster();
+  ray.setFromCamera(ndc, camera);
+  const visible = [...organs.values()].filter((o) => o.mesh.visible).map((o) => o.mesh);
+  const kept = (h) => (h.object.material.clippingPlanes ?? []).every((p) => p.distanceToPoint(h.point) >= 0);
+  const hit = ray.intersectObjects(visible, false).find(kept);
+  select(hit ? hit.object.userData.id : null);
+});
+
+new GLTFLoader().parse(decodeModel(), '', (gltf) => {
+  const root = gltf.scene;
+  root.traverse((n) => {
+    if (n.isMesh && n.userData?.id !== undefined) {
+      n.matrixAutoUpdate = true;
+      organs.set(n.userData.id, {
+        id: n.userData.id, mesh: n, material: n.material, extras: n.userData, label: nameOf(n),
+        shown: true, opacity: n.material.opacity, emissive: 0x000000,
+      });
+    }
+  });
+  for (const o of organs.values()) setOpacity(o, o.opacity);
+  scene.add(root);
+  buildTree(root.children[0] ?? root, $('tree'));
+  $('show-all').addEventListener('click', () => {
+    for (const o of organs.values()) setShown(o, true);
+    refreshGroups();
+    render();
+  });
+  $('loading').remove();
+  if (data.lesson) {
+    $('lesson').style.display = 'block';
+    $('previous').addEventListener('click', () => showStep(step - 1));
+    $('next').addEventListener('click', () => showStep(step + 1));
+    document.addEventListener('keydown', (e) => {
+      if (e.key === 'PageDown' || e.key === 'ArrowRight') showStep(step + 1);
+      if (e.key === 'PageUp' || e.key === 'ArrowLeft') showStep(step - 1);
+    });
+    showStep(0);
+  } else {
+    showView(data.views[0]);
+  }
+  window.addEventListener('resize', resize);
+  resize();
+  window.vbrain = { render, organs: organs.size };
+  document.body.dataset.ready = '1';
+}, (error) => {
+  $('loading').textContent = 'The model could not be read: ' + error;
+});
