@@ -34,8 +34,18 @@ pub struct Glb {
     pub organs: usize,
 }
 
+/// How vertices are stored. Indices are 16-bit wherever an organ has few enough vertices.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Encoding {
+    /// Positions and normals as 32-bit floats: every glTF reader takes it.
+    Float,
+    /// Normals as 8-bit normalised integers (`KHR_mesh_quantization`, required): a third smaller,
+    /// for web pages (three.js reads it).
+    CompactNormals,
+}
+
 /// The scene as a binary glTF file: the organs `layout` draws, cut by `section`.
-pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Glb {
+pub fn glb(set: &OrganSet, layout: &Layout, section: &Section, encoding: Encoding) -> Glb {
     let parts: Vec<Part> = (0..set.organs.len())
         .filter(|&i| layout.organs[i].is_drawn())
         .filter_map(|i| {
@@ -53,7 +63,7 @@ pub fn glb(set: &OrganSet, layout: &Layout, section: &Section) -> Glb {
             (!mesh.indices.is_empty()).then_some(Part { organ: i, mesh })
         })
         .collect();
-    let (json, bin) = document(set, layout, section, &parts);
+    let (json, bin) = document(set, layout, section, &parts, encoding);
     Glb { bytes: pack(&json, &bin), organs: parts.len() }
 }
 
@@ -75,7 +85,13 @@ fn linear(c: f32) -> f32 {
 }
 
 /// The glTF JSON and its binary buffer.
-fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) -> (Value, Vec<u8>) {
+fn document(
+    set: &OrganSet,
+    layout: &Layout,
+    section: &Section,
+    parts: &[Part],
+    encoding: Encoding,
+) -> (Value, Vec<u8>) {
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut accessors = Vec::new();
@@ -86,13 +102,17 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
     let mut groups: Vec<(String, usize)> = Vec::new();
     let mut children: Vec<Vec<usize>> = vec![Vec::new()];
 
-    let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32| {
+    let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32, stride: Option<usize>| {
         let offset = bin.len();
         bin.extend_from_slice(bytes);
         while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
-        views.push(json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target}));
+        let mut v = json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len(), "target": target});
+        if let Some(stride) = stride {
+            v["byteStride"] = json!(stride);
+        }
+        views.push(v);
         views.len() - 1
     };
 
@@ -102,14 +122,32 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
         let m: &Mesh = &part.mesh;
         let is_cut = matches!(part.mesh, Cow::Owned(_));
         let b = m.bounds();
-        let pos = view(&mut bin, bytemuck::cast_slice(&m.positions), 34962);
-        let nrm = view(&mut bin, bytemuck::cast_slice(&m.normals), 34962);
-        let idx = view(&mut bin, bytemuck::cast_slice(&m.indices), 34963);
+        let pos = view(&mut bin, bytemuck::cast_slice(&m.positions), 34962, None);
+        let normals = match encoding {
+            Encoding::Float => {
+                let v = view(&mut bin, bytemuck::cast_slice(&m.normals), 34962, None);
+                json!({"bufferView": v, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"})
+            }
+            Encoding::CompactNormals => {
+                // Each normal in 4 bytes (x, y, z, padding): vertex attributes keep 4-byte strides.
+                let packed: Vec<[i8; 4]> =
+                    m.normals.iter().map(|n| [n[0], n[1], n[2], 0.0].map(|c| (c * 127.0).round() as i8)).collect();
+                let v = view(&mut bin, bytemuck::cast_slice(&packed), 34962, Some(4));
+                json!({"bufferView": v, "componentType": 5120, "normalized": true, "count": m.normals.len(), "type": "VEC3"})
+            }
+        };
+        let (idx, index_type) = if m.positions.len() <= usize::from(u16::MAX) {
+            let short: Vec<u16> = m.indices.iter().map(|&i| i as u16).collect();
+            (view(&mut bin, bytemuck::cast_slice(&short), 34963, None), 5123)
+        } else {
+            (view(&mut bin, bytemuck::cast_slice(&m.indices), 34963, None), 5125)
+        };
         let a = accessors.len();
         accessors.push(json!({"bufferView": pos, "componentType": 5126, "count": m.positions.len(), "type": "VEC3",
             "min": b.min, "max": b.max}));
-        accessors.push(json!({"bufferView": nrm, "componentType": 5126, "count": m.normals.len(), "type": "VEC3"}));
-        accessors.push(json!({"bufferView": idx, "componentType": 5125, "count": m.indices.len(), "type": "SCALAR"}));
+        accessors.push(normals);
+        accessors
+            .push(json!({"bufferView": idx, "componentType": index_type, "count": m.indices.len(), "type": "SCALAR"}));
         let [r, g, bl] = state.colour.map(linear);
         let opacity = state.opacity.clamp(0.0, 1.0);
         let mut material = json!({"name": organ.name, "doubleSided": !organ.closed() || (is_cut && !section.caps),
@@ -169,6 +207,10 @@ fn document(set: &OrganSet, layout: &Layout, section: &Section, parts: &[Part]) 
         "scenes": [{"name": set.title, "nodes": [0]}],
         "nodes": nodes,
     });
+    if encoding == Encoding::CompactNormals {
+        doc["extensionsUsed"] = json!(["KHR_mesh_quantization"]);
+        doc["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+    }
     if !meshes.is_empty() {
         doc["meshes"] = json!(meshes);
         doc["materials"] = json!(materials);
@@ -232,7 +274,7 @@ mod tests {
         let set = set();
         let mut layout = Layout::new(&set);
         layout.organs[0].opacity = 0.4;
-        let doc = json_of(&glb(&set, &layout, &Section::default()).bytes);
+        let doc = json_of(&glb(&set, &layout, &Section::default(), Encoding::Float).bytes);
         let nodes = doc["nodes"].as_array().unwrap();
         let names: Vec<&str> = nodes.iter().map(|n| n["name"].as_str().unwrap()).collect();
         assert_eq!(names, ["vbrain", "Left", "Lobe", "<A & b>", "B"]);
@@ -245,7 +287,7 @@ mod tests {
         assert!(doc["materials"][1].get("alphaMode").is_none());
         // Hidden organs are left out.
         layout.organs[1].visible = false;
-        let doc = json_of(&glb(&set, &layout, &Section::default()).bytes);
+        let doc = json_of(&glb(&set, &layout, &Section::default(), Encoding::Float).bytes);
         assert_eq!(doc["meshes"].as_array().unwrap().len(), 1);
     }
 
@@ -256,10 +298,10 @@ mod tests {
         let section = Section { planes: vec![ClipPlane::new(Vec3::Z, 0.0).unwrap()], caps: true, whole: vec![1] };
         // Organ a moved 10 mm up: the plane z = 0 lies below it, nothing of it is cut.
         layout.organs[0].transform.translation = Vec3::new(0.0, 0.0, 10.0);
-        let doc = json_of(&glb(&set, &layout, &section).bytes);
+        let doc = json_of(&glb(&set, &layout, &section, Encoding::Float).bytes);
         assert_eq!(doc["accessors"][0]["min"][2], json!(-1.0));
         layout.organs[0].transform.translation = Vec3::ZERO;
-        let doc = json_of(&glb(&set, &layout, &section).bytes);
+        let doc = json_of(&glb(&set, &layout, &section, Encoding::Float).bytes);
         assert_eq!(doc["accessors"][0]["max"][2], json!(0.0), "a is cut at z = 0");
         assert_eq!(doc["accessors"][3]["max"][2], json!(1.0), "b is kept whole");
     }

@@ -75,7 +75,7 @@ pub struct Page<'a> {
 
 /// The files of the page: (path relative to its folder, bytes).
 pub fn files(page: &Page) -> Vec<(String, Vec<u8>)> {
-    let glb = crate::gltf::glb(page.set, &page.layout, &page.section).bytes;
+    let glb = crate::gltf::glb(page.set, &page.layout, &page.section, crate::gltf::Encoding::CompactNormals).bytes;
     let mut out = vec![("index.html".to_string(), html(page, &glb).into_bytes()), ("scene.glb".to_string(), glb)];
     for (_, file, text) in THREE {
         out.push((format!("vendor/three/{file}"), text.as_bytes().to_vec()));

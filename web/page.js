@@ -51,9 +51,79 @@ function resize() {
   render();
 }
 
+// A still view with faded organs converges: frames drawn with the camera moved by less than a
+// pixel are averaged (hashed alpha differs from frame to frame), up to ACCUMULATED frames. Any
+// change draws one plain frame at once and starts again.
+const ACCUMULATED = 32;
+const accumulation = { frame: 0, scheduled: false, drawn: null, sum: null };
+const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2));
+const quadScene = new THREE.Scene();
+quadScene.add(quad);
+const quadCamera = new THREE.OrthographicCamera(-1, 1, 1, -1, 0, 1);
+const average = new THREE.ShaderMaterial({
+  uniforms: { map: { value: null }, weight: { value: 1 } },
+  vertexShader: 'varying vec2 vUv; void main() { vUv = uv; gl_Position = vec4(position.xy, 0.0, 1.0); }',
+  fragmentShader:
+    'uniform sampler2D map; uniform float weight; varying vec2 vUv;\n' +
+    'void main() { gl_FragColor = vec4(texture2D(map, vUv).rgb, weight); }',
+  blending: THREE.CustomBlending,
+  blendSrc: THREE.SrcAlphaFactor,
+  blendDst: THREE.OneMinusSrcAlphaFactor,
+  depthTest: false,
+  depthWrite: false,
+});
+const show = new THREE.MeshBasicMaterial({ depthTest: false, depthWrite: false });
+
 function render() {
+  camera.clearViewOffset();
+  renderer.setRenderTarget(null);
   renderer.render(scene, camera);
   placeLabels();
+  accumulation.frame = 0;
+  const faded = [...organs.values()].some((o) => o.mesh.visible && o.opacity < 1);
+  if (faded && !accumulation.scheduled) {
+    accumulation.scheduled = true;
+    requestAnimationFrame(refine);
+  }
+}
+
+/** Adds one jittered frame to the average and shows it. */
+function refine() {
+  accumulation.scheduled = false;
+  const size = renderer.getDrawingBufferSize(new THREE.Vector2());
+  for (const key of ['drawn', 'sum']) {
+    const t = accumulation[key];
+    if (!t || t.width !== size.x || t.height !== size.y) {
+      t?.dispose();
+      accumulation[key] = new THREE.WebGLRenderTarget(size.x, size.y, { type: THREE.HalfFloatType, samples: 4 });
+    }
+  }
+  const k = accumulation.frame;
+  // Offsets in a quasi-random (R2) sequence within a pixel.
+  const jitter = [((k * 0.7548776662) % 1) - 0.5, ((k * 0.5698402909) % 1) - 0.5];
+  camera.setViewOffset(size.x, size.y, k === 0 ? 0 : jitter[0], k === 0 ? 0 : jitter[1], size.x, size.y);
+  renderer.setRenderTarget(accumulation.drawn);
+  renderer.render(scene, camera);
+  camera.clearViewOffset();
+  average.uniforms.map.value = accumulation.drawn.texture;
+  average.uniforms.weight.value = 1 / (k + 1);
+  quad.material = average;
+  renderer.setRenderTarget(accumulation.sum);
+  renderer.autoClear = false;
+  renderer.render(quadScene, quadCamera);
+  renderer.autoClear = true;
+  if (show.map !== accumulation.sum.texture) {
+    show.map = accumulation.sum.texture;
+    show.needsUpdate = true;
+  }
+  quad.material = show;
+  renderer.setRenderTarget(null);
+  renderer.render(quadScene, quadCamera);
+  accumulation.frame = k + 1;
+  if (accumulation.frame < ACCUMULATED && !accumulation.scheduled) {
+    accumulation.scheduled = true;
+    requestAnimationFrame(refine);
+  }
 }
 
 // Opacity: below 1, hashed alpha (order-independent screen-door), with depth as for opaque organs.

@@ -43,7 +43,7 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
             true => (&page.views[0].layout, &page.views[0].section),
             false => (&page.layout, &page.section),
         };
-        let glb = vbrain::gltf::glb(&set, layout, section);
+        let glb = vbrain::gltf::glb(&set, layout, section, vbrain::gltf::Encoding::Float);
         vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
         if !args.json {
             println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);

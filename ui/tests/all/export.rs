@@ -139,6 +139,9 @@ fn the_default_brain_and_a_lesson_open_as_web_pages() {
     for file in ["index.html", "scene.glb", "vendor/three/LICENSE", "vendor/three/three.module.min.js"] {
         assert!(page.join(file).is_file(), "{file}");
     }
+    // The page's model stores its normals in bytes (KHR_mesh_quantization); it is valid too.
+    let report = validate(&page.join("scene.glb"));
+    assert_eq!(report["numErrors"], 0, "{report}");
     let seen = open_page(&page);
     let shown = seen["pixels"].as_u64().unwrap();
     assert!(shown > 40_000, "the brain is drawn: {seen}");

@@ -100,7 +100,8 @@ impl App {
     pub(super) fn export_gltf(&mut self, typed: &str) {
         let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
             let path = export::file_path(typed, "glb")?;
-            let glb = vbrain::gltf::glb(scene.set(), scene.layout(), &self.sections.current);
+            let glb =
+                vbrain::gltf::glb(scene.set(), scene.layout(), &self.sections.current, vbrain::gltf::Encoding::Float);
             Ok((export::write_glb(&path, &glb.bytes)?, glb.bytes.len()))
         });
         let (message, saved) = match written {
