@@ -240,24 +240,78 @@ function slider(label, value, changed) {
   return s;
 }
 
-// Labels: a tag over each labelled organ's centre, where that point is in front of the camera.
+// Labels: each labelled organ's anchor is the vertex nearest the middle of its front-facing,
+// uncut vertices; tags are laid out top to bottom, each moved clear of those placed before it,
+// with a leader line to its anchor.
 let labelled = [];
+
+/** The anchor of organ `o` in world space, or null where none of it faces the camera. */
+function anchorOf(o) {
+  const positions = o.mesh.geometry.attributes.position;
+  const normals = o.mesh.geometry.attributes.normal;
+  const world = o.mesh.matrixWorld;
+  const turn = new THREE.Matrix3().getNormalMatrix(world);
+  const planes = o.material.clippingPlanes ?? [];
+  const step = Math.max(1, Math.floor(positions.count / 3000));
+  const front = [];
+  const p = new THREE.Vector3(), n = new THREE.Vector3(), toEye = new THREE.Vector3();
+  for (let i = 0; i < positions.count; i += step) {
+    p.fromBufferAttribute(positions, i).applyMatrix4(world);
+    n.fromBufferAttribute(normals, i).applyMatrix3(turn);
+    if (n.dot(toEye.subVectors(camera.position, p)) > 0 && planes.every((q) => q.distanceToPoint(p) >= 0)) {
+      front.push(p.clone());
+    }
+  }
+  if (front.length === 0) return null;
+  const middle = front.reduce((sum, q) => sum.add(q), new THREE.Vector3()).divideScalar(front.length);
+  return front.reduce((best, q) => (q.distanceToSquared(middle) < best.distanceToSquared(middle) ? q : best));
+}
+
 function placeLabels() {
   const layer = $('labels');
   layer.replaceChildren();
   const w = renderer.domElement.clientWidth, h = renderer.domElement.clientHeight;
+  const anchors = [];
   for (const id of labelled) {
     const o = organs.get(id);
-    if (!o || !o.mesh.visible) continue;
-    const sphere = o.mesh.geometry.boundingSphere;
-    const p = sphere.center.clone().applyMatrix4(o.mesh.matrixWorld).project(camera);
+    const at = o && o.mesh.visible ? anchorOf(o) : null;
+    if (!at) continue;
+    const p = at.project(camera);
     if (p.z > 1 || Math.abs(p.x) > 1 || Math.abs(p.y) > 1) continue;
+    anchors.push({ o, x: ((p.x + 1) / 2) * w, y: ((1 - p.y) / 2) * h });
+  }
+  anchors.sort((a, b) => a.y - b.y);
+  const lines = document.createElementNS('http://www.w3.org/2000/svg', 'svg');
+  lines.setAttribute('width', w);
+  lines.setAttribute('height', h);
+  layer.appendChild(lines);
+  const placed = [];
+  const overlaps = (r) => placed.some((q) => r.x < q.x + q.w + 4 && q.x < r.x + r.w + 4 && r.y < q.y + q.h + 2 && q.y < r.y + r.h + 2);
+  for (const a of anchors) {
     const tag = document.createElement('div');
     tag.className = 'label';
-    tag.textContent = o.label;
-    tag.style.left = ((p.x + 1) / 2) * w + 'px';
-    tag.style.top = ((1 - p.y) / 2) * h + 'px';
+    tag.textContent = a.o.label;
     layer.appendChild(tag);
+    const r = { w: tag.offsetWidth, h: tag.offsetHeight };
+    r.x = Math.min(Math.max(a.x - r.w / 2, 0), w - r.w);
+    // Above the anchor, else further up or down, a row at a time, until clear of the others.
+    const rows = [-1.6, -2.8, 0.8, -4.0, 2.0, -5.2, 3.2, -6.4, 4.4];
+    const free = rows.map((k) => ({ ...r, y: a.y + k * r.h })).find((c) => c.y >= 0 && c.y + c.h <= h && !overlaps(c));
+    if (!free) {
+      tag.remove();
+      continue;
+    }
+    placed.push(free);
+    tag.style.left = free.x + 'px';
+    tag.style.top = free.y + 'px';
+    const line = document.createElementNS('http://www.w3.org/2000/svg', 'line');
+    const end = free.y + free.h / 2 < a.y ? free.y + free.h : free.y;
+    for (const [k, v] of [['x1', a.x], ['y1', a.y], ['x2', Math.min(Math.max(a.x, free.x), free.x + free.w)], ['y2', end]]) {
+      line.setAttribute(k, v);
+    }
+    const dot = document.createElementNS('http://www.w3.org/2000/svg', 'circle');
+    for (const [k, v] of [['cx', a.x], ['cy', a.y], ['r', 2.5]]) dot.setAttribute(k, v);
+    lines.append(line, dot);
   }
 }
 
