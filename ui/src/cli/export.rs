@@ -31,11 +31,13 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(dir) = &args.web {
         writable_folder(dir, args.force)?;
     }
-    let extension = args.path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let page_of = if extension == vbrain::lesson::EXTENSION { lesson_page } else { scene_page };
-    let set_path = set_path(&args.path)?;
+    let (source, set_path) = open_source(&args.path)?;
     let set = open_set(&set_path)?;
-    let page = page_of(&set, args)?;
+    let page = match source {
+        Source::Set => scene_page(&set, None, args)?,
+        Source::Scene(scene) => scene_page(&set, Some(&scene), args)?,
+        Source::Lesson(lesson) => lesson_page(&set, &lesson, args)?,
+    };
     let mut summary = json!({});
     if let Some(out) = &args.gltf {
         // A lesson's file is its first step; a scene's or set's is what the page shows.
@@ -76,20 +78,32 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
     Ok(true)
 }
 
-/// The set a path names: a scene's or a lesson's set (which must be there), else the path itself.
-fn set_path(path: &Path) -> Result<std::path::PathBuf> {
+/// What `vbrain export` was given.
+enum Source {
+    Set,
+    Scene(SceneFile),
+    Lesson(Lesson),
+}
+
+/// The file `path` names, and its set's path: a scene's or a lesson's set (which must be there),
+/// else the path itself.
+fn open_source(path: &Path) -> Result<(Source, std::path::PathBuf)> {
     let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
-    let set = if extension == vbrain::scene_file::EXTENSION {
-        SceneFile::load(path).map_err(|e| anyhow!(e))?.set_path(path)
+    let (source, set) = if extension == vbrain::scene_file::EXTENSION {
+        let scene = SceneFile::load(path).map_err(|e| anyhow!(e))?;
+        let set = scene.set_path(path);
+        (Source::Scene(scene), set)
     } else if extension == vbrain::lesson::EXTENSION {
-        Lesson::load(path).map_err(|e| anyhow!(e))?.set_path(path)
+        let lesson = Lesson::load(path).map_err(|e| anyhow!(e))?;
+        let set = lesson.set_path(path);
+        (Source::Lesson(lesson), set)
     } else {
-        return Ok(path.to_path_buf());
+        return Ok((Source::Set, path.to_path_buf()));
     };
     if !set.exists() {
         bail!("{}: its organ set {} is not there", path.display(), set.display());
     }
-    Ok(set)
+    Ok((source, set))
 }
 
 /// The camera `vbrain render` frames for `layout`.
@@ -104,13 +118,9 @@ fn labelled(set: &OrganSet, layout: &Layout, which: &Which, selection: Option<us
 }
 
 /// A set or a scene (with the options' changes) as one view, its cut in the model.
-fn scene_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
-    let scene = match args.path.extension().is_some_and(|e| e == vbrain::scene_file::EXTENSION) {
-        true => Some(SceneFile::load(&args.path).map_err(|e| anyhow!(e))?),
-        false => None,
-    };
+fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, args: &ExportArgs) -> Result<Page<'a>> {
     let (mut layout, mut selection) = (Layout::new(set), None);
-    if let Some(s) = &scene {
+    if let Some(s) = scene {
         let applied = s.apply(set);
         for w in &applied.warnings {
             eprintln!("warning: {}: {w}", args.path.display());
@@ -118,15 +128,15 @@ fn scene_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
         (layout, selection) = (applied.layout, applied.selection);
     }
     apply_layout_args(set, &mut layout, &args.layout)?;
-    let (section, _) = section(set, &args.section, scene.as_ref())?;
-    let nav = match &scene {
+    let (section, _) = section(set, &args.section, scene)?;
+    let nav = match scene {
         Some(s) => s.camera.navigator(),
         None => {
             let (azimuth, elevation) = Standard::Anterior.angles();
             vbrain::navigation::Navigator::framing(&Layout::new(set).bounds(set), azimuth, elevation)
         }
     };
-    let which = Which::parse(scene.as_ref().and_then(|s| s.labels.as_deref()).unwrap_or(""));
+    let which = Which::parse(scene.and_then(|s| s.labels.as_deref()).unwrap_or(""));
     let view = View {
         title: set.title.clone(),
         caption: String::new(),
@@ -142,8 +152,12 @@ fn scene_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
 
 /// A lesson: every organ in the model, uncut; each step shows, fades, colours, places and cuts
 /// them (without cut faces) in the page.
-fn lesson_page<'a>(set: &'a OrganSet, args: &ExportArgs) -> Result<Page<'a>> {
-    let lesson = Lesson::load(&args.path).map_err(|e| anyhow!(e))?;
+fn lesson_page<'a>(set: &'a OrganSet, lesson: &Lesson, args: &ExportArgs) -> Result<Page<'a>> {
+    let (l, c) = (&args.layout, &args.section);
+    let changes = !(l.show.is_empty() && l.hide.is_empty() && l.opacity.is_empty());
+    if changes || !c.clip.is_empty() || c.caps.is_some() || !c.whole.is_empty() {
+        bail!("{}: a lesson's steps set the organs and planes; --show, --hide, --opacity, --clip, --caps and --whole are for sets and scenes", args.path.display());
+    }
     for name in lesson.unknown_names(set) {
         eprintln!("warning: {}: the set has no organ or group \"{name}\"; left out", args.path.display());
     }

@@ -154,6 +154,12 @@ fn the_default_brain_and_a_lesson_open_as_web_pages() {
     let ventricles = Path::new(&brain()).join("lessons/ventricles.vblesson");
     let o = vbrain(&["export", ventricles.to_str().unwrap(), "--web", lesson.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
+    // A lesson's steps set the organs: options that would change them are refused.
+    let unused = dir.path().join("unused");
+    let refused =
+        vbrain(&["export", ventricles.to_str().unwrap(), "--web", unused.to_str().unwrap(), "--hide", "thalamus_l"]);
+    assert_eq!(refused.status.code(), Some(1), "{}", stderr(&refused));
+    assert!(stderr(&refused).contains("are for sets and scenes") && !unused.exists(), "{}", stderr(&refused));
     let seen = open_page(&lesson);
     let captions: Vec<&str> = seen["captions"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
     assert!(captions[0].contains("The brain is hollow"), "step 1's caption, its ** marks gone: {}", captions[0]);
