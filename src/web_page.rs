@@ -126,7 +126,7 @@ fn script_safe(text: &str) -> String {
 }
 
 /// Text for HTML: `&`, `<`, `>` and quotes escaped.
-pub fn escape_html(text: &str) -> String {
+fn escape_html(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
