@@ -6,16 +6,18 @@ use super::paths::{quiz_history_path, recovery_path};
 use anyhow::{anyhow, Result};
 use eframe::egui;
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// The smallest window, in points: the panels and a usable 3-D view. A stored window geometry
 /// (eframe keeps it with the settings) smaller than this, or not a number, opens at this size;
 /// eframe itself keeps a window within the largest monitor.
 pub const MIN_WINDOW: [f32; 2] = [640.0, 420.0];
 
-/// The window's options: title, default and smallest size, file drops.
+/// The window's options: title, default and smallest size, file drops, and the GPU device.
 pub fn native_options() -> eframe::NativeOptions {
     eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
+        wgpu_options: wgpu_options(),
         viewport: egui::ViewportBuilder::default()
             .with_title("vbrain")
             .with_inner_size([1280.0, 820.0])
@@ -23,6 +25,19 @@ pub fn native_options() -> eframe::NativeOptions {
             .with_drag_and_drop(true),
         ..Default::default()
     }
+}
+
+/// The viewer's GPU device: egui's defaults, and 32-bit float blending where the adapter has it,
+/// as the headless renderer asks (dual depth peeling needs it).
+fn wgpu_options() -> egui_wgpu::WgpuConfiguration {
+    let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
+    let defaults = setup.device_descriptor.clone();
+    setup.device_descriptor = Arc::new(move |adapter| {
+        let mut descriptor = defaults(adapter);
+        descriptor.required_features |= adapter.features() & wgpu::Features::FLOAT32_BLENDABLE;
+        descriptor
+    });
+    egui_wgpu::WgpuConfiguration { wgpu_setup: egui_wgpu::WgpuSetup::CreateNew(setup), ..Default::default() }
 }
 
 /// Opens the viewer window.
@@ -51,5 +66,18 @@ mod tests {
         assert_eq!(options.viewport.min_inner_size, Some(egui::Vec2::from(MIN_WINDOW)));
         let default = options.viewport.inner_size.unwrap_or_default();
         assert!(default.x >= MIN_WINDOW[0] && default.y >= MIN_WINDOW[1]);
+    }
+
+    #[test]
+    fn the_device_blends_floats_where_the_adapter_can() {
+        let egui_wgpu::WgpuSetup::CreateNew(setup) = native_options().wgpu_options.wgpu_setup else {
+            panic!("the viewer makes its own device");
+        };
+        // The adapter the headless renderer opens (it fails saying what to install where none is).
+        let gpu = vbrain::render::GpuContext::headless().unwrap();
+        let wanted = (setup.device_descriptor)(&gpu.adapter).required_features;
+        let can = gpu.adapter.features().contains(wgpu::Features::FLOAT32_BLENDABLE);
+        assert_eq!(wanted.contains(wgpu::Features::FLOAT32_BLENDABLE), can);
+        assert!(can, "lavapipe and desktop GPUs blend 32-bit floats");
     }
 }
