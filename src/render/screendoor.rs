@@ -40,6 +40,8 @@ pub(super) struct Screendoor {
     /// One [`GatherUniform`] per round (indexed by the round's first pass).
     gathers: wgpu::Buffer,
     pool: Mutex<Option<Pool>>,
+    /// The last frame's mask configurations, kept where they come again.
+    masks: Mutex<regions::MaskCache>,
 }
 
 /// What one frame needs, kept for the next: the masks' storage buffers and their bind group, the
@@ -216,6 +218,7 @@ impl Screendoor {
             uniforms: uniforms(device, "screendoor uniforms"),
             gathers: uniforms(device, "gather uniforms"),
             pool: Mutex::new(None),
+            masks: Mutex::default(),
         }
     }
 
@@ -400,7 +403,9 @@ fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key:
         k: settings.k,
         method,
     };
-    let masks = regions::region_masks(input.set, input.layout, input.camera, &params);
+    let mut cache = sd.masks.lock().unwrap_or_else(|e| e.into_inner());
+    let masks = regions::region_masks_kept(input.set, input.layout, input.camera, &params, &mut cache);
+    drop(cache);
     let configs: &[u8] = bytemuck::cast_slice(&masks.config_of_region);
     let bits: Vec<[u32; 2]> = masks.masks.iter().map(|&m| [m as u32, (m >> 32) as u32]).collect();
     let bits: &[u8] = bytemuck::cast_slice(&bits);

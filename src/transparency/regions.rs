@@ -14,6 +14,10 @@
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
 //!    The result depends on the configuration only, never on the order organs are drawn in.
 //!
+//! 4. A [`MaskCache`] keeps the last frame's configurations and their masks: a configuration seen
+//!    again with the same opacities, sub-samples, K and method is not generated again (most survive
+//!    a small camera move). Masks depend on the configuration only, so the images do not change.
+//!
 //! The output is plain data for the renderer: a configuration per region and, per configuration,
 //! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
 
@@ -47,8 +51,10 @@ pub struct RegionMasks {
     pub config_of_region: Vec<u32>,
     /// `masks[config * organ_count + organ]`: GPU mask bits of the organ in that configuration.
     pub masks: Vec<u64>,
-    /// Distinct configurations (masks generated once each).
+    /// Distinct configurations (masks generated once each, or kept from the last frame).
     pub configs: usize,
+    /// Of those, configurations whose masks were kept from the last frame.
+    pub kept: usize,
     /// The pixels of the regions where a transparent organ is present, `[x, y, width, height]`
     /// (clamped to the image; zero width where none is): all that transparent organs can touch.
     pub covered: [u32; 4],
@@ -195,8 +201,28 @@ pub fn group_masks(
         .collect()
 }
 
-/// The masks of every region for this frame.
+/// The last frame's configurations (key: present organs as bits, then the K nearest) and their
+/// masks, valid while `settings` (every organ's opacity, sub-samples, K, method) stay the same.
+#[derive(Debug, Default)]
+pub struct MaskCache {
+    settings: Vec<u64>,
+    masks: HashMap<Vec<u64>, Vec<(usize, u64)>>,
+}
+
+/// The masks of every region for this frame, all generated anew.
 pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams) -> RegionMasks {
+    region_masks_kept(set, layout, camera, p, &mut MaskCache::default())
+}
+
+/// The masks of every region for this frame, keeping from `cache` the masks of configurations the
+/// last frame had (with the same settings); `cache` then holds this frame's.
+pub fn region_masks_kept(
+    set: &OrganSet,
+    layout: &Layout,
+    camera: &Camera,
+    p: &RegionParams,
+    cache: &mut MaskCache,
+) -> RegionMasks {
     let started = std::time::Instant::now();
     let region_px = p.region_px.max(1);
     let p = RegionParams { region_px, subsamples: p.subsamples.clamp(4, 64), ..*p };
@@ -218,6 +244,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
     let words = organs.div_ceil(64);
     let mut configs: HashMap<Vec<u64>, u32> = HashMap::new();
     let mut unique: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    let mut keys: Vec<Vec<u64>> = Vec::new();
     let mut config_of_region = Vec::with_capacity((cols * rows) as usize);
     let (mut key, mut last_key, mut last_id) = (Vec::new(), Vec::new(), None);
     let mut nearest: Vec<usize> = Vec::new();
@@ -242,6 +269,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
                 let id = unique.len() as u32;
                 let present: Vec<usize> = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
                 unique.push((present, nearest.clone()));
+                keys.push(key.clone());
                 configs.insert(key.clone(), id);
                 id
             }
@@ -250,9 +278,20 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         last_id = Some(id);
         std::mem::swap(&mut last_key, &mut key);
     }
-    // One generation per distinct configuration, in parallel.
+    // The last frame's masks where its configuration and settings come again.
+    let settings: Vec<u64> = [p.subsamples as u64, p.k as u64, p.method as u64]
+        .into_iter()
+        .chain((0..organs).map(|o| u64::from(opacity(o).to_bits())))
+        .collect();
+    if cache.settings != settings {
+        cache.masks.clear();
+        cache.settings = settings;
+    }
+    let mut generated: Vec<Option<Vec<(usize, u64)>>> = keys.iter().map(|k| cache.masks.remove(k)).collect();
+    let kept = generated.iter().filter(|m| m.is_some()).count();
+    // One generation per other distinct configuration, in parallel.
     let mut groups: HashMap<&[usize], Vec<usize>> = HashMap::new();
-    for (i, (_, nearest)) in unique.iter().enumerate() {
+    for (i, (_, nearest)) in unique.iter().enumerate().filter(|&(i, _)| generated[i].is_none()) {
         groups.entry(nearest.as_slice()).or_default().push(i);
     }
     let groups: Vec<(&[usize], Vec<usize>)> = groups.into_iter().collect();
@@ -263,13 +302,13 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
             group_masks(&presents, nearest, opacity, &p, &bits)
         })
         .collect();
-    let mut generated: Vec<Vec<(usize, u64)>> = vec![Vec::new(); unique.len()];
     for ((_, members), list) in groups.iter().zip(lists) {
         for (&i, masks) in members.iter().zip(list) {
-            generated[i] = masks;
+            generated[i] = Some(masks);
         }
     }
     let mut masks = Vec::with_capacity(generated.len().max(1) * organs);
+    let generated: Vec<Vec<(usize, u64)>> = generated.into_iter().map(Option::unwrap_or_default).collect();
     for config in &generated {
         let at = masks.len();
         masks.extend_from_slice(&defaults);
@@ -281,6 +320,8 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
     if masks.is_empty() {
         masks.extend_from_slice(&defaults);
     }
+    // Only this frame's configurations are kept for the next.
+    cache.masks = keys.into_iter().zip(generated).collect();
     RegionMasks {
         region_px,
         cols,
@@ -289,6 +330,7 @@ pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &Region
         organ_count: organs,
         config_of_region,
         configs: unique.len(),
+        kept,
         covered,
         masks,
         ms: started.elapsed().as_secs_f64() * 1000.0,
@@ -353,6 +395,35 @@ mod tests {
             m.config_of_region[(ay / 16 * 8 + ax / 16) as usize],
             m.config_of_region[(by / 16 * 8 + bx / 16) as usize]
         );
+    }
+
+    #[test]
+    fn kept_masks_are_the_masks_generated_anew() {
+        let mut set = OrganSet::default();
+        for (i, x) in [-40.0f32, 0.0, 40.0].into_iter().enumerate() {
+            set.organs.push(Organ::new(format!("o{i}"), "o".into(), [1.0; 3], square(x, 0.0, 30.0)));
+        }
+        let mut layout = Layout::new(&set);
+        layout.organs.iter_mut().for_each(|o| o.opacity = 0.5);
+        let p =
+            RegionParams { width: 96, height: 96, region_px: 8, subsamples: 64, k: 2, method: MaskMethod::TabularNec };
+        let mut cache = MaskCache::default();
+        let bounds = set.bounds();
+        for (k, az) in [0.0f32, 2.0, 4.0, 4.0].into_iter().enumerate() {
+            let camera = Camera::orbit(&bounds, az, 0.0);
+            let kept = region_masks_kept(&set, &layout, &camera, &p, &mut cache);
+            let anew = region_masks(&set, &layout, &camera, &p);
+            assert_eq!((&kept.config_of_region, &kept.masks), (&anew.config_of_region, &anew.masks));
+            match k {
+                0 => assert_eq!(kept.kept, 0),
+                3 => assert_eq!(kept.kept, kept.configs, "the same view keeps every configuration"),
+                _ => assert!(kept.kept > 0, "a small move keeps some"),
+            }
+        }
+        // Another opacity: nothing is kept.
+        layout.organs[1].opacity = 0.3;
+        let camera = Camera::orbit(&bounds, 4.0, 0.0);
+        assert_eq!(region_masks_kept(&set, &layout, &camera, &p, &mut cache).kept, 0);
     }
 
     #[test]

@@ -454,7 +454,9 @@ fn write_sheet(path: &Path, rows: &[Vec<image::RgbaImage>], size: (u32, u32)) ->
 }
 
 /// Mask regeneration at 1920x1080 with every shown organ at 50 %: over 24 orbit frames, after
-/// two warm-up frames, the median and largest times and the distinct configurations.
+/// two warm-up frames, the median and largest times and the distinct configurations, all generated
+/// anew; then, as the renderer does, keeping the last frame's configurations, on the same orbit
+/// (15 degrees a frame) and on one of small moves (1 degree a frame, as a drag turns the view).
 fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value> {
     let mut layout = Layout::new(set);
     layout.organs.iter_mut().for_each(|s| s.opacity = 0.5);
@@ -472,21 +474,36 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
     };
     let bounds = layout.bounds(set);
     let frames = 24;
-    let mut times = Vec::new();
-    let mut configs = Vec::new();
-    for i in 0..frames + 2 {
-        let camera = Camera::orbit(&bounds, i as f32 * 360.0 / frames as f32, 15.0);
-        let m = regions::region_masks(set, &layout, &camera, &p);
-        if i >= 2 {
-            times.push(m.ms);
-            configs.push(m.configs);
+    // (median ms, max ms, median configurations, median configurations kept) over the orbit.
+    let orbit = |step_deg: f32, keep: bool| {
+        let mut cache = regions::MaskCache::default();
+        let (mut times, mut configs, mut kept) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..frames + 2 {
+            let camera = Camera::orbit(&bounds, i as f32 * step_deg, 15.0);
+            let m = match keep {
+                true => regions::region_masks_kept(set, &layout, &camera, &p, &mut cache),
+                false => regions::region_masks(set, &layout, &camera, &p),
+            };
+            if i >= 2 {
+                times.push(m.ms);
+                configs.push(m.configs);
+                kept.push(m.kept);
+            }
         }
-    }
-    times.sort_by(f64::total_cmp);
-    configs.sort_unstable();
+        times.sort_by(f64::total_cmp);
+        configs.sort_unstable();
+        kept.sort_unstable();
+        let mid = times.len() / 2;
+        (times[mid], times.last().copied().unwrap_or(0.0), configs[mid], kept[mid])
+    };
+    let (median_ms, max_ms, median_configs, _) = orbit(360.0 / frames as f32, false);
+    let (kept_ms, kept_max_ms, _, kept_configs) = orbit(360.0 / frames as f32, true);
+    let (small_ms, small_max_ms, small_configs, small_kept) = orbit(1.0, true);
     Ok(json!({
         "width": 1920, "height": 1080, "region_px": region_px, "subsamples": s.subsamples, "k": s.k,
-        "frames": frames, "median_ms": times[times.len() / 2], "max_ms": times.last().copied().unwrap_or(0.0),
-        "median_configs": configs[configs.len() / 2],
+        "frames": frames, "median_ms": median_ms, "max_ms": max_ms, "median_configs": median_configs,
+        "kept": {"median_ms": kept_ms, "max_ms": kept_max_ms, "median_configs_kept": kept_configs},
+        "small_moves": {"step_deg": 1.0, "median_ms": small_ms, "max_ms": small_max_ms,
+            "median_configs": small_configs, "median_configs_kept": small_kept},
     }))
 }
