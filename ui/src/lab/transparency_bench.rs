@@ -438,16 +438,29 @@ fn colour(m: TransparencyMode) -> (u8, u8, u8) {
     }
 }
 
-/// Images side by side, one row per view, with a 4-pixel white gap.
+/// The widest contact sheet, in pixels: larger images are scaled down to fit, so that the sheet
+/// of a full-size run stays small enough to keep beside the results (about 1 MB).
+const MAX_SHEET_WIDTH: u32 = 1800;
+
+/// Images side by side, one row per view, with a 4-pixel white gap; each image scaled down (never
+/// up) so that the sheet is at most [`MAX_SHEET_WIDTH`] wide.
 fn write_sheet(path: &Path, rows: &[Vec<image::RgbaImage>], size: (u32, u32)) -> Result<()> {
     let gap = 4;
     let cols = rows.iter().map(|r| r.len()).max().unwrap_or(0) as u32;
-    let (w, h) = (cols * (size.0 + gap) + gap, rows.len() as u32 * (size.1 + gap) + gap);
+    let room = MAX_SHEET_WIDTH.saturating_sub(gap * (cols + 1)) as f32 / (cols.max(1) * size.0.max(1)) as f32;
+    let scale = room.min(1.0);
+    let tile = (((size.0 as f32 * scale) as u32).max(1), ((size.1 as f32 * scale) as u32).max(1));
+    let (w, h) = (cols * (tile.0 + gap) + gap, rows.len() as u32 * (tile.1 + gap) + gap);
     let mut sheet = image::RgbaImage::from_pixel(w, h, image::Rgba([255, 255, 255, 255]));
     for (r, images) in rows.iter().enumerate() {
         for (c, img) in images.iter().enumerate() {
-            let (x, y) = (gap + c as u32 * (size.0 + gap), gap + r as u32 * (size.1 + gap));
-            image::imageops::overlay(&mut sheet, img, x.into(), y.into());
+            let (x, y) = (gap + c as u32 * (tile.0 + gap), gap + r as u32 * (tile.1 + gap));
+            if scale < 1.0 {
+                let small = image::imageops::resize(img, tile.0, tile.1, image::imageops::FilterType::Triangle);
+                image::imageops::overlay(&mut sheet, &small, x.into(), y.into());
+            } else {
+                image::imageops::overlay(&mut sheet, img, x.into(), y.into());
+            }
         }
     }
     Ok(vbrain::atomic::write_png(path, &sheet, true)?)
@@ -506,4 +519,21 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
         "small_moves": {"step_deg": 1.0, "median_ms": small_ms, "max_ms": small_max_ms,
             "median_configs": small_configs, "median_configs_kept": small_kept},
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_contact_sheet_is_scaled_down_to_fit_and_never_up() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("sheet.png");
+        let tile = |w, h| image::RgbaImage::from_pixel(w, h, image::Rgba([200, 10, 10, 255]));
+        write_sheet(&path, &[vec![tile(800, 600); 4], vec![tile(800, 600); 4]], (800, 600)).unwrap();
+        let big = image::open(&path).unwrap();
+        assert!(big.width() <= MAX_SHEET_WIDTH && big.width() > MAX_SHEET_WIDTH - 8, "{}", big.width());
+        write_sheet(&path, &[vec![tile(64, 64); 3]], (64, 64)).unwrap();
+        assert_eq!(image::open(&path).unwrap().width(), 3 * 68 + 4, "small images keep their size");
+    }
 }
