@@ -84,6 +84,23 @@ pub fn files(page: &Page) -> Vec<(String, Vec<u8>)> {
     out
 }
 
+/// Writes the page's files into the folder `dir`, staged beside it and moved into place whole
+/// (replacing what `dir` held: callers ask first where it holds anything); gives their bytes.
+pub fn write(dir: &std::path::Path, page: &Page) -> crate::Result<usize> {
+    let files = files(page);
+    crate::atomic::write_folder(dir, |staging| {
+        for (name, bytes) in &files {
+            let path = staging.join(name);
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| crate::Error::io(parent, e))?;
+            }
+            crate::atomic::write(&path, |w| w.write_all(bytes))?;
+        }
+        Ok(())
+    })?;
+    Ok(files.iter().map(|(_, b)| b.len()).sum())
+}
+
 /// `index.html`: the template with the import map, the description, the model and the program.
 fn html(page: &Page, glb: &[u8]) -> String {
     let imports: serde_json::Map<String, Value> =

@@ -53,19 +53,7 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         summary["gltf"] = json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs});
     }
     if let Some(dir) = &args.web {
-        let files = vbrain::web_page::files(&page);
-        vbrain::atomic::write_folder(dir, |staging| {
-            for (name, bytes) in &files {
-                let path = staging.join(name);
-                if let Some(parent) = path.parent() {
-                    std::fs::create_dir_all(parent).map_err(|e| vbrain::Error::io(parent, e))?;
-                }
-                vbrain::atomic::write(&path, |w| w.write_all(bytes))?;
-            }
-            Ok(())
-        })
-        .map_err(|e| anyhow!(e))?;
-        let bytes: usize = files.iter().map(|(_, b)| b.len()).sum();
+        let bytes = vbrain::web_page::write(dir, &page).map_err(|e| anyhow!(e))?;
         let steps = if page.lesson { format!("{} steps, ", page.views.len()) } else { String::new() };
         if !args.json {
             println!("wrote {} ({steps}{:.1} MB in all)", dir.join("index.html").display(), bytes as f64 / 1e6);

@@ -91,8 +91,12 @@ pub enum Action {
         path: String,
         size: [u32; 2],
     },
-    /// Write the scene as a glTF model into the file `path` (as typed: `.glb` added if missing).
-    ExportGltf(String),
+    /// Write the scene as a glTF model into the file `path` (as typed: `.glb` added if missing),
+    /// or as a web page into the folder `path`.
+    ExportModel {
+        kind: ModelKind,
+        path: String,
+    },
     /// Camera to a standard view of the set.
     View(View),
     ResetCamera,
@@ -118,9 +122,18 @@ pub enum Window {
     OpenMeshes,
     Import,
     Export,
-    ExportGltf,
+    ExportModel(ModelKind),
     Sections,
     Quiz,
+}
+
+/// What a model export writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModelKind {
+    /// A binary glTF file.
+    Gltf,
+    /// A folder with a web page that opens in any browser.
+    Web,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.

@@ -7,9 +7,9 @@
 //! next component draws, so every component shows what the ones before it changed.
 
 use super::action::{Action, Window};
+use super::dialogs::Dialogs;
 use super::document::{self, Document};
-use super::export::{ExportWindow, GltfWindow};
-use super::files::{self, ImportWindow, OpenWindow};
+use super::files;
 use super::inspector::{inspector, Marks};
 use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
@@ -46,16 +46,6 @@ pub struct AppOptions {
     pub recovery: Option<PathBuf>,
     /// The file of quiz results kept per set ([`quiz_history_path`](super::paths::quiz_history_path); `None` keeps none).
     pub quiz_history: Option<PathBuf>,
-}
-
-/// The viewer's windows.
-#[derive(Default)]
-pub struct Dialogs {
-    pub open_set: OpenWindow,
-    pub open_meshes: OpenWindow,
-    pub import: ImportWindow,
-    pub export: ExportWindow,
-    pub gltf: GltfWindow,
 }
 
 /// A set read off the UI thread, with the paths it came from.
@@ -370,7 +360,7 @@ impl App {
                     Window::OpenMeshes => self.dialogs.open_meshes.open = true,
                     Window::Import => self.dialogs.import.open = true,
                     Window::Export => self.dialogs.export.open = true,
-                    Window::ExportGltf => self.dialogs.gltf.open = true,
+                    Window::ExportModel(kind) => self.dialogs.model(kind).open = true,
                     Window::Sections => self.sections.open = true,
                     Window::Quiz => {
                         self.quiz.open = true;
@@ -383,7 +373,7 @@ impl App {
                     self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
                 }
                 Action::Export { path, size } => self.export(&path, size),
-                Action::ExportGltf(path) => self.export_gltf(&path),
+                Action::ExportModel { kind, path } => self.export_model(kind, &path),
                 Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
                 Action::ResetCamera => {
                     if let Some(s) = &self.scene {
@@ -538,6 +528,7 @@ impl App {
             let mut actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
             let folder = self.settings.export.folder.as_deref();
             actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder));
+            actions.extend(self.dialogs.web.show(ctx, &scene.set().title, folder));
             self.perform(ctx, actions);
         }
     }

@@ -1,10 +1,11 @@
 //! Screenshot export: the current view rendered offscreen at the asked size through the same
 //! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over
 //! an existing file; and the export window, which asks for the size and the file and returns an
-//! [`Action::Export`]. The glTF window asks for a file and returns an [`Action::ExportGltf`]: the
-//! scene as a 3-D model ([`vbrain::gltf`]).
+//! [`Action::Export`]. The model windows ask for a file or a folder and return an
+//! [`Action::ExportModel`]: the scene as a glTF model ([`vbrain::gltf`]) or a web page
+//! ([`vbrain::web_page`]).
 
-use super::action::Action;
+use super::action::{Action, ModelKind};
 use super::settings::{ExportSettings, ExportSize};
 use super::widgets::{accessible, PathField, Pick};
 use anyhow::{bail, Result};
@@ -94,31 +95,56 @@ pub fn write_glb(path: &Path, glb: &[u8]) -> Result<PathBuf> {
     Ok(path)
 }
 
-/// The "Export glTF model" window: a file, and Save.
-#[derive(Default)]
-pub struct GltfWindow {
+/// The "Export glTF model" and "Export web page" windows: a file or a folder, and Save.
+pub struct ModelWindow {
+    pub kind: ModelKind,
     pub open: bool,
     pub path: PathField,
     /// The last export's result, shown in the window.
     pub last: Option<String>,
 }
 
-impl GltfWindow {
-    /// The window for a set titled `title`; proposes `<set>-<time>.glb` in the screenshots' folder.
+impl ModelWindow {
+    pub fn new(kind: ModelKind) -> ModelWindow {
+        ModelWindow { kind, open: false, path: PathField::default(), last: None }
+    }
+
+    /// The window for a set titled `title`; proposes `<set>-<time>.glb` (or a folder
+    /// `<set>-<time>-page`) in the screenshots' folder.
     pub fn show(&mut self, ctx: &egui::Context, title: &str, folder: Option<&Path>) -> Vec<Action> {
         if self.open && self.path.text.is_empty() {
-            let name = default_file_name(title, std::time::SystemTime::now()).replace(".png", ".glb");
+            let name = default_file_name(title, std::time::SystemTime::now());
+            let name = match self.kind {
+                ModelKind::Gltf => name.replace(".png", ".glb"),
+                ModelKind::Web => name.replace(".png", "-page"),
+            };
             self.path.text = folder.unwrap_or(Path::new("")).join(name).display().to_string();
         }
         let mut open = self.open;
         let mut save = false;
-        let window = egui::Window::new("Export glTF model").open(&mut open).collapsible(false).default_width(520.0);
+        let title = match self.kind {
+            ModelKind::Gltf => "Export glTF model",
+            ModelKind::Web => "Export web page",
+        };
+        let window = egui::Window::new(title).open(&mut open).collapsible(false).default_width(520.0);
         window.show(ctx, |ui| {
-            ui.label(
-                "The organs shown, with their colours, opacities, moves, groups and info texts, cut by the \
-                 section planes. Opens in Blender, slide software and web viewers.",
-            );
-            self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
+            match self.kind {
+                ModelKind::Gltf => {
+                    ui.label(
+                        "The organs shown, with their colours, opacities, moves, groups and info texts, cut by \
+                         the section planes. Opens in Blender, slide software and web viewers.",
+                    );
+                    self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
+                }
+                ModelKind::Web => {
+                    ui.label(
+                        "A folder with index.html: students open it in any browser, from the file or a web \
+                         server, and turn the view, show, hide and fade organs, click one to read about it, \
+                         and see the labels. The folder must be new or empty.",
+                    );
+                    self.path.ui(ui, "Folder:", Pick::Folder, &[]);
+                }
+            }
             save = ui.button("Save").clicked();
             if let Some(last) = &self.last {
                 ui.label(last);
@@ -126,7 +152,7 @@ impl GltfWindow {
         });
         self.open = open;
         if save {
-            vec![Action::ExportGltf(self.path.text.clone())]
+            vec![Action::ExportModel { kind: self.kind, path: self.path.text.clone() }]
         } else {
             Vec::new()
         }

@@ -3,7 +3,7 @@
 //! pushes [`Action`]s. The viewer's settings (culling, transparency, panels, background) are
 //! edited in place: they are preferences, not part of the scene.
 
-use super::action::{Action, Window};
+use super::action::{Action, ModelKind, Window};
 use super::scene::Scene;
 use super::settings::Settings;
 use super::shortcuts::{self, Command};
@@ -97,13 +97,18 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
     if ui.add_enabled(scene.is_some(), export).clicked() {
         out.push(Action::Show(Window::Export));
     }
-    let gltf = egui::Button::new("Export glTF model...");
-    if ui
-        .add_enabled(scene.is_some(), gltf)
-        .on_hover_text("The organs shown, as a 3-D model for Blender or a web page")
-        .clicked()
-    {
-        out.push(Action::Show(Window::ExportGltf));
+    let models = [
+        (
+            ModelKind::Gltf,
+            "Export glTF model...",
+            "The organs shown, as a 3-D model for Blender, slides or web viewers",
+        ),
+        (ModelKind::Web, "Export web page...", "The organs shown, as a web page students open in any browser"),
+    ];
+    for (kind, label, hover) in models {
+        if ui.add_enabled(scene.is_some(), egui::Button::new(label)).on_hover_text(hover).clicked() {
+            out.push(Action::Show(Window::ExportModel(kind)));
+        }
     }
     ui.separator();
     if ui.button("Quit").clicked() {

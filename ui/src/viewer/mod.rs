@@ -8,7 +8,7 @@
 //! ([`shortcuts`]). Input is in egui points, render targets in physical pixels, the scene in world
 //! millimetres (RAS).
 //!
-//! Modules: [`app`] (state, frame, actions), [`menus`], [`panels`] (organ tree), [`inspector`],
+//! Modules: [`app`] (state, frame, actions), [`dialogs`] (the file windows), [`menus`], [`panels`] (organ tree), [`inspector`],
 //! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
 //! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
 //! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window),
@@ -16,6 +16,7 @@
 
 pub mod action;
 pub mod app;
+pub mod dialogs;
 pub mod document;
 pub mod export;
 pub mod files;

@@ -208,6 +208,25 @@ fn hide_fade_select_and_export() {
     let labelled = image::open(dir.path().join("view-3.png")).unwrap().to_rgba8();
     let changed = labelled.pixels().zip(shown.pixels()).filter(|(a, b)| a != b).count();
     assert!(changed > 500, "the label of the selected organ is in the export ({changed} pixels changed)");
+
+    // The scene as a glTF model and as a web page, from the File menu's windows.
+    use vbrain_ui::viewer::action::{Action, ModelKind};
+    let ctx = h.ctx.clone();
+    let (glb, page) = (dir.path().join("brain.glb"), dir.path().join("page"));
+    for (kind, path) in [(ModelKind::Gltf, &glb), (ModelKind::Web, &page)] {
+        let export = Action::ExportModel { kind, path: path.display().to_string() };
+        h.state_mut().perform(&ctx, vec![export]);
+    }
+    h.run_steps(2);
+    assert_eq!(&std::fs::read(&glb).unwrap_or_else(|e| panic!("{e}: {:?}", messages(&h)))[0..4], b"glTF");
+    let html = std::fs::read_to_string(page.join("index.html")).unwrap_or_else(|e| panic!("{e}: {:?}", messages(&h)));
+    let data_at = html.find("id=\"vbrain-data\">").unwrap();
+    assert!(html[data_at..].contains("\"labels\":[\"precentral_l\"]"), "the selected organ is labelled on the page");
+    assert!(html[data_at..].contains("\"selection\":\"precentral_l\""));
+    // A folder that now holds files is refused, and left as it was.
+    h.state_mut().perform(&ctx, vec![Action::ExportModel { kind: ModelKind::Web, path: page.display().to_string() }]);
+    h.run_steps(2);
+    assert!(messages(&h).iter().any(|m| m.contains("choose a new folder")), "{:?}", messages(&h));
 }
 
 #[test]

@@ -3,11 +3,13 @@
 //! unsaved changes of the scene. A child module of the app, so it reaches its state.
 
 use super::App;
+use crate::viewer::action::ModelKind;
 use crate::viewer::export;
 use crate::viewer::settings::LabelMode;
 use anyhow::{Context, Result};
 use eframe::egui;
 use std::path::{Path, PathBuf};
+use vbrain::clip::Section;
 use vbrain::render::FrameInput;
 
 impl App {
@@ -96,22 +98,64 @@ impl App {
         self.notify(message, !saved);
     }
 
-    /// Writes the scene as a glTF model (the organs drawn, cut by the current section).
-    pub(super) fn export_gltf(&mut self, typed: &str) {
+    /// Writes the scene as a glTF model or a web page: the organs drawn, cut by the current
+    /// section; a page also has the camera, the labels, the outlines and the selection.
+    pub(super) fn export_model(&mut self, kind: ModelKind, typed: &str) {
         let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
-            let path = export::file_path(typed, "glb")?;
-            let glb =
-                vbrain::gltf::glb(scene.set(), scene.layout(), &self.sections.current, vbrain::gltf::Encoding::Float);
-            Ok((export::write_glb(&path, &glb.bytes)?, glb.bytes.len()))
+            let (set, layout, section) = (scene.set(), scene.layout(), &self.sections.current);
+            match kind {
+                ModelKind::Gltf => {
+                    let path = export::file_path(typed, "glb")?;
+                    let glb = vbrain::gltf::glb(set, layout, section, vbrain::gltf::Encoding::Float);
+                    Ok((export::write_glb(&path, &glb.bytes)?, glb.bytes.len()))
+                }
+                ModelKind::Web => {
+                    let dir = PathBuf::from(typed.trim());
+                    anyhow::ensure!(!dir.as_os_str().is_empty(), "no folder name");
+                    let held = vbrain::atomic::folder_entries(&dir)?;
+                    anyhow::ensure!(
+                        held == 0,
+                        "{} already holds {held} files or folders; choose a new folder",
+                        dir.display()
+                    );
+                    let labels = self.labels();
+                    let view = vbrain::web_page::View {
+                        title: set.title.clone(),
+                        caption: String::new(),
+                        layout: layout.clone(),
+                        camera: self.viewport.camera(scene),
+                        highlight: self.highlight(),
+                        labels: (0..set.organs.len())
+                            .filter(|&o| labels.wants(o) && layout.organs[o].is_drawn())
+                            .collect(),
+                        selection: self.selected,
+                        section: Section::default(),
+                    };
+                    let page = vbrain::web_page::Page {
+                        set,
+                        title: set.title.clone(),
+                        layout: layout.clone(),
+                        section: section.clone(),
+                        views: vec![view],
+                        lesson: false,
+                    };
+                    let bytes = vbrain::web_page::write(&dir, &page)?;
+                    Ok((dir.join("index.html"), bytes))
+                }
+            }
         });
         let (message, saved) = match written {
             Ok((path, bytes)) => {
-                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                let folder = match kind {
+                    ModelKind::Gltf => path.parent(),
+                    ModelKind::Web => path.parent().and_then(Path::parent),
+                };
+                self.settings.export.folder = folder.map(Path::to_path_buf);
                 (format!("saved {} ({:.1} MB)", path.display(), bytes as f64 / 1e6), true)
             }
-            Err(e) => (format!("glTF model not saved: {e:#}"), false),
+            Err(e) => (format!("not saved: {e:#}"), false),
         };
-        self.dialogs.gltf.finished(message.clone(), saved);
+        self.dialogs.model(kind).finished(message.clone(), saved);
         self.notify(message, !saved);
     }
 

@@ -1,0 +1,39 @@
+//! The viewer's file windows, kept together: open a set or mesh files, import a label volume,
+//! export a screenshot, a glTF model or a web page.
+
+use super::action::ModelKind;
+use super::export::{ExportWindow, ModelWindow};
+use super::files::{ImportWindow, OpenWindow};
+
+/// The viewer's windows.
+pub struct Dialogs {
+    pub open_set: OpenWindow,
+    pub open_meshes: OpenWindow,
+    pub import: ImportWindow,
+    pub export: ExportWindow,
+    pub gltf: ModelWindow,
+    pub web: ModelWindow,
+}
+
+impl Default for Dialogs {
+    fn default() -> Dialogs {
+        Dialogs {
+            open_set: OpenWindow::default(),
+            open_meshes: OpenWindow::default(),
+            import: ImportWindow::default(),
+            export: ExportWindow::default(),
+            gltf: ModelWindow::new(ModelKind::Gltf),
+            web: ModelWindow::new(ModelKind::Web),
+        }
+    }
+}
+
+impl Dialogs {
+    /// The window of a model export.
+    pub fn model(&mut self, kind: ModelKind) -> &mut ModelWindow {
+        match kind {
+            ModelKind::Gltf => &mut self.gltf,
+            ModelKind::Web => &mut self.web,
+        }
+    }
+}
