@@ -170,7 +170,7 @@ pub fn group_masks(
                 let order = order(present);
                 let alphas: Vec<f32> = order.iter().map(|&o| opacity(o)).collect();
                 let seed = order.iter().fold(0x5eed_u64, |h, &o| h.wrapping_mul(0x100_0000_01b3) ^ o as u64);
-                let (masks, _) = generate(p.method, p.subsamples, &alphas, |j| (0..j.min(k)).collect(), seed);
+                let (masks, _) = generate(p.method, p.subsamples, &alphas, |_| Default::default(), seed);
                 gpu(&order, &masks)
             })
             .collect();

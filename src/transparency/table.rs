@@ -12,6 +12,10 @@
 //! Neighbourhood error compensation orders the splits so that the errors cancel inside the filled
 //! (and inside the empty) regions of the K highest-priority, i.e. nearest, objects: rows inside the
 //! filled regions of all K first, then of the first K-1, ..., then the same for the empty regions.
+//! With the priorities in depth order, each group of empty rows is what one earlier mask shows (its
+//! *owner*), so the new mask's rounding error stays within a sub-sample for each level. Masks made
+//! out of depth order ([`SplitOrder::Neighbours`]) get the same from the union of the nearer masks as
+//! the top priority, followed by the K nearest farther masks.
 //! Table order without compensation is the plain tabular mask; a random order is Mulder's pixel
 //! tree with the sequential error carry (its empty nodes, which hold no sub-sample, are not kept).
 
@@ -45,6 +49,12 @@ pub enum SplitOrder<'a> {
     /// `seed`: for masks after the K nearest, which all share those priorities and would otherwise
     /// split in one order, and so come out identical at equal opacities (and hide each other).
     Shuffled { priorities: &'a [usize], seed: u64 },
+    /// Compensation around the new mask's depth, for masks generated out of depth order: the
+    /// union of every earlier mask `nearer` than the new one counts as the highest priority (its
+    /// empty rows are what the new mask shows), then the earlier masks just `farther` than it,
+    /// nearest first (whose visible rows it covers). The rows each stacking level shows are then
+    /// split in one run, so every level's rounding error stays within a sub-sample per mask.
+    Neighbours { nearer: &'a [usize], farther: &'a [usize] },
     /// An explicit permutation of the rows (the pixel tree's random order).
     Given(&'a [usize]),
 }
@@ -127,12 +137,24 @@ impl MaskTable {
         };
         let rows = self.rows.len();
         self.order.clear();
+        self.priority.clear();
+        let order = match order {
+            SplitOrder::Neighbours { nearer, farther } => {
+                let union = nearer.iter().filter_map(|&i| self.masks.get(i)).fold(Mask::EMPTY, |u, m| u.union(m));
+                self.priority.push(union);
+                self.priority.extend(farther.iter().take(99).filter_map(|&i| self.masks.get(i).copied()));
+                SplitOrder::Neighbours { nearer, farther }
+            }
+            SplitOrder::Priorities(p) => {
+                self.priority.extend(p.iter().filter_map(|&i| self.masks.get(i).copied()));
+                SplitOrder::Priorities(p)
+            }
+            o => o,
+        };
         match order {
             SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
-            SplitOrder::Priorities(p) if !p.is_empty() => {
+            SplitOrder::Priorities(_) | SplitOrder::Neighbours { .. } if !self.priority.is_empty() => {
                 // A counting sort on the compensation rank keeps ties in table order.
-                self.priority.clear();
-                self.priority.extend(p.iter().filter_map(|&i| self.masks.get(i).copied()));
                 let ranks = 2 * (self.priority.len() + 1);
                 self.keys.clear();
                 let priority = &self.priority;
@@ -289,6 +311,42 @@ mod tests {
                     m.count()
                 );
                 assert!(t.rows().len() <= n);
+            }
+        }
+    }
+
+    #[test]
+    fn neighbours_keep_every_level_within_a_sub_sample_per_mask() {
+        // Masks made in random depth order: each new one must take round(alpha * count) of what
+        // each level shows, within one sub-sample, for its own level and every farther neighbour's.
+        let mut rng = crate::rng::XorShift::seeded(3);
+        for _ in 0..200 {
+            let n = [16, 64, 256][rng.below(3)];
+            let mut t = MaskTable::new(n);
+            let mut depths: Vec<f32> = Vec::new();
+            for _ in 0..10 {
+                let (alpha, depth) = (rng.unit(), rng.unit());
+                let mut farther: Vec<usize> = (0..depths.len()).filter(|&i| depths[i] > depth).collect();
+                farther.sort_by(|&a, &b| depths[a].total_cmp(&depths[b]));
+                let nearer: Vec<usize> = (0..depths.len()).filter(|&i| depths[i] <= depth).collect();
+                // What each level shows before the new mask: j's free sub-samples, then each farther one's.
+                let cover = |ids: &[usize]| ids.iter().fold(Mask::EMPTY, |u, &i| u.union(&t.masks()[i]));
+                let mut shows = vec![Mask::full(n).minus(&cover(&nearer))];
+                for (x, &f) in farther.iter().enumerate() {
+                    let front = cover(&nearer).union(&cover(&farther[..x]));
+                    shows.push(t.masks()[f].minus(&front));
+                }
+                let m = t.add(alpha, SplitOrder::Neighbours { nearer: &nearer, farther: &farther });
+                for (x, show) in shows.iter().enumerate() {
+                    let taken = show.count() - show.minus(&m).count();
+                    let want = f64::from(alpha) * show.count() as f64;
+                    assert!(
+                        (taken as f64 - want).abs() <= 1.0 + 1e-9,
+                        "level {x}: took {taken} of {}, alpha {alpha}",
+                        show.count()
+                    );
+                }
+                depths.push(depth);
             }
         }
     }

@@ -226,7 +226,7 @@ pub struct RenderArgs {
     /// Screen-door mask region side in pixels, 4..=256 [default: 32]
     #[arg(long, value_parser = region())]
     pub region: Option<u32>,
-    /// Nearest organs that the masks' error compensation favours, 1..=64 [default: 6]
+    /// Nearest organs whose depth order the masks' error compensation follows, 1..=64 [default: 8]
     #[arg(long, value_parser = k())]
     pub k: Option<usize>,
     /// Most layers `peel` and `dual-peel` peel, 1..=64 [default: 8]
@@ -324,8 +324,9 @@ pub struct MasksArgs {
     /// One opacity for every object, 0..=1 (default: random per object)
     #[arg(long, value_parser = values::unit)]
     pub alpha: Option<f32>,
-    /// Objects that neighbourhood error compensation favours, 1..=64
-    #[arg(long, default_value_t = 6, value_parser = k())]
+    /// Farther objects a new mask's error compensation weighs (the nearer ones all count, merged
+    /// into one), 1..=64
+    #[arg(long, default_value_t = vbrain::transparency::DEFAULT_K, value_parser = k())]
     pub k: usize,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
