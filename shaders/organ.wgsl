@@ -1,4 +1,5 @@
-// Organ shading: world-space vertices (model matrix applied here), headlight lighting.
+// Organ shading: world-space vertices (model matrix applied here), headlight lighting. Each vertex
+// carries its organ's index, which selects the organ's data; organs drawn by one call may differ.
 // Entry points: vs_main (all organ pipelines), fs_shade (opaque, blended and layer pipelines),
 // fs_peel (a layer of depth peeling), fs_dual_init and fs_dual_peel (dual depth peeling),
 // fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the "leaf pick"
@@ -31,11 +32,12 @@ struct Organ {
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
-@group(1) @binding(0) var<uniform> organ: Organ;
+@group(1) @binding(0) var<storage, read> organs: array<Organ>;
 
 struct VsIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) organ: u32,
 };
 
 struct VsOut {
@@ -43,12 +45,15 @@ struct VsOut {
     @location(0) world: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) instance: u32,
+    @location(3) @interpolate(flat) organ: u32,
 };
 
 @vertex
 fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
     var out: VsOut;
     out.instance = instance;
+    out.organ = in.organ;
+    let organ = organs[in.organ];
     let world = organ.model * vec4<f32>(in.position, 1.0);
     let clip = frame.view_proj * world;
     out.clip = vec4<f32>(clip.xy * frame.jitter.zw + frame.jitter.xy * clip.w, clip.zw);
@@ -62,7 +67,7 @@ const CAPPED: u32 = 2u;
 
 // Discards what the clip planes remove (organs they cut only).
 fn clip(in: VsOut) {
-    if (organ.id.y & CLIPPED) != 0u {
+    if (organs[in.organ].id.y & CLIPPED) != 0u {
         for (var k = 0; k < 4; k++) {
             if dot(frame.clip[k].xyz, in.world) > frame.clip[k].w {
                 discard;
@@ -74,6 +79,7 @@ fn clip(in: VsOut) {
 // The colour of a fragment: lit, or for a capped organ's face turned away (its inside, seen
 // through the cut) the flat colour of a cut face.
 fn surface(in: VsOut, front: bool) -> vec3<f32> {
+    let organ = organs[in.organ];
     if !front && (organ.id.y & CAPPED) != 0u {
         return organ.colour.rgb * 0.82;
     }
@@ -85,7 +91,7 @@ fn shade(in: VsOut) -> vec3<f32> {
     let n = normalize(in.normal);
     let v = normalize(frame.eye.xyz - in.world);
     let ndl = abs(dot(n, v));
-    let diffuse = organ.colour.rgb * (0.18 + 0.82 * ndl);
+    let diffuse = organs[in.organ].colour.rgb * (0.18 + 0.82 * ndl);
     let specular = vec3<f32>(0.18) * pow(ndl, 40.0);
     return diffuse + specular;
 }
@@ -93,7 +99,7 @@ fn shade(in: VsOut) -> vec3<f32> {
 @fragment
 fn fs_shade(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
     clip(in);
-    return vec4<f32>(surface(in, front), organ.colour.a);
+    return vec4<f32>(surface(in, front), organs[in.organ].colour.a);
 }
 
 // Screen-door masks of this frame: per screen region a configuration, per configuration and organ
@@ -126,7 +132,7 @@ fn fs_screendoor(in: VsOut, @builtin(front_facing) front: bool) -> Masked {
     let col = min(px.x / screendoor.region_px, screendoor.cols - 1u);
     let row = min(px.y / screendoor.region_px, screendoor.rows - 1u);
     let config = region_config[row * screendoor.cols + col];
-    let m = masks[config * screendoor.organs + organ.id.x - 1u];
+    let m = masks[config * screendoor.organs + in.organ];
     let word = select(m.x, m.y, screendoor.pass_index >= 8u);
     let bits = (word >> ((screendoor.pass_index % 8u) * 4u)) & 15u;
     if bits == 0u {
@@ -148,7 +154,7 @@ struct Weighted {
 @fragment
 fn fs_weighted(in: VsOut, @builtin(front_facing) front: bool) -> Weighted {
     clip(in);
-    let a = organ.colour.a;
+    let a = organs[in.organ].colour.a;
     let d = 1.0 - in.clip.z;
     let w = a * max(0.01, 3000.0 * d * d * d);
     var out: Weighted;
@@ -176,7 +182,7 @@ fn fs_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_index)
     if z <= textureLoad(peeled_depth, at, i32(s)) || z >= textureLoad(opaque_depth, at, i32(s)) {
         discard;
     }
-    let a = organ.colour.a;
+    let a = organs[in.organ].colour.a;
     var out: Peeled;
     out.colour = vec4<f32>(surface(in, front) * a, a);
     out.depth = z;
@@ -236,7 +242,7 @@ fn fs_dual_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_i
         out.far = vec4<f32>(z);
         return out;
     }
-    let c = vec4<f32>(surface(in, front), organ.colour.a);
+    let c = vec4<f32>(surface(in, front), organs[in.organ].colour.a);
     if z == near {
         let through = 1.0 - f.a;
         out.front = vec4<f32>(f.rgb + c.rgb * c.a * through, 1.0 - through * (1.0 - c.a));
@@ -249,13 +255,13 @@ fn fs_dual_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_i
 @fragment
 fn fs_pick(in: VsOut) -> @location(0) u32 {
     clip(in);
-    return organ.id.x;
+    return organs[in.organ].id.x;
 }
 
 @fragment
 fn fs_mask(in: VsOut) -> @location(0) vec4<f32> {
     clip(in);
-    return organ.colour;
+    return organs[in.organ].colour;
 }
 
 @fragment

@@ -51,12 +51,8 @@ impl Technique for Blend {
         }
         let colour = [&target.msaa_color, &target.color_view];
         let mut pass = scene.begin_organ_pass(encoder, colour, target, input.background, false);
-        for &i in &opaque {
-            scene.draw(&mut pass, &self.opaque, i, &scene.ranges(i, input.draw));
-        }
-        for &i in &translucent {
-            scene.draw(&mut pass, &self.translucent, i, &scene.ranges(i, input.draw));
-        }
+        scene.draw_many(&mut pass, &self.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+        scene.draw_many(&mut pass, &self.translucent, 0, translucent.iter().map(|&i| (i, scene.ranges(i, input.draw))));
         Ok(RenderStats { passes: 1, ..Default::default() })
     }
 }

@@ -87,9 +87,7 @@ impl Technique for Exact {
                     multiview_mask: None,
                 });
                 scene.set_frame(&mut pass, 0);
-                for &i in organs {
-                    scene.draw(&mut pass, &self.layer, i, &scene.ranges(i, input.draw));
-                }
+                scene.draw_many(&mut pass, &self.layer, 0, organs.iter().map(|&i| (i, scene.ranges(i, input.draw))));
             }
             queue.submit([encoder.finish()]);
             let c = read_texture(device, queue, &colour, 16, [0, 0], [w, h], wgpu::TextureAspect::All)?;

@@ -82,11 +82,12 @@ impl Ids {
             }
             IdKind::Leaves { set, first_id } => {
                 for (i, _) in organs.filter(|(_, s)| s.is_opaque()) {
-                    scene.bind_organ(&mut pass, &self.leaf, 0, i);
+                    let base = scene.bind_organ(&mut pass, &self.leaf, 0, i);
                     let bvh = &set.organs[i].bvh;
                     for l in 0..bvh.leaves.len() as u32 {
                         let id = first_id[i] + l + 1;
-                        pass.draw_indexed(bvh.leaf_range(l), 0, id..id + 1);
+                        let r = bvh.leaf_range(l);
+                        pass.draw_indexed(r.start + base..r.end + base, 0, id..id + 1);
                     }
                 }
             }

@@ -308,9 +308,7 @@ impl PeelFrame<'_> {
         let background = Some(super::pipelines::clear_colour(f.input.background));
         let mut p = pass(encoder, &[(&hdr.msaa, background)], None, Some((&f.target.msaa_depth, Some(1.0))), None);
         f.scene.set_frame(&mut p, 0);
-        for &i in opaque {
-            f.scene.draw(&mut p, pipelines, i, &f.scene.ranges(i, f.input.draw));
-        }
+        f.scene.draw_many(&mut p, pipelines, 0, opaque.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
     }
 
     /// Peels up to `layers` layers, front to back; returns the layers drawn.
@@ -336,9 +334,7 @@ impl PeelFrame<'_> {
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.peel_binds[prev], &[]);
                 p.begin_occlusion_query(0);
-                for &i in faded {
-                    f.scene.draw(&mut p, &pe.layer, i, &f.scene.ranges(i, f.input.draw));
-                }
+                f.scene.draw_many(&mut p, &pe.layer, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
                 p.end_occlusion_query();
             }
             {
@@ -381,9 +377,7 @@ impl PeelFrame<'_> {
             let mut p = pass(&mut encoder, &targets, None, depth, None);
             f.scene.set_frame(&mut p, 0);
             p.set_bind_group(2, &images.dual_binds[1], &[]);
-            for &i in faded {
-                f.scene.draw(&mut p, init, i, &f.scene.ranges(i, f.input.draw));
-            }
+            f.scene.draw_many(&mut p, init, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
         }
         let mut passes = 0;
         let mut front = 0;
@@ -401,9 +395,7 @@ impl PeelFrame<'_> {
                 let mut p = pass(&mut encoder, &targets, None, depth, None);
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.dual_binds[prev], &[]);
-                for &i in faded {
-                    f.scene.draw(&mut p, peel, i, &f.scene.ranges(i, f.input.draw));
-                }
+                f.scene.draw_many(&mut p, peel, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
             }
             {
                 let mut p = pass(&mut encoder, &[(&hdr.msaa, None)], None, None, Some(&query));

@@ -84,7 +84,7 @@ impl PipelineFactory<'_> {
         cull: Option<wgpu::Face>,
         bias: wgpu::DepthBiasState,
     ) -> wgpu::RenderPipeline {
-        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
         self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(spec.label),
             layout: Some(spec.layout),
@@ -93,7 +93,7 @@ impl PipelineFactory<'_> {
                 entry_point: Some("vs_main"),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
-                    array_stride: 24,
+                    array_stride: std::mem::size_of::<super::uniforms::Vertex>() as u64,
                     step_mode: wgpu::VertexStepMode::Vertex,
                     attributes: &vertex_attributes,
                 })],

@@ -1,9 +1,12 @@
-//! The set on the GPU: per-organ vertex and index buffers (organ space), the frame uniform's slots
-//! and the organ uniforms' sections, and the draw calls every technique shares.
+//! The set on the GPU: the organs' vertices (organ space, each with its organ's index) and indices
+//! merged into a few large buffers (batches), the frame uniform's slots, the organs' data in a
+//! storage buffer (one section per use), and the draw calls every technique shares. Organs next to
+//! each other in a batch are drawn by one call where their index ranges meet, so a frame's draw
+//! calls grow with the runs of organs drawn, not with the organs.
 
 use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
-use super::uniforms::{FrameUniform, OrganUniform, CAPPED, CLIPPED, FRAME_SLOTS, SLOT, UNMOVED};
+use super::uniforms::{FrameUniform, OrganUniform, Vertex, CAPPED, CLIPPED, FRAME_SLOTS, SLOT, UNMOVED};
 use super::FrameInput;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -18,9 +21,19 @@ use wgpu::util::DeviceExt;
 /// view.
 pub(super) const SECTIONS: u64 = 3;
 
-struct GpuMesh {
+/// Most bytes of one batch's vertex or index buffer (and at most the device's buffer size).
+const BATCH_BYTES: u64 = 128 << 20;
+
+struct Batch {
     vertices: wgpu::Buffer,
+    /// Indices into the batch's vertices (the organ's vertex offset added).
     indices: wgpu::Buffer,
+}
+
+struct GpuMesh {
+    batch: usize,
+    /// Where the organ's indices start in its batch's index buffer.
+    first_index: u32,
     index_count: u32,
     /// Organ-space centre, for back-to-front sorting of translucent organs.
     center: Vec3,
@@ -32,6 +45,9 @@ struct GpuMesh {
 
 pub(super) struct GpuScene {
     meshes: Vec<GpuMesh>,
+    batches: Vec<Batch>,
+    /// Bytes between sections of the organ storage buffer.
+    section_bytes: u64,
     frame_buffer: wgpu::Buffer,
     frame_bind: wgpu::BindGroup,
     organ_buffer: wgpu::Buffer,
@@ -62,55 +78,75 @@ impl GpuScene {
     /// Uploads the set's meshes and makes its uniform buffers.
     pub fn new(device: &wgpu::Device, set: &OrganSet) -> Result<GpuScene> {
         let max = device.limits().max_buffer_size;
+        let cap = max.min(BATCH_BYTES);
         let mut meshes = Vec::with_capacity(set.organs.len());
-        for o in &set.organs {
-            let vertices: Vec<[f32; 6]> = o
-                .mesh
-                .positions
-                .iter()
-                .zip(&o.mesh.normals)
-                .map(|(p, n)| [p[0], p[1], p[2], n[0], n[1], n[2]])
-                .collect();
-            let bytes = (vertices.len() * 24).max(o.mesh.indices.len() * 4) as u64;
+        let (mut batches, mut vertices, mut indices) = (Vec::new(), Vec::<Vertex>::new(), Vec::<u32>::new());
+        let flush = |vertices: &mut Vec<Vertex>, indices: &mut Vec<u32>, batches: &mut Vec<Batch>| {
+            let buffer = |contents: &[u8], usage| {
+                device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("organs"), contents, usage })
+            };
+            batches.push(Batch {
+                vertices: buffer(bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
+                indices: buffer(bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+            });
+            vertices.clear();
+            indices.clear();
+        };
+        let vertex_bytes = std::mem::size_of::<Vertex>() as u64;
+        for (i, o) in set.organs.iter().enumerate() {
+            let (nv, ni) = (o.mesh.positions.len() as u64, o.mesh.indices.len() as u64);
+            let bytes = (nv * vertex_bytes).max(ni * 4);
             if bytes > max {
                 return Err(Error::BufferTooLarge { organ: o.id.clone(), bytes, max });
             }
+            let full = (vertices.len() as u64 + nv) * vertex_bytes > cap || (indices.len() as u64 + ni) * 4 > cap;
+            if full && !vertices.is_empty() {
+                flush(&mut vertices, &mut indices, &mut batches);
+            }
+            let base = vertices.len() as u32;
+            let first_index = indices.len() as u32;
+            vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).map(|(p, n)| Vertex {
+                position: *p,
+                normal: *n,
+                organ: i as u32,
+            }));
+            indices.extend(o.mesh.indices.iter().map(|&v| v + base));
             meshes.push(GpuMesh {
-                vertices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&o.id),
-                    contents: bytemuck::cast_slice(&vertices),
-                    usage: wgpu::BufferUsages::VERTEX,
-                }),
-                indices: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some(&o.id),
-                    contents: bytemuck::cast_slice(&o.mesh.indices),
-                    usage: wgpu::BufferUsages::INDEX,
-                }),
-                index_count: o.mesh.indices.len() as u32,
+                batch: batches.len(),
+                first_index,
+                index_count: ni as u32,
                 center: o.mesh.bounds().center(),
                 closed: o.closed(),
                 bounds: o.mesh.bounds(),
             });
         }
-        let layout_of = |label| {
+        if !vertices.is_empty() || batches.is_empty() {
+            flush(&mut vertices, &mut indices, &mut batches);
+        }
+        let layout_of = |label, ty| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
                 label: Some(label),
-                entries: &[uniform_entry(wgpu::ShaderStages::VERTEX_FRAGMENT)],
+                entries: &[wgpu::BindGroupLayoutEntry {
+                    ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: true, min_binding_size: None },
+                    ..uniform_entry(wgpu::ShaderStages::VERTEX_FRAGMENT)
+                }],
             })
         };
-        let frame_layout = layout_of("frame");
-        let organ_layout = layout_of("organ");
-        let uniforms = |label, size| {
+        let frame_layout = layout_of("frame", wgpu::BufferBindingType::Uniform);
+        let organ_layout = layout_of("organ", wgpu::BufferBindingType::Storage { read_only: true });
+        let buffer = |label, size, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
                 size,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage: usage | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             })
         };
-        let frame_buffer = uniforms("frame uniforms", SLOT * FRAME_SLOTS);
-        // Sections of per-organ uniforms: 0 as shown, 1 and 2 for the culling debug view.
-        let organ_buffer = uniforms("organ uniforms", SLOT * SECTIONS * set.organs.len().max(1) as u64);
+        let frame_buffer = buffer("frame uniforms", SLOT * FRAME_SLOTS, wgpu::BufferUsages::UNIFORM);
+        // Sections of the organs' data: 0 as shown, 1 and 2 for the culling debug view.
+        let organ_bytes = std::mem::size_of::<OrganUniform>() as u64;
+        let section_bytes = (organ_bytes * set.organs.len().max(1) as u64).next_multiple_of(SLOT);
+        let organ_buffer = buffer("organs", section_bytes * SECTIONS, wgpu::BufferUsages::STORAGE);
         let bind = |layout: &wgpu::BindGroupLayout, buffer: &wgpu::Buffer, size: usize| {
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: None,
@@ -126,7 +162,7 @@ impl GpuScene {
             })
         };
         let frame_bind = bind(&frame_layout, &frame_buffer, std::mem::size_of::<FrameUniform>());
-        let organ_bind = bind(&organ_layout, &organ_buffer, std::mem::size_of::<OrganUniform>());
+        let organ_bind = bind(&organ_layout, &organ_buffer, section_bytes as usize);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("organ"),
             bind_group_layouts: &[Some(&frame_layout), Some(&organ_layout)],
@@ -135,6 +171,8 @@ impl GpuScene {
         let capped = std::sync::Mutex::new(vec![false; meshes.len()]);
         Ok(GpuScene {
             meshes,
+            batches,
+            section_bytes,
             frame_buffer,
             frame_bind,
             organ_buffer,
@@ -189,7 +227,7 @@ impl GpuScene {
         section: u64,
         colour: impl Fn(usize, &OrganState) -> [f32; 4],
     ) {
-        let mut data = vec![0u8; SLOT as usize * self.meshes.len()];
+        let mut data = Vec::with_capacity(self.meshes.len());
         let planes = &frame.clip[..frame.clip.len().min(crate::clip::MAX_PLANES)];
         let mut capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
         capped.iter_mut().for_each(|c| *c = false);
@@ -212,10 +250,9 @@ impl GpuScene {
                 colour: Vec4::from(colour(i, s)).to_array(),
                 id: [i as u32 + 1, flags, 0, 0],
             };
-            let at = i * SLOT as usize;
-            data[at..at + std::mem::size_of::<OrganUniform>()].copy_from_slice(bytemuck::bytes_of(&u));
+            data.push(u);
         }
-        queue.write_buffer(&self.organ_buffer, section * SLOT * self.meshes.len() as u64, &data);
+        queue.write_buffer(&self.organ_buffer, section * self.section_bytes, bytemuck::cast_slice(&data));
     }
 
     /// Index ranges of an organ to draw: the draw list's, or all of it.
@@ -236,7 +273,7 @@ impl GpuScene {
         self.draw_in(pass, pipelines, 0, organ, ranges);
     }
 
-    /// Draws with the organ uniforms of a section.
+    /// Draws with the organs' data of a section.
     pub fn draw_in(
         &self,
         pass: &mut wgpu::RenderPass,
@@ -245,31 +282,86 @@ impl GpuScene {
         organ: usize,
         ranges: &[Range<u32>],
     ) {
-        if ranges.is_empty() {
-            return;
-        }
-        self.bind_organ(pass, pipelines, section, organ);
-        for r in ranges {
-            pass.draw_indexed(r.clone(), 0, 0..1);
-        }
-        if self.capped.lock().is_ok_and(|c| c.get(organ).copied().unwrap_or(false)) {
-            // The faces turned away, seen through the cut: the solid cut face.
-            pass.set_pipeline(&pipelines.caps);
-            for r in ranges {
-                pass.draw_indexed(r.clone(), 0, 0..1);
-            }
-        }
+        self.draw_many(pass, pipelines, section, [(organ, Cow::Borrowed(ranges))]);
     }
 
-    /// Binds the pipeline of an organ's kind, its uniforms (of a section) and buffers, for draws
-    /// the caller makes.
-    pub fn bind_organ(&self, pass: &mut wgpu::RenderPass, pipelines: &OrganPipelines, section: u64, organ: usize) {
+    /// Draws organs in the order given, each its `ranges` (of its own indices), as shown in
+    /// `section`: ranges that meet in a batch, of organs of one kind, go in one draw call.
+    pub fn draw_many<'r>(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        pipelines: &OrganPipelines,
+        section: u64,
+        organs: impl IntoIterator<Item = (usize, Cow<'r, [Range<u32>]>)>,
+    ) {
+        pass.set_bind_group(1, &self.organ_bind, &[(section * self.section_bytes) as u32]);
+        let capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
+        let (mut batch, mut closed, mut run): (Option<usize>, Option<bool>, Option<Range<u32>>) = (None, None, None);
+        let flush = |pass: &mut wgpu::RenderPass, run: &mut Option<Range<u32>>| {
+            if let Some(r) = run.take() {
+                pass.draw_indexed(r, 0, 0..1);
+            }
+        };
+        for (organ, ranges) in organs {
+            let m = &self.meshes[organ];
+            if ranges.is_empty() {
+                continue;
+            }
+            if batch != Some(m.batch) {
+                flush(pass, &mut run);
+                let b = &self.batches[m.batch];
+                pass.set_vertex_buffer(0, b.vertices.slice(..));
+                pass.set_index_buffer(b.indices.slice(..), wgpu::IndexFormat::Uint32);
+                batch = Some(m.batch);
+            }
+            if closed != Some(m.closed) {
+                flush(pass, &mut run);
+                pass.set_pipeline(pipelines.get(m.closed));
+                closed = Some(m.closed);
+            }
+            let shifted = ranges.iter().map(|r| r.start + m.first_index..r.end + m.first_index);
+            if capped.get(organ).copied().unwrap_or(false) {
+                // The faces turned away, seen through the cut: the solid cut face.
+                flush(pass, &mut run);
+                for r in shifted.clone() {
+                    pass.draw_indexed(r, 0, 0..1);
+                }
+                pass.set_pipeline(&pipelines.caps);
+                for r in shifted {
+                    pass.draw_indexed(r, 0, 0..1);
+                }
+                closed = None;
+                continue;
+            }
+            for r in shifted {
+                match &mut run {
+                    Some(open) if open.end == r.start => open.end = r.end,
+                    _ => {
+                        flush(pass, &mut run);
+                        run = Some(r);
+                    }
+                }
+            }
+        }
+        flush(pass, &mut run);
+    }
+
+    /// Binds the pipeline of an organ's kind, the organs' data (of a section) and the organ's
+    /// batch, for draws the caller makes; returns the index offset to add to the organ's ranges.
+    pub fn bind_organ(
+        &self,
+        pass: &mut wgpu::RenderPass,
+        pipelines: &OrganPipelines,
+        section: u64,
+        organ: usize,
+    ) -> u32 {
         let m = &self.meshes[organ];
         pass.set_pipeline(pipelines.get(m.closed));
-        let slot = section * self.meshes.len() as u64 + organ as u64;
-        pass.set_bind_group(1, &self.organ_bind, &[(slot * SLOT) as u32]);
-        pass.set_vertex_buffer(0, m.vertices.slice(..));
-        pass.set_index_buffer(m.indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.set_bind_group(1, &self.organ_bind, &[(section * self.section_bytes) as u32]);
+        let b = &self.batches[m.batch];
+        pass.set_vertex_buffer(0, b.vertices.slice(..));
+        pass.set_index_buffer(b.indices.slice(..), wgpu::IndexFormat::Uint32);
+        m.first_index
     }
 
     /// Begins a pass drawing organs into a multisampled colour image (`colour[0]`, cleared to

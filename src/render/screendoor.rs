@@ -461,9 +461,7 @@ fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
     // In index order too (see `draw_passes`): exact depth ties between opaque organs.
     let (mut opaque, _) = input.split(scene.organ_count());
     opaque.sort_unstable();
-    for &i in &opaque {
-        scene.draw(&mut pass, &sd.opaque, i, &scene.ranges(i, input.draw));
-    }
+    scene.draw_many(&mut pass, &sd.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
 }
 
 /// Passes `passes` of the faded organs, in rounds of tiles, each round averaged into the
@@ -524,9 +522,7 @@ fn draw_passes(
                 pass.draw(0..3, 0..1);
                 scene.set_frame(&mut pass, 1 + p);
                 pass.set_bind_group(2, &pool.bind, &[(p * SLOT) as u32]);
-                for &i in &faded {
-                    scene.draw(&mut pass, &sd.masked, i, &scene.ranges(i, input.draw));
-                }
+                scene.draw_many(&mut pass, &sd.masked, 0, faded.iter().map(|&i| (i, scene.ranges(i, input.draw))));
             }
         }
         let g = GatherUniform {

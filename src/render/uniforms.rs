@@ -1,6 +1,7 @@
 //! The GPU structs shared with the WGSL shaders: `#[repr(C)]`, each named beside its WGSL struct in
 //! [`SHARED_STRUCTS`] so that a test compares their sizes with what naga reports. Buffers hold them
-//! in slots [`SLOT`] bytes apart, chosen by dynamic offsets: one per organ, or one per pass.
+//! in slots [`SLOT`] bytes apart, chosen by dynamic offsets (one per pass); the organs' data is an
+//! array in a storage buffer.
 
 /// Distance between slots of a uniform buffer (the largest alignment a device may require).
 pub(super) const SLOT: u64 = 256;
@@ -30,7 +31,17 @@ pub(super) struct FrameUniform {
 /// The frame's `jitter` that leaves the image where it is.
 pub(super) const UNMOVED: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
 
-/// `Organ` in shaders/organ.wgsl.
+/// A vertex as the organ pipelines read it (`VsIn` in shaders/organ.wgsl, locations 0-2):
+/// organ-space position and normal, and the organ's index.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub organ: u32,
+}
+
+/// `Organ` in shaders/organ.wgsl (an array of them in a storage buffer, one section per use).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct OrganUniform {

@@ -71,9 +71,7 @@ impl Technique for WeightedFrame<'_> {
         {
             // The opaque depth stays for the weighted pass to test against.
             let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
-            for &i in &opaque {
-                scene.draw(&mut pass, &wb.opaque, i, &scene.ranges(i, input.draw));
-            }
+            scene.draw_many(&mut pass, &wb.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
         }
         {
             let attachment = |view, resolve, clear_to: wgpu::Color| {
@@ -100,9 +98,7 @@ impl Technique for WeightedFrame<'_> {
                 multiview_mask: None,
             });
             scene.set_frame(&mut pass, 0);
-            for &i in &transparent {
-                scene.draw(&mut pass, &wb.sums, i, &scene.ranges(i, input.draw));
-            }
+            scene.draw_many(&mut pass, &wb.sums, 0, transparent.iter().map(|&i| (i, scene.ranges(i, input.draw))));
         }
         let images = self.composite.images(f.device, [&hdr.resolved, &hdr.accum, &hdr.reveal]);
         fullscreen_pass(encoder, &target.color_view, &wb.resolve, &images, false, 1.0);
