@@ -125,35 +125,30 @@ impl MaskTable {
     }
 
     /// Adds a mask of opacity `alpha` and returns it.
-    pub fn add(&mut self, alpha: f32, order: SplitOrder) -> Mask {
+    pub fn add<'a>(&mut self, alpha: f32, order: SplitOrder<'a>) -> Mask {
         let alpha = f64::from(alpha.clamp(0.0, 1.0));
-        // Ranks must fit the counting sort's byte keys.
-        let (order, seed) = match order {
-            SplitOrder::Priorities(p) if p.len() > 100 => (SplitOrder::Priorities(&p[..100]), None),
-            SplitOrder::Shuffled { priorities: p, seed } => {
-                (SplitOrder::Priorities(&p[..p.len().min(100)]), Some(seed))
-            }
-            o => (o, None),
-        };
         let rows = self.rows.len();
-        self.order.clear();
         self.priority.clear();
-        let order = match order {
+        let masks = &self.masks;
+        let pick = |ids: &'a [usize]| ids.iter().filter_map(move |&i| masks.get(i).copied());
+        match order {
+            SplitOrder::Priorities(p) | SplitOrder::Shuffled { priorities: p, .. } => self.priority.extend(pick(p)),
             SplitOrder::Neighbours { nearer, farther } => {
-                let union = nearer.iter().filter_map(|&i| self.masks.get(i)).fold(Mask::EMPTY, |u, m| u.union(m));
-                self.priority.push(union);
-                self.priority.extend(farther.iter().take(99).filter_map(|&i| self.masks.get(i).copied()));
-                SplitOrder::Neighbours { nearer, farther }
+                self.priority.push(pick(nearer).fold(Mask::EMPTY, |u, m| u.union(&m)));
+                self.priority.extend(pick(farther));
             }
-            SplitOrder::Priorities(p) => {
-                self.priority.extend(p.iter().filter_map(|&i| self.masks.get(i).copied()));
-                SplitOrder::Priorities(p)
-            }
-            o => o,
+            SplitOrder::Table | SplitOrder::Given(_) => {}
+        }
+        let seed = match order {
+            SplitOrder::Shuffled { seed, .. } => Some(seed),
+            _ => None,
         };
+        // Ranks must fit the counting sort's byte keys.
+        self.priority.truncate(100);
+        self.order.clear();
         match order {
             SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
-            SplitOrder::Priorities(_) | SplitOrder::Neighbours { .. } if !self.priority.is_empty() => {
+            _ if !self.priority.is_empty() => {
                 // A counting sort on the compensation rank keeps ties in table order.
                 let ranks = 2 * (self.priority.len() + 1);
                 self.keys.clear();
