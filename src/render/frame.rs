@@ -41,6 +41,8 @@ pub struct FrameInput<'a> {
     /// more screen-door pass to it; otherwise start it with the interactive count of passes.
     /// `false` draws the full count at once (exports, headless renders).
     pub refine: bool,
+    /// Measure the frame's GPU time ([`RenderStats::gpu_ms`]); waits for the GPU, so for benchmarks.
+    pub time_gpu: bool,
 }
 
 impl<'a> FrameInput<'a> {
@@ -61,6 +63,7 @@ impl<'a> FrameInput<'a> {
             caps: true,
             whole: &[],
             refine: false,
+            time_gpu: false,
         }
     }
 
@@ -133,6 +136,8 @@ pub struct RenderStats {
     /// converged; both 0 for the other techniques).
     pub subsamples_done: usize,
     pub subsamples_total: usize,
+    /// The frame's GPU time in milliseconds, when asked for and the adapter has timestamp queries.
+    pub gpu_ms: Option<f64>,
 }
 
 /// Everything a technique draws a frame with.

@@ -13,7 +13,8 @@
 //! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
 //! and selected organs, over the finished frame). `uniforms` holds the
 //! structs shared with WGSL, `pipelines` what the techniques build them with; [`guard`] turns GPU
-//! errors (out of memory above all) into errors and checks a target's size before it is made.
+//! errors (out of memory above all) into errors and checks a target's size before it is made;
+//! `timer` measures a frame's GPU time where the adapter has timestamp queries.
 
 mod blend;
 mod context;
@@ -30,6 +31,7 @@ mod scene;
 mod screendoor;
 mod target;
 mod tiles;
+mod timer;
 pub mod uniforms;
 mod weighted;
 
@@ -39,6 +41,7 @@ pub use outline::WIDTH as OUTLINE_WIDTH;
 pub use pipelines::SAMPLE_COUNT;
 pub use renderer::Renderer;
 pub use target::{Target, COLOR_FORMAT};
+pub use timer::FEATURES as GPU_TIMER_FEATURES;
 
 /// An sRGB colour component (0..1) to linear light.
 pub fn srgb_to_linear(c: f32) -> f32 {

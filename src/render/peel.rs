@@ -281,17 +281,9 @@ fn submit_counting(f: &Frame, mut encoder: wgpu::CommandEncoder, query: &wgpu::Q
     encoder.resolve_query_set(query, 0..1, &resolved, 0);
     encoder.copy_buffer_to_buffer(&resolved, 0, &read, 0, 8);
     f.queue.submit([encoder.finish()]);
-    let (tx, rx) = std::sync::mpsc::channel();
-    read.map_async(wgpu::MapMode::Read, .., move |r| {
-        let _ = tx.send(r);
-    });
-    device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::gpu("poll", e))?;
-    rx.recv().map_err(|e| Error::gpu("occlusion query", e))?.map_err(|e| Error::gpu("occlusion query", e))?;
-    let data = read.get_mapped_range(..).map_err(|e| Error::gpu("occlusion query", e))?;
-    let count = u64::from_le_bytes(data[..8].try_into().unwrap_or([0; 8]));
-    drop(data);
-    read.unmap();
-    Ok(count)
+    super::target::read_mapped(device, &read, "occlusion query", |data| {
+        u64::from_le_bytes(data[..8].try_into().unwrap_or([0; 8]))
+    })
 }
 
 /// Depth peeling or dual depth peeling, with the composite passes they need.

@@ -13,6 +13,7 @@ use super::pipelines::{module, Composite, PipelineFactory};
 use super::scene::GpuScene;
 use super::screendoor::{opaque_hdr, Screendoor, ScreendoorFrame};
 use super::target::Target;
+use super::timer::GpuTimer;
 use super::weighted::{Weighted, WeightedFrame};
 use crate::error::Result;
 use crate::organ_set::OrganSet;
@@ -29,6 +30,7 @@ pub struct Renderer {
     composite: Composite,
     ids: Ids,
     outline: Outline,
+    timer: Option<GpuTimer>,
 }
 
 impl Renderer {
@@ -49,7 +51,8 @@ impl Renderer {
         let exact = Exact::new(&factory, &scene.layout);
         let ids = Ids::new(&factory, &scene.layout);
         let outline = Outline::new(device, &factory, &scene.layout, &composite);
-        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, peel, exact, composite, ids, outline })
+        let timer = GpuTimer::new(device);
+        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, peel, exact, composite, ids, outline, timer })
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones
@@ -108,6 +111,10 @@ impl Renderer {
         input: &FrameInput,
     ) -> Result<RenderStats> {
         let mut stats = super::guard::guarded(device, "drawing the frame", || {
+            let timer = self.timer.as_ref().filter(|_| input.time_gpu);
+            if let Some(t) = timer {
+                t.start(device, queue);
+            }
             let mut encoder = device.create_command_encoder(&Default::default());
             let frame = Frame { device, queue, scene: &self.scene, input, target };
             let stats = technique.record(&frame, &mut encoder)?;
@@ -118,7 +125,8 @@ impl Renderer {
                 self.outline.record(device, queue, (&self.scene, &self.composite), (input, target), &mut encoder);
                 queue.submit([encoder.finish()]);
             }
-            Ok(stats)
+            let gpu_ms = timer.map(|t| t.stop(device, queue)).transpose()?;
+            Ok(RenderStats { gpu_ms, ..stats })
         })?;
         let states = &input.layout.organs;
         for i in (0..self.scene.organ_count().min(states.len())).filter(|&i| states[i].is_drawn()) {

@@ -221,17 +221,31 @@ pub(crate) fn read_texture(
         wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
     );
     queue.submit([encoder.finish()]);
+    read_mapped(device, &buffer, "read-back", |data| {
+        let mut out = Vec::with_capacity((row * h) as usize);
+        for r in 0..h as usize {
+            out.extend_from_slice(&data[r * padded as usize..r * padded as usize + row as usize]);
+        }
+        out
+    })
+}
+
+/// Maps a `MAP_READ` buffer whose copy has been submitted, waits for it, and hands its bytes to
+/// `read`; `what` names the read in errors.
+pub(super) fn read_mapped<T>(
+    device: &wgpu::Device,
+    buffer: &wgpu::Buffer,
+    what: &'static str,
+    read: impl FnOnce(&[u8]) -> T,
+) -> Result<T> {
     let (tx, rx) = std::sync::mpsc::channel();
     buffer.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);
     });
     device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::gpu("poll", e))?;
-    rx.recv().map_err(|e| Error::gpu("read-back", e))?.map_err(|e| Error::gpu("read-back", e))?;
-    let data = buffer.get_mapped_range(..).map_err(|e| Error::gpu("read-back", e))?;
-    let mut out = Vec::with_capacity((row * h) as usize);
-    for r in 0..h as usize {
-        out.extend_from_slice(&data[r * padded as usize..r * padded as usize + row as usize]);
-    }
+    rx.recv().map_err(|e| Error::gpu(what, e))?.map_err(|e| Error::gpu(what, e))?;
+    let data = buffer.get_mapped_range(..).map_err(|e| Error::gpu(what, e))?;
+    let out = read(&data);
     drop(data);
     buffer.unmap();
     Ok(out)

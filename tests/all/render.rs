@@ -8,6 +8,7 @@ use vbrain::camera::{Camera, View};
 use vbrain::layout::Layout;
 use vbrain::organ_set::OrganSet;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
 struct Shot {
     image: image::RgbaImage,
@@ -90,6 +91,33 @@ fn default_brain_hide_fade_pick_move() {
     let up = shoot(gpu, &renderer, set, &moved, View::Anterior, dark);
     let down = shoot(gpu, &renderer, set, &still, View::Anterior, dark);
     assert!(mean_row(&up.ids) + 10.0 < mean_row(&down.ids), "{} vs {}", mean_row(&up.ids), mean_row(&down.ids));
+}
+
+#[test]
+fn gpu_time_is_measured_when_asked_where_the_adapter_has_timestamps() {
+    let gpu = gpu();
+    let set = default_set();
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
+    let shown = layout.organs.iter().position(|s| s.is_drawn()).unwrap();
+    layout.organs[shown].opacity = 0.5;
+    let target = Target::new(&gpu.device, 64, 64).unwrap();
+    let camera = Camera::view(&layout.bounds(set), View::Left);
+    let timers = gpu.adapter.features().contains(vbrain::render::GPU_TIMER_FEATURES);
+    // Screen-door submits once; depth peeling submits a pass at a time, all inside the span.
+    for mode in [TransparencyMode::Screendoor, TransparencyMode::Peel] {
+        let transparency = TransparencySettings { mode, ..Default::default() };
+        let frame = FrameInput { transparency, ..FrameInput::new(set, &camera, &layout) };
+        assert!(frame.has_transparent());
+        let untimed = renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        assert_eq!(untimed.gpu_ms, None, "{mode:?}: not asked for");
+        let timed = FrameInput { time_gpu: true, ..frame };
+        let ms = renderer.render(&gpu.device, &gpu.queue, &target, &timed).unwrap().gpu_ms;
+        match ms {
+            Some(ms) => assert!(timers && ms.is_finite() && ms > 0.0, "{mode:?}: {ms} ms"),
+            None => assert!(!timers, "{mode:?}: the adapter has timestamp queries but no time came back"),
+        }
+    }
 }
 
 #[test]

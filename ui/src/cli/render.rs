@@ -125,6 +125,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         clip: &section.planes,
         caps: section.caps,
         whole: &section.whole,
+        time_gpu: args.json,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let stats = if args.debug_culled {
@@ -152,7 +153,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
             "cull": mode.name(), "culled_percent": cull.culled_percent(), "cull_ms": cull.cull_ms,
             "transparency": transparency.mode.name(), "passes": stats.passes, "mask_ms": stats.mask_ms,
-            "mask_configs": stats.mask_configs, "scene": args.save_scene,
+            "mask_configs": stats.mask_configs, "gpu_ms": stats.gpu_ms, "scene": args.save_scene,
             "adapter": gpu.adapter_description(), "seconds": started.elapsed().as_secs_f64(),
         });
         println!("{}", serde_json::to_string_pretty(&out)?);

@@ -1,6 +1,7 @@
 //! Behind `vbrain bench-transparency`: every transparency mode against the exact reference on
 //! views of the set with 1 to 99 transparent organs: mean absolute and 99th-percentile per-pixel
-//! error (8-bit sRGB units, the largest of the three channels) and frame time, all in one run;
+//! error (8-bit sRGB units, the largest of the three channels), frame time and, where the adapter
+//! has timestamp queries, GPU time, all in one run;
 //! per view the same view with nothing faded (`opaque_frame_ms`, the base of the cost ratios),
 //! screen-door's frame while moving (its interactive sub-samples), and an error-against-time curve
 //! (screen-door at 4..64 sub-samples, the peeling modes at 1..8 layers). CSV, a PNG plot and a
@@ -121,6 +122,16 @@ struct Row {
     mae: f64,
     p99: f64,
     frame_ms: f64,
+    /// Median GPU time of the timed frames, where the adapter has timestamp queries.
+    gpu_ms: Option<f64>,
+    passes: usize,
+}
+
+/// One shot of a view: its image, median wall-clock and GPU times, and passes.
+struct Shot {
+    image: image::RgbaImage,
+    frame_ms: f64,
+    gpu_ms: Option<f64>,
     passes: usize,
 }
 
@@ -135,6 +146,7 @@ struct CurvePoint {
 /// One view's figures besides the rows.
 struct ViewFigures {
     opaque_frame_ms: f64,
+    opaque_gpu_ms: Option<f64>,
     moving_frame_ms: f64,
     curve: Vec<CurvePoint>,
 }
@@ -201,13 +213,7 @@ struct Shooter<'a> {
 }
 
 impl Shooter<'_> {
-    fn shot(
-        &self,
-        camera: &Camera,
-        layout: &Layout,
-        transparency: TransparencySettings,
-        moving: bool,
-    ) -> Result<(image::RgbaImage, f64, usize)> {
+    fn shot(&self, camera: &Camera, layout: &Layout, transparency: TransparencySettings, moving: bool) -> Result<Shot> {
         let transparency = TransparencySettings { region_px: self.region_px, ..transparency };
         let frame = FrameInput {
             background: crate::BACKGROUND,
@@ -215,23 +221,29 @@ impl Shooter<'_> {
             moving,
             ..FrameInput::new(self.set, camera, layout)
         };
+        let timed = FrameInput { time_gpu: true, ..frame };
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
         let mut stats = self.renderer.render(device, queue, self.target, &frame)?;
         let mut image = self.target.read_color(device, queue)?;
         // The reference is not timed (slow by design).
         let runs = if transparency.mode == TransparencyMode::Exact { 0 } else { TIMED };
-        let mut times = Vec::with_capacity(runs);
+        let (mut times, mut gpu_times) = (Vec::with_capacity(runs), Vec::with_capacity(runs));
         for _ in 0..runs {
+            // Reading the GPU time waits for the frame, as reading its image does anyway.
             let started = Instant::now();
-            stats = self.renderer.render(device, queue, self.target, &frame)?;
+            stats = self.renderer.render(device, queue, self.target, &timed)?;
             image = self.target.read_color(device, queue)?;
             times.push(started.elapsed().as_secs_f64() * 1000.0);
+            gpu_times.extend(stats.gpu_ms);
         }
-        times.sort_by(f64::total_cmp);
-        Ok((image, times.get(times.len() / 2).copied().unwrap_or(0.0), stats.passes))
+        let median = |mut v: Vec<f64>| {
+            v.sort_by(f64::total_cmp);
+            v.get(v.len() / 2).copied()
+        };
+        Ok(Shot { image, frame_ms: median(times).unwrap_or(0.0), gpu_ms: median(gpu_times), passes: stats.passes })
     }
 
-    fn mode(&self, camera: &Camera, layout: &Layout, mode: TransparencyMode) -> Result<(image::RgbaImage, f64, usize)> {
+    fn mode(&self, camera: &Camera, layout: &Layout, mode: TransparencyMode) -> Result<Shot> {
         self.shot(camera, layout, TransparencySettings { mode, ..Default::default() }, false)
     }
 }
@@ -251,8 +263,8 @@ fn curve(s: &Shooter, camera: &Camera, layout: &Layout, exact: &image::RgbaImage
                 .collect()
         };
         for (setting, t) in settings {
-            let (image, frame_ms, _) = s.shot(camera, layout, t, false)?;
-            points.push(CurvePoint { mode, setting, mae: errors(&image, exact).0, frame_ms });
+            let shot = s.shot(camera, layout, t, false)?;
+            points.push(CurvePoint { mode, setting, mae: errors(&shot.image, exact).0, frame_ms: shot.frame_ms });
         }
     }
     Ok(points)
@@ -273,20 +285,25 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         let bounds = layout.bounds(set);
         let mut camera = Camera::orbit(&bounds, spec.orbit.0, spec.orbit.1).zoomed(spec.distance);
         camera.fit_depth(&bounds);
-        let (exact, ..) = shooter.mode(&camera, &layout, TransparencyMode::Exact)?;
+        let exact = shooter.mode(&camera, &layout, TransparencyMode::Exact)?.image;
         let mut opaque_layout = layout.clone();
         opaque_layout.organs.iter_mut().filter(|s| s.is_drawn()).for_each(|s| s.opacity = 1.0);
-        let (_, opaque_frame_ms, _) = shooter.mode(&camera, &opaque_layout, TransparencyMode::Screendoor)?;
+        let opaque = shooter.mode(&camera, &opaque_layout, TransparencyMode::Screendoor)?;
         let mut images = vec![exact.clone()];
         for mode in MODES {
-            let (image, frame_ms, passes) = shooter.mode(&camera, &layout, mode)?;
+            let Shot { image, frame_ms, gpu_ms, passes } = shooter.mode(&camera, &layout, mode)?;
             let (mae, p99) = errors(&image, &exact);
-            rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms, passes });
+            rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms, gpu_ms, passes });
             images.push(image);
         }
-        let (_, moving_frame_ms, _) = shooter.shot(&camera, &layout, TransparencySettings::default(), true)?;
+        let moving = shooter.shot(&camera, &layout, TransparencySettings::default(), true)?;
         let curve = curve(&shooter, &camera, &layout, &exact)?;
-        figures.push(ViewFigures { opaque_frame_ms, moving_frame_ms, curve });
+        figures.push(ViewFigures {
+            opaque_frame_ms: opaque.frame_ms,
+            opaque_gpu_ms: opaque.gpu_ms,
+            moving_frame_ms: moving.frame_ms,
+            curve,
+        });
         sheet_rows.push(images);
         bar.inc(1);
     }
@@ -294,10 +311,11 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     let regen = mask_regeneration(set, region_px)?;
     let csv = out.join("transparency.csv");
     vbrain::atomic::write(&csv, |w| {
-        writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms,passes")?;
+        writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms,passes,gpu_ms")?;
         for r in &rows {
             let (v, n, m) = (&r.view, r.transparent, r.mode.name());
-            writeln!(w, "{v},{n},{m},{:.4},{:.1},{:.2},{}", r.mae, r.p99, r.frame_ms, r.passes)?;
+            let gpu = r.gpu_ms.map(|g| format!("{g:.2}")).unwrap_or_default();
+            writeln!(w, "{v},{n},{m},{:.4},{:.1},{:.2},{},{gpu}", r.mae, r.p99, r.frame_ms, r.passes)?;
         }
         Ok(())
     })?;
@@ -318,8 +336,10 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                     .iter()
                     .filter(|r| r.view == spec.name)
                     .map(|r| {
+                        let gpu_over_opaque = r.gpu_ms.zip(fig.opaque_gpu_ms).map(|(g, o)| g / o);
                         let figures = json!({"mean_abs_error": r.mae, "p99_error": r.p99, "frame_ms": r.frame_ms,
-                            "passes": r.passes, "cost_over_opaque": r.frame_ms / fig.opaque_frame_ms});
+                            "passes": r.passes, "cost_over_opaque": r.frame_ms / fig.opaque_frame_ms,
+                            "gpu_ms": r.gpu_ms, "gpu_cost_over_opaque": gpu_over_opaque});
                         (r.mode.name().to_string(), figures)
                     })
                     .collect();
@@ -338,7 +358,8 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                     })
                     .collect();
                 json!({"view": spec.name, "transparent_organs": transparent, "opaque_frame_ms": fig.opaque_frame_ms,
-                    "screendoor_moving_frame_ms": fig.moving_frame_ms, "modes": modes, "curve": curve})
+                    "opaque_gpu_ms": fig.opaque_gpu_ms, "screendoor_moving_frame_ms": fig.moving_frame_ms,
+                    "modes": modes, "curve": curve})
             })
             .collect();
         let means: serde_json::Map<_, _> = MODES.iter().map(|&m| (m.name().to_string(), json!(mean(m)))).collect();

@@ -440,6 +440,9 @@ fn bench_transparency_compares_every_mode_with_exact() {
             "dual-peel",
         ] {
             assert!((0.0..255.0).contains(&error(mode)), "{mode}: {}", error(mode));
+            // GPU time where the adapter has timestamp queries (lavapipe does), else null.
+            let gpu_ms = &view["modes"][mode]["gpu_ms"];
+            assert!(gpu_ms.is_null() || gpu_ms.as_f64().is_some_and(|ms| ms > 0.0), "{mode}: gpu_ms {gpu_ms}");
         }
         // Screen-door is closer to the exact reference than blending without sorting or weighted
         // blending, in every view where faded organs overlap (about 1.2-2.4 against 4.9-17.5 at
