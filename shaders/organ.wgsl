@@ -50,6 +50,11 @@ struct VsOut {
 
 @vertex
 fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
+    return organ_vertex(in, instance);
+}
+
+// A vertex moved into world space and projected (vs_main; vs_clipped in organ_clip.wgsl).
+fn organ_vertex(in: VsIn, instance: u32) -> VsOut {
     var out: VsOut;
     out.instance = instance;
     out.organ = in.organ;
@@ -65,7 +70,8 @@ fn vs_main(in: VsIn, @builtin(instance_index) instance: u32) -> VsOut {
 const CLIPPED: u32 = 1u;
 const CAPPED: u32 = 2u;
 
-// Discards what the clip planes remove (organs they cut only).
+// Discards what the clip planes remove (organs they cut only). Where the device has clip distances
+// the vertex stage (vs_clipped) has cut the triangles at the planes already.
 fn clip(in: VsOut) {
     if (organs[in.organ].id.y & CLIPPED) != 0u {
         for (var k = 0; k < 4; k++) {

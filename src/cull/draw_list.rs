@@ -37,6 +37,8 @@ pub struct CullStats {
     pub occlusion_culled: usize,
     /// Culled as facing away (by normal cones), apart from occlusion.
     pub back_face_culled: usize,
+    /// Culled as removed by the clip planes.
+    pub clip_culled: usize,
     pub nodes_tested: usize,
     pub occluder_leaves: usize,
     /// Solids whose stand-ins were rasterised (their leaves are among the occluder leaves).
@@ -55,6 +57,7 @@ impl CullStats {
         self.frustum_culled += o.frustum_culled;
         self.occlusion_culled += o.occlusion_culled;
         self.back_face_culled += o.back_face_culled;
+        self.clip_culled += o.clip_culled;
         self.nodes_tested += o.nodes_tested;
     }
 

@@ -105,9 +105,10 @@ impl Culler {
 
     /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) do not
     /// occlude, nor are their back-facing runs culled while cut faces are drawn (the renderer draws
-    /// those runs again as the cut faces). What the planes remove is not culled: the shaders discard
-    /// it sample by sample, and a sample of a removed triangle seen at a grazing angle may pass
-    /// (its position is interpolated off the triangle), so culling it would change that sample.
+    /// those runs again as the cut faces). What the planes remove is culled only where the renderer
+    /// cuts triangles at the planes ([`Clip::exact`]): where the shaders discard removed samples
+    /// instead, a sample of a removed triangle seen at a grazing angle may pass (its position is
+    /// interpolated off the triangle), so culling it would change that sample.
     pub fn cull_clipped(
         &mut self,
         set: &OrganSet,
@@ -170,14 +171,20 @@ pub struct Clip<'a> {
     pub planes: &'a [crate::clip::ClipPlane],
     pub caps: bool,
     pub whole: &'a [usize],
+    /// The renderer cuts triangles at the planes before rasterising them
+    /// ([`crate::render::Renderer::cuts_geometry`]), so a triangle the planes remove draws no
+    /// sample, and the nodes they remove are culled. Without it the shaders discard removed samples
+    /// one by one, and what the planes remove is drawn.
+    pub exact: bool,
 }
 
 impl<'a> Clip<'a> {
-    pub const NONE: Clip<'static> = Clip { planes: &[], caps: false, whole: &[] };
+    pub const NONE: Clip<'static> = Clip { planes: &[], caps: false, whole: &[], exact: false };
 
-    /// The planes, cut faces and whole organs of a section.
-    pub fn of(section: &'a crate::clip::Section) -> Clip<'a> {
-        Clip { planes: &section.planes, caps: section.caps, whole: &section.whole }
+    /// The planes, cut faces and whole organs of a section, for a renderer that cuts triangles at
+    /// the planes (`exact`) or not.
+    pub fn of(section: &'a crate::clip::Section, exact: bool) -> Clip<'a> {
+        Clip { planes: &section.planes, caps: section.caps, whole: &section.whole, exact }
     }
 
     /// Whether the planes cut organ `o` (they may still miss it).
@@ -283,7 +290,9 @@ fn cull_in_phases<'a>(
             // The renderer draws a cut organ's back faces as its cut faces.
             let capped = clip.caps && !clear[o];
             let back_faces_culled = organ.closed() && !capped;
-            drawn.then(|| OrganView::new(&view_proj, &state.transform.matrix(), camera, witnesses, back_faces_culled))
+            let removing = if clip.exact && !clear[o] { clip.planes } else { &[] };
+            let model = state.transform.matrix();
+            drawn.then(|| OrganView::new(&view_proj, &model, camera, witnesses, back_faces_culled, removing))
         })
         .collect();
     // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their

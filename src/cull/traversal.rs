@@ -44,6 +44,10 @@ pub(super) struct OrganView<'a> {
     /// Whether the renderer culls its back faces in this frame (closed, not mirrored, no cut faces
     /// drawn): runs of triangles facing away are then culled by their normal cones.
     back_faces_culled: bool,
+    /// Clip planes that cut away what lies beyond them, in organ space (normal, offset with the
+    /// margin added): where the renderer cuts triangles at the planes, a box wholly beyond one is
+    /// culled.
+    removing: Vec<(Vec3, f32)>,
 }
 
 impl<'a> OrganView<'a> {
@@ -53,11 +57,30 @@ impl<'a> OrganView<'a> {
         camera: &Camera,
         witnesses: &'a Witnesses,
         back_faces_culled: bool,
+        removing: &[crate::clip::ClipPlane],
     ) -> OrganView<'a> {
         let mvp = *view_proj * *model;
         let eye = model.inverse().transform_point3(camera.eye);
         let back_faces_culled = back_faces_culled && model.determinant() > 0.0;
-        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled }
+        // World n.p > d is organ (A^T n).q > d - n.t for p = A q + t. The shaders apply the first
+        // MAX_PLANES planes only.
+        let (linear, shift) = (glam::Mat3::from_mat4(*model), model.w_axis.truncate());
+        let removing = removing
+            .iter()
+            .take(crate::clip::MAX_PLANES)
+            .map(|p| (linear.transpose() * p.normal(), p.d - p.normal().dot(shift) + crate::clip::SIDE_MARGIN_MM))
+            .collect();
+        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled, removing }
+    }
+
+    /// Whether the clip planes remove all of `bounds` (the renderer draws nothing of it).
+    pub fn removed(&self, bounds: &Bounds) -> bool {
+        self.removing.iter().any(|&(n, d)| bounds.corners().iter().all(|&c| n.dot(c) > d))
+    }
+
+    /// Whether a clip plane passes through `bounds`, so that its children may be removed.
+    fn cut(&self, bounds: &Bounds) -> bool {
+        self.removing.iter().any(|&(n, d)| bounds.corners().iter().any(|&c| n.dot(c) > d))
     }
 
     /// Whether a run of triangles in `bounds` with normals in `cone` faces away, so the renderer
@@ -118,6 +141,11 @@ pub(super) fn traverse_below(
             stop(true);
             continue;
         }
+        if view.removed(&node.bounds) {
+            stats.clip_culled += node.count as usize;
+            stop(true);
+            continue;
+        }
         if occ.is_some() && view.faces_away(&node.bounds, &node.cone) {
             stats.back_face_culled += node.count as usize;
             stop(true);
@@ -151,8 +179,9 @@ pub(super) fn traverse_below(
                 && !view.far_bound(&node.bounds, &node.slab, far, w, h).in_front(&o.maps.depth, w, rect);
         }
         let testing = test_children && occ.is_some();
-        if !testing && matches!(seen, ScreenBox::Rect { inside: true, .. }) {
-            // Wholly inside the frustum with nothing more to test: all of it, in one range.
+        if !testing && matches!(seen, ScreenBox::Rect { inside: true, .. }) && !view.cut(&node.bounds) {
+            // Wholly inside the frustum and the planes with nothing more to test: all of it, in one
+            // range.
             push_merged(list, 3 * node.first..3 * (node.first + node.count));
             stop(true);
             continue;
@@ -164,6 +193,11 @@ pub(super) fn traverse_below(
                 for p in organ.bvh.part_range(node.leaf) {
                     let part = &organ.bvh.parts[p];
                     stats.nodes_tested += 1;
+                    if view.removed(&part.bounds) {
+                        stats.clip_culled += part.count as usize;
+                        view.witnesses.set(p, None);
+                        continue;
+                    }
                     if view.faces_away(&part.bounds, &part.cone) {
                         stats.back_face_culled += part.count as usize;
                         view.witnesses.set(p, None);
@@ -208,6 +242,16 @@ pub(super) fn traverse_below(
                     }
                 }
                 stop(all_culled);
+            }
+            (true, _) if view.cut(&node.bounds) => {
+                // A plane passes through it: its parts the planes remove are left out.
+                for part in organ.bvh.part_range(node.leaf).map(|p| &organ.bvh.parts[p]) {
+                    match view.removed(&part.bounds) {
+                        true => stats.clip_culled += part.count as usize,
+                        false => push_merged(list, 3 * part.first..3 * (part.first + part.count)),
+                    }
+                }
+                stop(true);
             }
             (true, _) => {
                 push_merged(list, 3 * node.first..3 * (node.first + node.count));

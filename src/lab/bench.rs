@@ -168,7 +168,7 @@ pub fn run(
         // One frame: cull, draw, wait for the GPU.
         let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = route.camera(&home, i, frames);
-            let clip = crate::cull::Clip::of(section);
+            let clip = crate::cull::Clip::of(section, renderer.cuts_geometry());
             let (draw, stats) = culler.cull_clipped(set, layout, &camera, target.aspect(), &settings, clip);
             let input = cut_by(FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) }, section);
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;

@@ -41,9 +41,7 @@ impl GpuContext {
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("vbrain headless"),
             required_limits: limits,
-            // Dual depth peeling blends 32-bit floats, and benchmarks read GPU time, where the
-            // adapter can.
-            required_features: adapter.features() & (wgpu::Features::FLOAT32_BLENDABLE | super::timer::FEATURES),
+            required_features: adapter.features() & super::WANTED_FEATURES,
             ..Default::default()
         }))
         .map_err(|e| Error::Device { adapter: adapter.get_info().name, message: e.to_string() })?;

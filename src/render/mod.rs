@@ -43,6 +43,11 @@ pub use renderer::Renderer;
 pub use target::{Target, COLOR_FORMAT};
 pub use timer::FEATURES as GPU_TIMER_FEATURES;
 
+/// Device features the renderer uses where the adapter has them: 32-bit float blending (dual depth
+/// peeling), clip distances (triangles cut at the clip planes) and timestamp queries (GPU time).
+pub const WANTED_FEATURES: wgpu::Features =
+    wgpu::Features::FLOAT32_BLENDABLE.union(wgpu::Features::CLIP_DISTANCES).union(timer::FEATURES);
+
 /// An sRGB colour component (0..1) to linear light.
 pub fn srgb_to_linear(c: f32) -> f32 {
     if c <= 0.04045 {
@@ -69,6 +74,10 @@ pub struct Shader {
 
 /// Organ shading, picking, screen-door and weighted sums.
 pub const ORGAN_SHADER: Shader = Shader { name: "organ.wgsl", source: include_str!("../../shaders/organ.wgsl") };
+/// The vertex stage that cuts triangles at the clip planes, appended to [`ORGAN_SHADER`] where the
+/// device has clip distances ([`organ_source`]).
+pub const ORGAN_CLIP_SHADER: Shader =
+    Shader { name: "organ_clip.wgsl", source: include_str!("../../shaders/organ_clip.wgsl") };
 /// Full-screen passes: accumulation, presentation, the weighted resolve.
 pub const COMPOSITE_SHADER: Shader =
     Shader { name: "composite.wgsl", source: include_str!("../../shaders/composite.wgsl") };
@@ -78,4 +87,14 @@ pub const SCREENDOOR_SHADER: Shader =
 /// The depth-peeling modes' per-sample compositing.
 pub const PEEL_SHADER: Shader = Shader { name: "peel.wgsl", source: include_str!("../../shaders/peel.wgsl") };
 /// Every shader, for validation.
-pub const SHADERS: [&Shader; 4] = [&ORGAN_SHADER, &COMPOSITE_SHADER, &SCREENDOOR_SHADER, &PEEL_SHADER];
+pub const SHADERS: [&Shader; 5] =
+    [&ORGAN_SHADER, &ORGAN_CLIP_SHADER, &COMPOSITE_SHADER, &SCREENDOOR_SHADER, &PEEL_SHADER];
+
+/// The organ pipelines' WGSL: organ.wgsl, and where the device has clip distances, organ_clip.wgsl
+/// after it (`vs_clipped`).
+pub fn organ_source(clip_distances: bool) -> String {
+    match clip_distances {
+        true => format!("enable clip_distances;\n{}\n{}", ORGAN_SHADER.source, ORGAN_CLIP_SHADER.source),
+        false => ORGAN_SHADER.source.to_string(),
+    }
+}

@@ -67,6 +67,26 @@ const CAP_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: -4, slop
 pub(super) struct PipelineFactory<'a> {
     pub device: &'a wgpu::Device,
     pub shader: wgpu::ShaderModule,
+    /// The vertex entry point of every organ pipeline: `vs_clipped` where the device has clip
+    /// distances (triangles cut at the clip planes), else `vs_main`.
+    pub vertex: &'static str,
+}
+
+impl<'a> PipelineFactory<'a> {
+    /// The organ shader for `device`, with clip distances where it has them.
+    pub fn new(device: &'a wgpu::Device) -> PipelineFactory<'a> {
+        let clip_distances = device.features().contains(wgpu::Features::CLIP_DISTANCES);
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(super::ORGAN_SHADER.name),
+            source: wgpu::ShaderSource::Wgsl(super::organ_source(clip_distances).into()),
+        });
+        PipelineFactory { device, shader, vertex: if clip_distances { "vs_clipped" } else { "vs_main" } }
+    }
+
+    /// Whether the organ pipelines cut triangles at the clip planes (see [`Self::vertex`]).
+    pub fn cuts_geometry(&self) -> bool {
+        self.vertex == "vs_clipped"
+    }
 }
 
 impl PipelineFactory<'_> {
@@ -90,7 +110,7 @@ impl PipelineFactory<'_> {
             layout: Some(spec.layout),
             vertex: wgpu::VertexState {
                 module: &self.shader,
-                entry_point: Some("vs_main"),
+                entry_point: Some(self.vertex),
                 compilation_options: Default::default(),
                 buffers: &[Some(wgpu::VertexBufferLayout {
                     array_stride: std::mem::size_of::<super::uniforms::Vertex>() as u64,

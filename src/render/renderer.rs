@@ -9,7 +9,7 @@ use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::ids::{IdKind, Ids};
 use super::outline::Outline;
 use super::peel::{Peel, PeelFrame};
-use super::pipelines::{module, Composite, PipelineFactory};
+use super::pipelines::{Composite, PipelineFactory};
 use super::scene::GpuScene;
 use super::screendoor::{opaque_hdr, Screendoor, ScreendoorFrame};
 use super::target::Target;
@@ -31,6 +31,8 @@ pub struct Renderer {
     ids: Ids,
     outline: Outline,
     timer: Option<GpuTimer>,
+    /// The organ pipelines cut triangles at the clip planes (clip distances).
+    cuts_geometry: bool,
 }
 
 impl Renderer {
@@ -41,7 +43,7 @@ impl Renderer {
 
     fn make(device: &wgpu::Device, set: &OrganSet) -> Result<Renderer> {
         let scene = GpuScene::new(device, set)?;
-        let factory = PipelineFactory { device, shader: module(device, &super::ORGAN_SHADER) };
+        let factory = PipelineFactory::new(device);
         let composite = Composite::new(device);
         let [sorted, unsorted] = Blend::new(&factory, &scene.layout);
         let hdr = opaque_hdr(&factory, &scene.layout);
@@ -52,7 +54,28 @@ impl Renderer {
         let ids = Ids::new(&factory, &scene.layout);
         let outline = Outline::new(device, &factory, &scene.layout, &composite);
         let timer = GpuTimer::new(device);
-        Ok(Renderer { scene, sorted, unsorted, screendoor, weighted, peel, exact, composite, ids, outline, timer })
+        let cuts_geometry = factory.cuts_geometry();
+        Ok(Renderer {
+            scene,
+            sorted,
+            unsorted,
+            screendoor,
+            weighted,
+            peel,
+            exact,
+            composite,
+            ids,
+            outline,
+            timer,
+            cuts_geometry,
+        })
+    }
+
+    /// Whether triangles are cut at the clip planes before they are rasterised (the device has clip
+    /// distances), so that what the planes remove draws no sample and culling may leave it out
+    /// ([`crate::cull::Clip::exact`]).
+    pub fn cuts_geometry(&self) -> bool {
+        self.cuts_geometry
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones

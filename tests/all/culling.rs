@@ -122,14 +122,15 @@ const RASTER_CRACKS: usize = 1;
 
 /// Renders every pose with culling off and on and checks the images are identical (but for
 /// [`RASTER_CRACKS`]); three poses in four are cut by random clip planes (mostly with solid cut
-/// faces, now and then with an organ kept whole). Returns the share of triangles occlusion culling removed in the
+/// faces, now and then with an organ kept whole), and what they remove is culled where the
+/// renderer cuts triangles at the planes. Returns the share of triangles occlusion culling removed in the
 /// poses without planes.
 fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, seed: u64, skull_opaque: bool) -> f64 {
     let gpu = gpu();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
     let target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(XorShift(seed));
-    let (mut culled, mut total, mut cracks) = (0usize, 0usize, 0usize);
+    let (mut culled, mut total, mut cracks, mut removed) = (0usize, 0usize, 0usize, 0usize);
     let mut culler = Culler::new(database);
     for pose in 0..poses {
         // Every fifth pose keeps the set's own layout, for which its occluder database was made.
@@ -143,7 +144,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
         } else {
             vec![]
         };
-        let clip = Clip { planes: &planes, caps, whole: &whole };
+        let clip = Clip { planes: &planes, caps, whole: &whole, exact: renderer.cuts_geometry() };
         let settings = CullSettings {
             width: 64 + (pose % 3) * 32,
             height: 64 + (pose % 2) * 64,
@@ -157,6 +158,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
                 CullMode::Occlusion => culler.cull_clipped(set, &layout, &camera, target.aspect(), &settings, clip),
                 _ => Culler::default().cull(set, &layout, &camera, target.aspect(), &settings),
             };
+            removed += stats.clip_culled;
             if mode == CullMode::Occlusion && planes.is_empty() {
                 culled += stats.occlusion_culled;
                 total += stats.triangles;
@@ -201,6 +203,8 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
             );
         }
     }
+    // Where the renderer cuts triangles at the planes, what they remove was culled in the cut poses.
+    assert!(!renderer.cuts_geometry() || removed > 0, "nothing the planes remove was culled");
     culled as f64 / total.max(1) as f64
 }
 

@@ -1,11 +1,17 @@
-//! Every WGSL file in shaders/ parses and validates with naga, so a broken shader fails without a GPU;
+//! Every WGSL file in shaders/ parses and validates with naga (organ_clip.wgsl appended to
+//! organ.wgsl, as the renderer compiles it), so a broken shader fails without a GPU;
 //! the renderer embeds exactly those files, and every struct it shares with WGSL has the size naga
 //! gives the WGSL struct.
 
 use std::path::Path;
 
+/// A shader's WGSL as the renderer compiles it: organ_clip.wgsl only after organ.wgsl.
 fn parse(path: &Path) -> (String, naga::Module) {
-    let src = std::fs::read_to_string(path).unwrap();
+    let clip = vbrain::render::ORGAN_CLIP_SHADER.name;
+    let src = match path.file_name() {
+        Some(name) if name == clip => vbrain::render::organ_source(true),
+        _ => std::fs::read_to_string(path).unwrap(),
+    };
     let module =
         naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}: {}", path.display(), e.emit_to_string(&src)));
     (src, module)

@@ -33,7 +33,7 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
         let view = step.view(&set);
         let camera = view.navigator.camera(&view.layout.bounds(&set).union(home));
         let section = &view.section;
-        let clip = vbrain::cull::Clip::of(section);
+        let clip = vbrain::cull::Clip::of(section, renderer.cuts_geometry());
         let settings = CullSettings::default();
         let (draw, _) = culler.cull_clipped(&set, &view.layout, &camera, target.aspect(), &settings, clip);
         let frame = FrameInput {

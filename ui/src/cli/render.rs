@@ -111,7 +111,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let clip = vbrain::cull::Clip { planes: &section.planes, caps: section.caps, whole: &section.whole };
+    let clip = vbrain::cull::Clip::of(&section, renderer.cuts_geometry());
     let mut culler = Culler::new(database(&path, &set));
     let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));

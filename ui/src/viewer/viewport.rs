@@ -436,7 +436,7 @@ impl Viewport {
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
         let section = input.section;
-        let clip = vbrain::cull::Clip::of(section);
+        let clip = vbrain::cull::Clip::of(section, scene.renderer().cuts_geometry());
         let (draw, cull) =
             self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
         let frame = FrameInput {

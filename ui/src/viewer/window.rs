@@ -27,14 +27,14 @@ pub fn native_options() -> eframe::NativeOptions {
     }
 }
 
-/// The viewer's GPU device: egui's defaults, and 32-bit float blending where the adapter has it,
-/// as the headless renderer asks (dual depth peeling needs it).
+/// The viewer's GPU device: egui's defaults, and the features the headless renderer asks for where
+/// the adapter has them (float blending for dual depth peeling, clip distances for cut sections).
 fn wgpu_options() -> egui_wgpu::WgpuConfiguration {
     let mut setup = egui_wgpu::WgpuSetupCreateNew::without_display_handle();
     let defaults = setup.device_descriptor.clone();
     setup.device_descriptor = Arc::new(move |adapter| {
         let mut descriptor = defaults(adapter);
-        descriptor.required_features |= adapter.features() & wgpu::Features::FLOAT32_BLENDABLE;
+        descriptor.required_features |= adapter.features() & vbrain::render::WANTED_FEATURES;
         descriptor
     });
     egui_wgpu::WgpuConfiguration { wgpu_setup: egui_wgpu::WgpuSetup::CreateNew(setup), ..Default::default() }
@@ -69,15 +69,16 @@ mod tests {
     }
 
     #[test]
-    fn the_device_blends_floats_where_the_adapter_can() {
+    fn the_device_has_the_renderers_features_where_the_adapter_can() {
         let egui_wgpu::WgpuSetup::CreateNew(setup) = native_options().wgpu_options.wgpu_setup else {
             panic!("the viewer makes its own device");
         };
         // The adapter the headless renderer opens (it fails saying what to install where none is).
         let gpu = vbrain::render::GpuContext::headless().unwrap();
         let wanted = (setup.device_descriptor)(&gpu.adapter).required_features;
-        let can = gpu.adapter.features().contains(wgpu::Features::FLOAT32_BLENDABLE);
-        assert_eq!(wanted.contains(wgpu::Features::FLOAT32_BLENDABLE), can);
-        assert!(can, "lavapipe and desktop GPUs blend 32-bit floats");
+        let can = gpu.adapter.features() & vbrain::render::WANTED_FEATURES;
+        assert_eq!(wanted & vbrain::render::WANTED_FEATURES, can);
+        let usual = wgpu::Features::FLOAT32_BLENDABLE | wgpu::Features::CLIP_DISTANCES;
+        assert!(can.contains(usual), "lavapipe and desktop GPUs blend 32-bit floats and have clip distances");
     }
 }
