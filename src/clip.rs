@@ -136,6 +136,17 @@ pub fn side_within(planes: &[ClipPlane], b: &Bounds, margin: f32) -> Side {
     }
 }
 
+/// A plane in a model's space: normal and offset, removing `n . q > d`.
+pub type ModelPlane = (Vec3, f32);
+
+/// The planes the shaders apply (the first [`MAX_PLANES`]) in the space of `model`'s input, as
+/// (normal, offset): world n.p > d is (A^T n).q > d - n.t for p = A q + t, and the difference
+/// (A^T n).q - (d - n.t) is the world distance n.p - d, so margins stay in millimetres.
+pub fn in_model_space(planes: &[ClipPlane], model: &glam::Mat4) -> Vec<ModelPlane> {
+    let (linear, shift) = (glam::Mat3::from_mat4(*model), model.w_axis.truncate());
+    planes.iter().take(MAX_PLANES).map(|p| (linear.transpose() * p.normal(), p.d - p.normal().dot(shift))).collect()
+}
+
 /// The planes for the shaders: the first [`MAX_PLANES`], the rest removing nothing.
 pub fn uniform(planes: &[ClipPlane]) -> [[f32; 4]; MAX_PLANES] {
     let mut out = [[0.0, 0.0, 0.0, f32::MAX]; MAX_PLANES];

@@ -252,21 +252,34 @@ fn cull_in_phases<'a>(
         .enumerate()
         .map(|(o, (organ, state))| !clip.applies_to(o) || clear_of_planes(organ, state, camera, clip))
         .collect();
-    let occluding: Vec<bool> = layout.organs.iter().zip(&clear).map(|(s, &c)| s.is_opaque() && c).collect();
+    let whole: Vec<bool> = layout.organs.iter().zip(&clear).map(|(s, &c)| s.is_opaque() && c).collect();
+    // Where the renderer cuts triangles at the planes, an organ they cut occludes too, with the
+    // triangles of its own mesh they keep wholly (never a stand-in: through the cut, what hides
+    // the inside is the cut face, drawn from the back faces beyond it).
+    let cut: Vec<bool> = clear.iter().map(|&c| clip.exact && !c).collect();
+    let occluding: Vec<bool> =
+        layout.organs.iter().zip(&cut).zip(&whole).map(|((s, &c), &w)| w || (c && s.is_opaque())).collect();
+    let keep: Vec<Vec<crate::clip::ModelPlane>> = layout
+        .organs
+        .iter()
+        .zip(&cut)
+        .map(|(s, &c)| if c { crate::clip::in_model_space(clip.planes, &s.transform.matrix()) } else { Vec::new() })
+        .collect();
     let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
     let occ = (settings.mode == CullMode::Occlusion).then(|| {
         let list = match given {
             Given::Occluders(list) => list.to_vec(),
             Given::Database(database) => {
-                let (list, source) = choose_occluders(set, layout, camera, &view_proj, settings, database, &occluding);
+                let (list, source) =
+                    choose_occluders(set, layout, camera, &view_proj, settings, database, (&occluding, &cut));
                 stats.source = Some(source);
                 list
             }
         };
-        let solids = selection::solids(set, layout, &view_proj, &occluding);
+        let solids = selection::solids(set, layout, &view_proj, &whole);
         stats.solids = solids.len();
-        let mut o = rasterise_occluders(set, layout, &view_proj, &solids, &list, w, h, &phases.raster);
+        let mut o = rasterise_occluders(set, layout, &view_proj, (&solids, &list, &keep), w, h, &phases.raster);
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =
                 o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();

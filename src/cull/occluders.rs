@@ -12,6 +12,7 @@ use super::selection::LeafRef;
 use super::share::Phase;
 use super::sparse_depth::SparseDepth;
 use crate::bvh::{Bvh, Part, NONE, PART_TRIANGLES};
+use crate::clip::ModelPlane;
 use crate::layout::Layout;
 use crate::mesh::Mesh;
 use crate::organ_set::{Organ, OrganSet};
@@ -197,14 +198,13 @@ impl Occluders {
 
 /// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
 /// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
-/// structures.
-#[allow(clippy::too_many_arguments)]
+/// structures. An organ with planes in `keep` (organ space, see [`crate::clip::in_model_space`])
+/// gives only its own triangles that those planes keep wholly.
 pub(super) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
-    solids: &[usize],
-    list: &[LeafRef],
+    (solids, list, keep): (&[usize], &[LeafRef], &[Vec<ModelPlane>]),
     w: usize,
     h: usize,
     phase: &Phase<Patches>,
@@ -222,17 +222,19 @@ pub(super) fn rasterise_occluders(
         let mvp = *view_proj * layout.organs[first].transform.matrix();
         let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
         leaves += all.len();
-        triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, &all, &mvp, w, h, STAND_IN_DEPTH_BIAS);
+        triangles += rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, w, h, STAND_IN_DEPTH_BIAS, &[]);
     }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
+        let planes = keep.get(o).map_or(&[][..], Vec::as_slice);
         if !own.is_empty() {
-            triangles += rasterise_organ(&mut raster, &organ.mesh, &organ.bvh, own, &mvp, w, h, 0.0);
+            triangles += rasterise_organ(&mut raster, (&organ.mesh, &organ.bvh, own), &mvp, w, h, 0.0, planes);
         }
-        if let (Some(s), false) = (&organ.stand_in, stand_in.is_empty()) {
+        if let (Some(s), false, true) = (&organ.stand_in, stand_in.is_empty(), planes.is_empty()) {
             // Pushed back a little: a stand-in on the surface must not hide the surface itself.
-            triangles += rasterise_organ(&mut raster, &s.mesh, &s.bvh, stand_in, &mvp, w, h, STAND_IN_DEPTH_BIAS);
+            triangles +=
+                rasterise_organ(&mut raster, (&s.mesh, &s.bvh, stand_in), &mvp, w, h, STAND_IN_DEPTH_BIAS, &[]);
         }
     }
     let maps = raster.finish_on(phase);
@@ -252,18 +254,23 @@ const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
 const FACING_MARGIN_NDC: f32 = 1e-4;
 
 /// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
-/// its neighbours among them, pushed back by `bias` in NDC depth; returns how many.
-#[allow(clippy::too_many_arguments)]
+/// its neighbours among them, pushed back by `bias` in NDC depth; with clip planes in `keep`
+/// (organ space), only the triangles they keep wholly. Returns how many.
 fn rasterise_organ(
     raster: &mut OccluderRaster,
-    mesh: &Mesh,
-    bvh: &Bvh,
-    leaves: &[u32],
+    (mesh, bvh, leaves): (&Mesh, &Bvh, &[u32]),
     mvp: &Mat4,
     w: usize,
     h: usize,
     bias: f32,
+    keep: &[ModelPlane],
 ) -> usize {
+    let m = crate::clip::SIDE_MARGIN_MM;
+    let kept = |t: u32| {
+        let corner = |k: usize| Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
+        let [a, b, c] = [corner(0), corner(1), corner(2)];
+        keep.iter().all(|&(n, d)| n.dot(a) < d - m && n.dot(b) < d - m && n.dot(c) < d - m)
+    };
     // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in `slot`
     // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
     // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
@@ -277,7 +284,7 @@ fn rasterise_organ(
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
-            let tri = projected.triangle(mesh, t).filter(|[a, b, c]| {
+            let tri = projected.triangle(mesh, t).filter(|_| kept(t)).filter(|[a, b, c]| {
                 // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area; wider
                 // than the margin across its longest edge.
                 let twice_area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);

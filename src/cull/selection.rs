@@ -78,7 +78,7 @@ pub fn by_projected_size(
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
-    occluding: &[bool],
+    (occluding, cut): (&[bool], &[bool]),
 ) -> Vec<LeafRef> {
     let (w, h) = (settings.width, settings.height);
     let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
@@ -102,7 +102,8 @@ pub fn by_projected_size(
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
         let mvp = *view_proj * model;
-        let stand_in = organ.stand_in.as_ref().filter(|_| wholly_ahead(&mvp, &organ.bvh.nodes[0].bounds));
+        let whole = !cut.get(o).copied().unwrap_or(false);
+        let stand_in = organ.stand_in.as_ref().filter(|_| whole && wholly_ahead(&mvp, &organ.bvh.nodes[0].bounds));
         let bvh = stand_in.map_or(&organ.bvh, |s| &s.bvh);
         // Its leaves on screen, nearest first: the near side of a shell before its far wall.
         let mut near: Vec<(f32, u32)> = Vec::new();
@@ -153,8 +154,8 @@ pub fn opaque(layout: &Layout) -> Vec<bool> {
     layout.organs.iter().map(|s| s.is_opaque()).collect()
 }
 
-/// The occluders of this frame among the organs marked `occluding` (opaque and visible, and not
-/// cut by a clip plane): the pre-computed set of the nearest viewpoint where `settings.selection`
+/// The occluders of this frame among the organs marked `occluding` (opaque and visible), those
+/// marked `cut` (by clip planes) with their own leaves only, never a stand-in's: the pre-computed set of the nearest viewpoint where `settings.selection`
 /// allows it (automatic: the layout is the pre-processed one and the camera is near a viewpoint),
 /// else projected size. Other or unknown organs never occlude, whatever the database says.
 pub fn choose_occluders(
@@ -164,7 +165,7 @@ pub fn choose_occluders(
     view_proj: &Mat4,
     settings: &CullSettings,
     database: Option<&Database>,
-    occluding: &[bool],
+    (occluding, cut): (&[bool], &[bool]),
 ) -> (Vec<LeafRef>, OccluderSource) {
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
@@ -172,12 +173,13 @@ pub fn choose_occluders(
         Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
     });
     if let Some(viewpoint) = viewpoint {
-        let valid = |r: &&LeafRef| r.exists_in(set) && occluding.get(r.organ as usize).copied().unwrap_or(false);
+        let flag = |flags: &[bool], r: &LeafRef| flags.get(r.organ as usize).copied().unwrap_or(false);
+        let valid = |r: &&LeafRef| r.exists_in(set) && flag(occluding, r) && !(r.stand_in && flag(cut, r));
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
         return (list, OccluderSource::Mos);
     }
-    (by_projected_size(set, layout, camera, view_proj, settings, occluding), OccluderSource::ProjectedSize)
+    (by_projected_size(set, layout, camera, view_proj, settings, (occluding, cut)), OccluderSource::ProjectedSize)
 }
 
 /// The solids ([`crate::organ_set::Solid`]) whose stand-ins may occlude this frame: with a

@@ -44,10 +44,10 @@ pub(super) struct OrganView<'a> {
     /// Whether the renderer culls its back faces in this frame (closed, not mirrored, no cut faces
     /// drawn): runs of triangles facing away are then culled by their normal cones.
     back_faces_culled: bool,
-    /// Clip planes that cut away what lies beyond them, in organ space (normal, offset with the
-    /// margin added): where the renderer cuts triangles at the planes, a box wholly beyond one is
-    /// culled.
-    removing: Vec<(Vec3, f32)>,
+    /// Clip planes that cut away what lies beyond them, in organ space
+    /// ([`crate::clip::in_model_space`]): where the renderer cuts triangles at the planes, a box
+    /// wholly beyond one is culled.
+    removing: Vec<crate::clip::ModelPlane>,
 }
 
 impl<'a> OrganView<'a> {
@@ -62,25 +62,20 @@ impl<'a> OrganView<'a> {
         let mvp = *view_proj * *model;
         let eye = model.inverse().transform_point3(camera.eye);
         let back_faces_culled = back_faces_culled && model.determinant() > 0.0;
-        // World n.p > d is organ (A^T n).q > d - n.t for p = A q + t. The shaders apply the first
-        // MAX_PLANES planes only.
-        let (linear, shift) = (glam::Mat3::from_mat4(*model), model.w_axis.truncate());
-        let removing = removing
-            .iter()
-            .take(crate::clip::MAX_PLANES)
-            .map(|p| (linear.transpose() * p.normal(), p.d - p.normal().dot(shift) + crate::clip::SIDE_MARGIN_MM))
-            .collect();
+        let removing = crate::clip::in_model_space(removing, model);
         OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled, removing }
     }
 
     /// Whether the clip planes remove all of `bounds` (the renderer draws nothing of it).
     pub fn removed(&self, bounds: &Bounds) -> bool {
-        self.removing.iter().any(|&(n, d)| bounds.corners().iter().all(|&c| n.dot(c) > d))
+        let m = crate::clip::SIDE_MARGIN_MM;
+        self.removing.iter().any(|&(n, d)| bounds.corners().iter().all(|&c| n.dot(c) > d + m))
     }
 
     /// Whether a clip plane passes through `bounds`, so that its children may be removed.
     fn cut(&self, bounds: &Bounds) -> bool {
-        self.removing.iter().any(|&(n, d)| bounds.corners().iter().any(|&c| n.dot(c) > d))
+        let m = crate::clip::SIDE_MARGIN_MM;
+        self.removing.iter().any(|&(n, d)| bounds.corners().iter().any(|&c| n.dot(c) > d + m))
     }
 
     /// Whether a run of triangles in `bounds` with normals in `cone` faces away, so the renderer
