@@ -47,7 +47,7 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use cut::Cut;
 use jobs::Subtrees;
-use occluders::rasterise_occluders;
+use occluders::{rasterise_occluders, CutOrgan};
 use share::Phase;
 use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -259,11 +259,23 @@ fn cull_in_phases<'a>(
     let cut: Vec<bool> = clear.iter().map(|&c| clip.exact && !c).collect();
     let occluding: Vec<bool> =
         layout.organs.iter().zip(&cut).zip(&whole).map(|((s, &c), &w)| w || (c && s.is_opaque())).collect();
-    let keep: Vec<Vec<crate::clip::ModelPlane>> = layout
+    let planes = &clip.planes[..clip.planes.len().min(crate::clip::MAX_PLANES)];
+    let cut_organs: Vec<CutOrgan> = set
         .organs
         .iter()
+        .zip(&layout.organs)
         .zip(&cut)
-        .map(|(s, &c)| if c { crate::clip::in_model_space(clip.planes, &s.transform.matrix()) } else { Vec::new() })
+        .map(|((organ, s), &c)| {
+            let model = s.transform.matrix();
+            // As the renderer decides which organs it draws cut faces for.
+            let capped = clip.caps
+                && organ.closed()
+                && crate::clip::side(planes, &organ.mesh.bounds().transformed(&model)) == crate::clip::Side::Cut;
+            match c {
+                true => CutOrgan { planes: crate::clip::in_model_space(planes, &model), capped },
+                false => CutOrgan::default(),
+            }
+        })
         .collect();
     let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
@@ -279,7 +291,7 @@ fn cull_in_phases<'a>(
         };
         let solids = selection::solids(set, layout, &view_proj, &whole);
         stats.solids = solids.len();
-        let mut o = rasterise_occluders(set, layout, &view_proj, (&solids, &list, &keep), w, h, &phases.raster);
+        let mut o = rasterise_occluders(set, layout, &view_proj, (&solids, &list, &cut_organs), w, h, &phases.raster);
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =
                 o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();

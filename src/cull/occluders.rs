@@ -198,13 +198,12 @@ impl Occluders {
 
 /// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
 /// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
-/// structures. An organ with planes in `keep` (organ space, see [`crate::clip::in_model_space`])
-/// gives only its own triangles that those planes keep wholly.
+/// structures. An organ the planes cut (`cuts`) gives only its own triangles they keep wholly.
 pub(super) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
-    (solids, list, keep): (&[usize], &[LeafRef], &[Vec<ModelPlane>]),
+    (solids, list, cuts): (&[usize], &[LeafRef], &[CutOrgan]),
     w: usize,
     h: usize,
     phase: &Phase<Patches>,
@@ -222,25 +221,41 @@ pub(super) fn rasterise_occluders(
         let mvp = *view_proj * layout.organs[first].transform.matrix();
         let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
         leaves += all.len();
-        triangles += rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, w, h, STAND_IN_DEPTH_BIAS, &[]);
+        triangles +=
+            rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
     }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
-        let planes = keep.get(o).map_or(&[][..], Vec::as_slice);
+        let cut = cuts.get(o);
+        let planes = cut.map_or(&[][..], |c| c.planes.as_slice());
         if !own.is_empty() {
-            triangles += rasterise_organ(&mut raster, (&organ.mesh, &organ.bvh, own), &mvp, w, h, 0.0, planes);
+            let leaves = (&organ.mesh, &organ.bvh, &own[..]);
+            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, false);
+            if cut.is_some_and(|c| c.capped) {
+                // Its faces turned away, drawn as the cut face, hide what lies behind them too.
+                triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, true);
+            }
         }
         if let (Some(s), false, true) = (&organ.stand_in, stand_in.is_empty(), planes.is_empty()) {
             // Pushed back a little: a stand-in on the surface must not hide the surface itself.
-            triangles +=
-                rasterise_organ(&mut raster, (&s.mesh, &s.bvh, stand_in), &mvp, w, h, STAND_IN_DEPTH_BIAS, &[]);
+            let leaves = (&s.mesh, &s.bvh, &stand_in[..]);
+            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
         }
     }
     let maps = raster.finish_on(phase);
     let opacity = OpacityMap::new(&maps.covered, w, h);
     let sparse = SparseDepth::new(&maps.depth, w, h);
     Occluders { maps, opacity, sparse, approximate: None, leaves, triangles }
+}
+
+/// An organ the clip planes cut, as an occluder: the planes in its space, and whether the renderer
+/// draws its faces turned away as the cut face (closed, caps on, and cut by the renderer's own test,
+/// [`crate::clip::side`] on its mesh's bounds).
+#[derive(Clone, Debug, Default)]
+pub(super) struct CutOrgan {
+    pub planes: Vec<ModelPlane>,
+    pub capped: bool,
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
@@ -253,17 +268,18 @@ const STAND_IN_DEPTH_BIAS: f32 = 1e-5;
 /// snapping (a 256th of a pixel).
 const FACING_MARGIN_NDC: f32 = 1e-4;
 
-/// Adds the camera-facing triangles of the chosen leaves of one organ to the raster, each with
-/// its neighbours among them, pushed back by `bias` in NDC depth; with clip planes in `keep`
-/// (organ space), only the triangles they keep wholly. Returns how many.
+/// Adds the camera-facing triangles of the chosen leaves of one organ to the raster (with `away`,
+/// those facing away instead, their corners reversed), each with its neighbours among them, pushed
+/// back by `bias` in NDC depth; with clip planes in `keep` (organ space), only the triangles they
+/// keep wholly. Returns how many.
 fn rasterise_organ(
     raster: &mut OccluderRaster,
     (mesh, bvh, leaves): (&Mesh, &Bvh, &[u32]),
     mvp: &Mat4,
-    w: usize,
-    h: usize,
+    (w, h): (usize, usize),
     bias: f32,
     keep: &[ModelPlane],
+    away: bool,
 ) -> usize {
     let m = crate::clip::SIDE_MARGIN_MM;
     let kept = |t: u32| {
@@ -290,11 +306,13 @@ fn rasterise_organ(
                 let twice_area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
                 let longest =
                     (*b - *a).truncate().length().max((*c - *b).truncate().length()).max((*a - *c).truncate().length());
-                -twice_area > margin * longest
+                let facing = if away { twice_area } else { -twice_area };
+                facing > margin * longest
             });
             match tri {
-                Some(tri) => {
+                Some([a, b, c]) => {
                     slot.push(triangles.len() as u32);
+                    let tri = if away { [a, c, b] } else { [a, b, c] };
                     triangles.push(tri.map(|v| v + Vec3::new(0.0, 0.0, bias)));
                     ids.push(t);
                 }
@@ -306,7 +324,12 @@ fn rasterise_organ(
         let leaf = bvh.leaf_of.get(t as usize).and_then(|&l| offset.get(l as usize)).copied().flatten();
         leaf.map_or(NONE, |o| slot[o.wrapping_add(t) as usize])
     };
-    let neighbours: Vec<[u32; 3]> = ids.iter().map(|&t| bvh.neighbours[t as usize].map(index)).collect();
+    // Corners reversed (a, c, b), edge k runs along the old edge 2 - k.
+    let neighbours: Vec<[u32; 3]> = ids
+        .iter()
+        .map(|&t| bvh.neighbours[t as usize].map(index))
+        .map(|[n0, n1, n2]| if away { [n2, n1, n0] } else { [n0, n1, n2] })
+        .collect();
     raster.add(&triangles, &neighbours);
     triangles.len()
 }
