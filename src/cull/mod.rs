@@ -47,7 +47,7 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use cut::Cut;
 use jobs::Subtrees;
-use occluders::{rasterise_occluders, CutOrgan};
+use occluders::{rasterise_occluders, Cuts};
 use share::Phase;
 use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -259,22 +259,24 @@ fn cull_in_phases<'a>(
     let cut: Vec<bool> = clear.iter().map(|&c| clip.exact && !c).collect();
     let occluding: Vec<bool> =
         layout.organs.iter().zip(&cut).zip(&whole).map(|((s, &c), &w)| w || (c && s.is_opaque())).collect();
+    // Per organ the planes cut: the planes in its space, and whether the renderer draws its cut
+    // faces (as it decides: closed, caps on, cut by `clip::side` on its mesh's bounds).
     let planes = &clip.planes[..clip.planes.len().min(crate::clip::MAX_PLANES)];
-    let cut_organs: Vec<CutOrgan> = set
+    let models: Vec<glam::Mat4> = layout.organs.iter().map(|s| s.transform.matrix()).collect();
+    let cut_planes: Vec<Vec<crate::clip::ModelPlane>> = cut
+        .iter()
+        .zip(&models)
+        .map(|(&c, model)| if c { crate::clip::in_model_space(planes, model) } else { Vec::new() })
+        .collect();
+    let capped: Vec<bool> = set
         .organs
         .iter()
-        .zip(&layout.organs)
+        .zip(&models)
         .zip(&cut)
-        .map(|((organ, s), &c)| {
-            let model = s.transform.matrix();
-            // As the renderer decides which organs it draws cut faces for.
-            let capped = clip.caps
+        .map(|((organ, model), &c)| {
+            c && clip.caps
                 && organ.closed()
-                && crate::clip::side(planes, &organ.mesh.bounds().transformed(&model)) == crate::clip::Side::Cut;
-            match c {
-                true => CutOrgan { planes: crate::clip::in_model_space(planes, &model), capped },
-                false => CutOrgan::default(),
-            }
+                && crate::clip::side(planes, &organ.mesh.bounds().transformed(model)) == crate::clip::Side::Cut
         })
         .collect();
     let (w, h) = (settings.width, settings.height);
@@ -284,14 +286,22 @@ fn cull_in_phases<'a>(
             Given::Occluders(list) => list.to_vec(),
             Given::Database(database) => {
                 let (list, source) =
-                    choose_occluders(set, layout, camera, &view_proj, settings, database, (&occluding, &cut));
+                    choose_occluders(set, layout, camera, &view_proj, settings, database, (&occluding, &cut_planes));
                 stats.source = Some(source);
                 list
             }
         };
         let solids = selection::solids(set, layout, &view_proj, &whole);
         stats.solids = solids.len();
-        let mut o = rasterise_occluders(set, layout, &view_proj, (&solids, &list, &cut_organs), w, h, &phases.raster);
+        let mut o = rasterise_occluders(
+            set,
+            layout,
+            &view_proj,
+            (&solids, &list),
+            Cuts { planes: &cut_planes, capped: &capped },
+            (w, h),
+            &phases.raster,
+        );
         if settings.hole_tolerance.is_some() {
             let depth: Vec<f32> =
                 o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();

@@ -203,9 +203,9 @@ pub(super) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
-    (solids, list, cuts): (&[usize], &[LeafRef], &[CutOrgan]),
-    w: usize,
-    h: usize,
+    (solids, list): (&[usize], &[LeafRef]),
+    cuts: Cuts,
+    (w, h): (usize, usize),
     phase: &Phase<Patches>,
 ) -> Occluders {
     // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
@@ -227,12 +227,11 @@ pub(super) fn rasterise_occluders(
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
-        let cut = cuts.get(o);
-        let planes = cut.map_or(&[][..], |c| c.planes.as_slice());
+        let planes = cuts.planes.get(o).map_or(&[][..], Vec::as_slice);
         if !own.is_empty() {
             let leaves = (&organ.mesh, &organ.bvh, &own[..]);
             triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, false);
-            if cut.is_some_and(|c| c.capped) {
+            if cuts.capped.get(o).copied().unwrap_or(false) {
                 // Its faces turned away, drawn as the cut face, hide what lies behind them too.
                 triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, true);
             }
@@ -249,13 +248,12 @@ pub(super) fn rasterise_occluders(
     Occluders { maps, opacity, sparse, approximate: None, leaves, triangles }
 }
 
-/// An organ the clip planes cut, as an occluder: the planes in its space, and whether the renderer
-/// draws its faces turned away as the cut face (closed, caps on, and cut by the renderer's own test,
-/// [`crate::clip::side`] on its mesh's bounds).
-#[derive(Clone, Debug, Default)]
-pub(super) struct CutOrgan {
-    pub planes: Vec<ModelPlane>,
-    pub capped: bool,
+/// Organs the clip planes cut, as occluders: per organ the planes in its space (empty where none
+/// cuts it), and whether the renderer draws its faces turned away as the cut face.
+#[derive(Clone, Copy)]
+pub(super) struct Cuts<'a> {
+    pub planes: &'a [Vec<ModelPlane>],
+    pub capped: &'a [bool],
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).

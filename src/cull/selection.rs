@@ -78,7 +78,7 @@ pub fn by_projected_size(
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
-    (occluding, cut): (&[bool], &[bool]),
+    (occluding, cut): (&[bool], &[Vec<crate::clip::ModelPlane>]),
 ) -> Vec<LeafRef> {
     let (w, h) = (settings.width, settings.height);
     let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
@@ -102,14 +102,16 @@ pub fn by_projected_size(
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
         let mvp = *view_proj * model;
-        let whole = !cut.get(o).copied().unwrap_or(false);
+        let planes = cut.get(o).map_or(&[][..], Vec::as_slice);
+        let whole = planes.is_empty();
         let stand_in = organ.stand_in.as_ref().filter(|_| whole && wholly_ahead(&mvp, &organ.bvh.nodes[0].bounds));
         let bvh = stand_in.map_or(&organ.bvh, |s| &s.bvh);
         // Its leaves on screen, nearest first: the near side of a shell before its far wall.
         let mut near: Vec<(f32, u32)> = Vec::new();
         for (l, &n) in bvh.leaves.iter().enumerate() {
             let bounds = &bvh.nodes[n as usize].bounds;
-            if project_box(&mvp, bounds, w, h) != ScreenBox::Outside {
+            let removed = planes.iter().any(|&(n, d)| bounds.corners().iter().all(|&c| n.dot(c) > d));
+            if !removed && project_box(&mvp, bounds, w, h) != ScreenBox::Outside {
                 near.push(((camera.eye - model.transform_point3(bounds.center())).length(), l as u32));
             }
         }
@@ -165,7 +167,7 @@ pub fn choose_occluders(
     view_proj: &Mat4,
     settings: &CullSettings,
     database: Option<&Database>,
-    (occluding, cut): (&[bool], &[bool]),
+    (occluding, cut): (&[bool], &[Vec<crate::clip::ModelPlane>]),
 ) -> (Vec<LeafRef>, OccluderSource) {
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
@@ -173,8 +175,9 @@ pub fn choose_occluders(
         Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
     });
     if let Some(viewpoint) = viewpoint {
-        let flag = |flags: &[bool], r: &LeafRef| flags.get(r.organ as usize).copied().unwrap_or(false);
-        let valid = |r: &&LeafRef| r.exists_in(set) && flag(occluding, r) && !(r.stand_in && flag(cut, r));
+        let is_cut = |r: &LeafRef| cut.get(r.organ as usize).is_some_and(|p| !p.is_empty());
+        let occludes = |r: &LeafRef| occluding.get(r.organ as usize).copied().unwrap_or(false);
+        let valid = |r: &&LeafRef| r.exists_in(set) && occludes(r) && !(r.stand_in && is_cut(r));
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
         return (list, OccluderSource::Mos);
