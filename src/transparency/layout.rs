@@ -44,9 +44,37 @@ pub fn logical_to_bit(n: usize) -> Vec<usize> {
     order
 }
 
+/// [`to_gpu_bits`] for one `order`, a byte of the logical mask at a time (eight table lookups
+/// instead of one step per sub-sample).
+pub struct GpuBits {
+    bytes: Box<[[u64; 256]; 8]>,
+}
+
+impl GpuBits {
+    pub fn new(order: &[usize]) -> GpuBits {
+        let mut bytes = Box::new([[0u64; 256]; 8]);
+        for (byte, table) in bytes.iter_mut().enumerate() {
+            for (value, bits) in table.iter_mut().enumerate() {
+                *bits = to_gpu_bits_of((value as u64) << (8 * byte), order);
+            }
+        }
+        GpuBits { bytes }
+    }
+
+    /// The GPU bits of a logical mask (its first 64 sub-samples).
+    pub fn of(&self, mask: &super::Mask) -> u64 {
+        let low = mask.low_bits();
+        self.bytes.iter().enumerate().fold(0, |bits, (byte, table)| bits | table[(low >> (8 * byte)) as usize & 0xff])
+    }
+}
+
 /// Maps a logical mask (n <= 64 sub-samples) to GPU bits.
 pub fn to_gpu_bits(mask: &super::Mask, order: &[usize]) -> u64 {
-    let (mut bits, mut low) = (0u64, mask.low_bits());
+    to_gpu_bits_of(mask.low_bits(), order)
+}
+
+fn to_gpu_bits_of(low: u64, order: &[usize]) -> u64 {
+    let (mut bits, mut low) = (0u64, low);
     while low != 0 {
         let i = low.trailing_zeros() as usize;
         if let Some(&b) = order.get(i) {
@@ -72,6 +100,18 @@ mod tests {
             let half = &order[..n / 2];
             let left = half.iter().filter(|&&b| bit_position(b).x < 0.5).count();
             assert!(left > 0 && left < half.len(), "n = {n}: {left} of {} on the left", half.len());
+        }
+    }
+
+    #[test]
+    fn the_table_maps_as_the_bits_do() {
+        let order = logical_to_bit(64);
+        let table = GpuBits::new(&order);
+        let mut rng = crate::rng::XorShift::seeded(7);
+        for _ in 0..200 {
+            let word = rng.next_u64();
+            let mask = super::super::Mask::from_indices((0..64).filter(|i| word >> i & 1 == 1));
+            assert_eq!(table.of(&mask), to_gpu_bits(&mask, &order));
         }
     }
 

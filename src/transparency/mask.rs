@@ -82,6 +82,11 @@ impl Mask {
         m
     }
 
+    /// Sub-samples `64 * i..64 * (i + 1)` as bits.
+    pub fn word(&self, i: usize) -> u64 {
+        self.words[i]
+    }
+
     /// The first 64 sub-samples as bits (what the renderer uses: masks of at most 64).
     pub fn low_bits(&self) -> u64 {
         self.words[0]

@@ -9,9 +9,9 @@
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
 //! 2. A region's configuration is the set of organs present and its K nearest, nearest first.
-//! 3. Each distinct configuration gets one generation (configurations with the same K nearest
-//!    share the table after those, and groups run in parallel): masks in the order K nearest (nearest
+//! 3. Each distinct configuration gets one generation: masks in the order K nearest (nearest
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
+//!    Configurations that begin alike share the masks they begin with ([`configuration_masks`]).
 //!    The result depends on the configuration only, never on the order organs are drawn in.
 //!
 //! 4. A [`MaskCache`] keeps the last frame's configurations and their masks: a configuration seen
@@ -21,7 +21,8 @@
 //! The output is plain data for the renderer: a configuration per region and, per configuration,
 //! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
 
-use super::{generate, layout, MaskMethod, MaskTable, SplitOrder};
+use super::layout::{self, GpuBits};
+use super::{generate, MaskMethod, MaskTable, SplitOrder};
 use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -139,66 +140,125 @@ fn covered_pixels(depths: &[f32], organs: usize, cols: u32, p: &RegionParams) ->
 pub fn config_masks(
     present: &[usize],
     nearest: &[usize],
-    opacity: impl Fn(usize) -> f32,
+    opacity: impl Fn(usize) -> f32 + Sync,
     p: &RegionParams,
-    bits: &[usize],
+    bits: &GpuBits,
 ) -> Vec<(usize, u64)> {
-    group_masks(&[present], nearest, opacity, p, bits).pop().unwrap_or_default()
+    configuration_masks(&[(present, nearest)], opacity, p, bits).pop().unwrap_or_default()
 }
 
-/// Masks for configurations that share their K nearest (`nearest`, nearest first), one list per
-/// entry of `presents`. Masks are generated in the order K nearest, then the others by index, so
-/// for the tabular methods the table after the K nearest is built once and continued for each.
-pub fn group_masks(
-    presents: &[&[usize]],
-    nearest: &[usize],
-    opacity: impl Fn(usize) -> f32,
+/// Masks for configurations `(present, nearest)`, one list of (organ, GPU mask) per configuration.
+/// Masks are generated in the order K nearest (nearest first), then the others by index.
+///
+/// For the tabular methods a mask depends only on the table the masks before it left, so
+/// configurations are visited in the order of their K nearest and then of their others, and each
+/// continues the tables of the longest runs it shares with the one before. Once every row of a
+/// table holds one sub-sample, a mask no longer depends on the others before it, only on the K
+/// nearest, so it is made once per K nearest. Configurations whose two nearest organs differ share
+/// at most one mask; such runs are generated in parallel.
+pub fn configuration_masks(
+    configs: &[(&[usize], &[usize])],
+    opacity: impl Fn(usize) -> f32 + Sync,
     p: &RegionParams,
-    bits: &[usize],
+    bits: &GpuBits,
 ) -> Vec<Vec<(usize, u64)>> {
-    let k = nearest.len();
-    let order = |present: &[usize]| -> Vec<usize> {
-        nearest.iter().copied().chain(present.iter().copied().filter(|o| !nearest.contains(o))).collect()
-    };
-    let gpu = |order: &[usize], masks: &[super::Mask]| -> Vec<(usize, u64)> {
-        order.iter().zip(masks).map(|(&o, m)| (o, layout::to_gpu_bits(m, bits))).collect()
-    };
+    let others: Vec<Vec<usize>> = configs
+        .iter()
+        .map(|(present, nearest)| present.iter().copied().filter(|o| !nearest.contains(o)).collect())
+        .collect();
     if !matches!(p.method, MaskMethod::Tabular | MaskMethod::TabularNec) {
-        return presents
-            .iter()
-            .map(|present| {
-                let order = order(present);
+        return configs
+            .par_iter()
+            .zip(&others)
+            .map(|((_, nearest), others)| {
+                let order: Vec<usize> = nearest.iter().chain(others).copied().collect();
                 let alphas: Vec<f32> = order.iter().map(|&o| opacity(o)).collect();
                 let seed = order.iter().fold(0x5eed_u64, |h, &o| h.wrapping_mul(0x100_0000_01b3) ^ o as u64);
                 let (masks, _) = generate(p.method, p.subsamples, &alphas, |_| Default::default(), seed);
-                gpu(&order, &masks)
+                order.iter().zip(&masks).map(|(&o, m)| (o, bits.of(m))).collect()
             })
             .collect();
     }
-    let priorities: Vec<usize> = (0..k).collect();
-    let split = |j: usize| match p.method {
-        MaskMethod::TabularNec => SplitOrder::Priorities(&priorities[..j.min(k)]),
-        _ => SplitOrder::Table,
-    };
-    let mut base = MaskTable::new(p.subsamples);
-    for (j, &o) in nearest.iter().enumerate() {
-        base.add(opacity(o), split(j));
-    }
-    presents
-        .iter()
-        .map(|present| {
-            let order = order(present);
-            let mut table = base.clone();
-            for &o in &order[k..] {
-                let split = match p.method {
-                    MaskMethod::TabularNec => SplitOrder::Shuffled { priorities: &priorities[..k], seed: o as u64 + 1 },
-                    _ => split(k),
-                };
-                table.add(opacity(o), split);
+    let mut visit: Vec<usize> = (0..configs.len()).collect();
+    visit.sort_by(|&a, &b| configs[a].1.cmp(configs[b].1).then_with(|| others[a].cmp(&others[b])));
+    let runs: Vec<&[usize]> = visit.chunk_by(|&a, &b| configs[a].1.get(..2) == configs[b].1.get(..2)).collect();
+    let walk = |run: &&[usize]| -> Vec<(usize, Vec<(usize, u64)>)> {
+        let k_most = run.iter().map(|&i| configs[i].1.len()).max().unwrap_or(0);
+        let priorities: Vec<usize> = (0..k_most).collect();
+        let nec = p.method == MaskMethod::TabularNec;
+        let near_split = |j: usize| if nec { SplitOrder::Priorities(&priorities[..j]) } else { SplitOrder::Table };
+        let other_split = |k: usize, o: usize| match nec {
+            true => SplitOrder::Shuffled { priorities: &priorities[..k], seed: o as u64 + 1 },
+            false => SplitOrder::Table,
+        };
+        let mut walked = Vec::with_capacity(run.len());
+        // near[j]: the table after the first j nearest of the configuration visited last, and
+        // others[d] after its first d others, up to the first saturated one, after which an
+        // organ's mask depends on the organ alone (`after_full`). Both keep their tables'
+        // allocations beyond their depths for reuse.
+        let (mut near, mut near_depth) = (vec![MaskTable::new(p.subsamples)], 0);
+        let (mut tables, mut depth) = (vec![MaskTable::new(p.subsamples)], 0);
+        let mut spare = MaskTable::new(p.subsamples);
+        let mut after_full: HashMap<usize, u64> = HashMap::new();
+        let mut masks: Vec<(usize, u64)> = Vec::new();
+        let (mut last_near, mut last_others): (Option<&[usize]>, &[usize]) = (None, &[]);
+        for &i in run.iter() {
+            let (nearest, mine) = (configs[i].1, others[i].as_slice());
+            let k = nearest.len();
+            if last_near != Some(nearest) {
+                near_depth = common_run(last_near.unwrap_or_default(), nearest).min(near_depth);
+                masks.truncate(near_depth);
+                for (j, &o) in nearest.iter().enumerate().skip(near_depth) {
+                    let table = next_table(&mut near, j);
+                    masks.push((o, bits.of(&table.add(opacity(o), near_split(j)))));
+                }
+                near_depth = k;
+                tables[0].clone_from(&near[k]);
+                depth = 0;
+                after_full.clear();
+                (last_near, last_others) = (Some(nearest), &[]);
             }
-            gpu(&order, table.masks())
-        })
-        .collect()
+            depth = common_run(last_others, mine).min(depth);
+            masks.truncate(k + depth);
+            for &o in &mine[depth..] {
+                if tables[depth].is_saturated() {
+                    let mut add = || {
+                        spare.clone_from(&tables[depth]);
+                        bits.of(&spare.add(opacity(o), other_split(k, o)))
+                    };
+                    masks.push((o, *after_full.entry(o).or_insert_with(&mut add)));
+                    continue;
+                }
+                let table = next_table(&mut tables, depth);
+                masks.push((o, bits.of(&table.add(opacity(o), other_split(k, o)))));
+                depth += 1;
+            }
+            walked.push((i, masks.clone()));
+            last_others = mine;
+        }
+        walked
+    };
+    let mut out = vec![Vec::new(); configs.len()];
+    for (i, masks) in runs.par_iter().flat_map_iter(walk).collect::<Vec<_>>() {
+        out[i] = masks;
+    }
+    out
+}
+
+/// `stack[depth + 1]` made a copy of `stack[depth]`, reusing its allocation where it has one.
+fn next_table(stack: &mut Vec<MaskTable>, depth: usize) -> &mut MaskTable {
+    if stack.len() == depth + 1 {
+        stack.push(stack[depth].clone());
+    } else {
+        let (below, above) = stack.split_at_mut(depth + 1);
+        above[0].clone_from(&below[depth]);
+    }
+    &mut stack[depth + 1]
+}
+
+/// Length of the longest run `a` and `b` begin with.
+fn common_run(a: &[usize], b: &[usize]) -> usize {
+    a.iter().zip(b).take_while(|(x, y)| x == y).count()
 }
 
 /// The last frame's configurations (key: present organs as bits, then the K nearest) and their
@@ -229,54 +289,62 @@ pub fn region_masks_kept(
     let cols = p.width.div_ceil(region_px).max(1);
     let rows = p.height.div_ceil(region_px).max(1);
     let organs = set.organs.len().min(layout.organs.len());
-    let bits = layout::logical_to_bit(p.subsamples);
+    let bits = GpuBits::new(&layout::logical_to_bit(p.subsamples));
     let opacity = |o: usize| layout.organs[o].opacity.clamp(0.0, 1.0);
     // Outside any configuration an organ gets its mask on its own: right in coverage, stacked by chance.
     let defaults: Vec<u64> = (0..organs)
         .map(|o| {
             let mut t = MaskTable::new(p.subsamples);
-            layout::to_gpu_bits(&t.add(opacity(o), SplitOrder::Table), &bits)
+            bits.of(&t.add(opacity(o), SplitOrder::Table))
         })
         .collect();
     let depths = region_depths(set, layout, camera, &p, cols, rows);
     let covered = covered_pixels(&depths, organs, cols, &p);
-    // Key of a region: its present organs as bits, then its K nearest, nearest first.
+    // Key of a region: its present organs as bits, then its K nearest, nearest first (padded with
+    // `u64::MAX`); made a row of regions at a time in parallel, then numbered in region order.
     let words = organs.div_ceil(64);
-    let mut configs: HashMap<Vec<u64>, u32> = HashMap::new();
+    let stride = words + p.k;
+    let region_keys: Vec<u64> = depths
+        .par_chunks(organs.max(1) * cols as usize)
+        .flat_map_iter(|row| {
+            let mut keys = vec![u64::MAX; stride * cols as usize];
+            let mut nearest: Vec<usize> = Vec::new();
+            for (region, key) in row.chunks_exact(organs.max(1)).zip(keys.chunks_exact_mut(stride)) {
+                key[..words].fill(0);
+                nearest.clear();
+                for o in (0..organs).filter(|&o| region[o].is_finite()) {
+                    key[o / 64] |= 1 << (o % 64);
+                    nearest.push(o);
+                }
+                nearest.sort_by(|&a, &b| region[a].total_cmp(&region[b]).then(a.cmp(&b)));
+                for (k, &o) in key[words..].iter_mut().zip(&nearest) {
+                    *k = o as u64;
+                }
+            }
+            keys
+        })
+        .collect();
+    let mut configs: HashMap<&[u64], u32> = HashMap::new();
     let mut unique: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
-    let mut keys: Vec<Vec<u64>> = Vec::new();
     let mut config_of_region = Vec::with_capacity((cols * rows) as usize);
-    let (mut key, mut last_key, mut last_id) = (Vec::new(), Vec::new(), None);
-    let mut nearest: Vec<usize> = Vec::new();
-    for region in depths.chunks_exact(organs.max(1)) {
-        key.clear();
-        key.resize(words, 0u64);
-        nearest.clear();
-        for o in (0..organs).filter(|&o| region[o].is_finite()) {
-            key[o / 64] |= 1 << (o % 64);
-            nearest.push(o);
-        }
-        nearest.sort_by(|&a, &b| region[a].total_cmp(&region[b]).then(a.cmp(&b)));
-        nearest.truncate(p.k);
-        key.extend(nearest.iter().map(|&o| o as u64));
-        if let Some(id) = last_id.filter(|_| key == last_key) {
+    let mut last: Option<(&[u64], u32)> = None;
+    for key in region_keys.chunks_exact(stride) {
+        if let Some((_, id)) = last.filter(|&(last, _)| last == key) {
             config_of_region.push(id);
             continue;
         }
-        let id = match configs.get(key.as_slice()) {
-            Some(&id) => id,
-            None => {
-                let id = unique.len() as u32;
-                let present: Vec<usize> = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
-                unique.push((present, nearest.clone()));
-                keys.push(key.clone());
-                configs.insert(key.clone(), id);
-                id
-            }
-        };
+        let id = *configs.entry(key).or_insert_with(|| {
+            let present = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
+            let nearest = key[words..].iter().take_while(|&&o| o != u64::MAX).map(|&o| o as usize).collect();
+            unique.push((present, nearest));
+            unique.len() as u32 - 1
+        });
         config_of_region.push(id);
-        last_id = Some(id);
-        std::mem::swap(&mut last_key, &mut key);
+        last = Some((key, id));
+    }
+    let mut keys: Vec<&[u64]> = vec![&[]; unique.len()];
+    for (&key, &id) in &configs {
+        keys[id as usize] = key;
     }
     // The last frame's masks where its configuration and settings come again.
     let settings: Vec<u64> = [p.subsamples as u64, p.k as u64, p.method as u64]
@@ -287,25 +355,14 @@ pub fn region_masks_kept(
         cache.masks.clear();
         cache.settings = settings;
     }
-    let mut generated: Vec<Option<Vec<(usize, u64)>>> = keys.iter().map(|k| cache.masks.remove(k)).collect();
+    let mut generated: Vec<Option<Vec<(usize, u64)>>> = keys.iter().map(|&k| cache.masks.remove(k)).collect();
     let kept = generated.iter().filter(|m| m.is_some()).count();
-    // One generation per other distinct configuration, in parallel.
-    let mut groups: HashMap<&[usize], Vec<usize>> = HashMap::new();
-    for (i, (_, nearest)) in unique.iter().enumerate().filter(|&(i, _)| generated[i].is_none()) {
-        groups.entry(nearest.as_slice()).or_default().push(i);
-    }
-    let groups: Vec<(&[usize], Vec<usize>)> = groups.into_iter().collect();
-    let lists: Vec<Vec<Vec<(usize, u64)>>> = groups
-        .par_iter()
-        .map(|(nearest, members)| {
-            let presents: Vec<&[usize]> = members.iter().map(|&i| unique[i].0.as_slice()).collect();
-            group_masks(&presents, nearest, opacity, &p, &bits)
-        })
-        .collect();
-    for ((_, members), list) in groups.iter().zip(lists) {
-        for (&i, masks) in members.iter().zip(list) {
-            generated[i] = Some(masks);
-        }
+    // One generation for every other distinct configuration.
+    let todo: Vec<usize> = (0..unique.len()).filter(|&i| generated[i].is_none()).collect();
+    let wanted: Vec<(&[usize], &[usize])> =
+        todo.iter().map(|&i| (unique[i].0.as_slice(), unique[i].1.as_slice())).collect();
+    for (i, masks) in todo.into_iter().zip(configuration_masks(&wanted, opacity, &p, &bits)) {
+        generated[i] = Some(masks);
     }
     let mut masks = Vec::with_capacity(generated.len().max(1) * organs);
     let generated: Vec<Vec<(usize, u64)>> = generated.into_iter().map(Option::unwrap_or_default).collect();
@@ -321,7 +378,7 @@ pub fn region_masks_kept(
         masks.extend_from_slice(&defaults);
     }
     // Only this frame's configurations are kept for the next.
-    cache.masks = keys.into_iter().zip(generated).collect();
+    cache.masks = keys.into_iter().map(<[u64]>::to_vec).zip(generated).collect();
     RegionMasks {
         region_px,
         cols,
@@ -428,7 +485,7 @@ mod tests {
 
     #[test]
     fn masks_of_a_configuration_stack_right() {
-        let bits = layout::logical_to_bit(64);
+        let bits = GpuBits::new(&layout::logical_to_bit(64));
         let p =
             RegionParams { width: 1, height: 1, region_px: 1, subsamples: 64, k: 6, method: MaskMethod::TabularNec };
         let alphas = [0.5f32, 0.5, 0.25, 0.75];

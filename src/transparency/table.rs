@@ -59,7 +59,6 @@ pub enum SplitOrder<'a> {
     Given(&'a [usize]),
 }
 
-#[derive(Clone)]
 pub struct MaskTable {
     n: usize,
     /// The last generation (the table's rows *start*..*end*); earlier generations are never read
@@ -71,11 +70,29 @@ pub struct MaskTable {
     errors: Vec<f64>,
     /// Scratch buffers reused by every mask: split order, filled counts, the next generation.
     order: Vec<usize>,
-    keys: Vec<u8>,
+    words: Vec<u64>,
+    row_at: Vec<u16>,
     starts: Vec<usize>,
     priority: Vec<Mask>,
     take: Vec<u16>,
     next: Vec<Row>,
+}
+
+/// Clones the table, not its scratch buffers; `clone_from` reuses the target's allocations.
+impl Clone for MaskTable {
+    fn clone(&self) -> MaskTable {
+        let mut table = MaskTable::new(self.n);
+        table.clone_from(self);
+        table
+    }
+
+    fn clone_from(&mut self, source: &MaskTable) {
+        self.n = source.n;
+        self.rows.clone_from(&source.rows);
+        self.row_entries = source.row_entries;
+        self.masks.clone_from(&source.masks);
+        self.errors.clone_from(&source.errors);
+    }
 }
 
 impl MaskTable {
@@ -89,7 +106,8 @@ impl MaskTable {
             masks: Vec::new(),
             errors: Vec::new(),
             order: Vec::new(),
-            keys: Vec::new(),
+            words: Vec::new(),
+            row_at: Vec::new(),
             starts: Vec::new(),
             priority: Vec::new(),
             take: Vec::new(),
@@ -99,6 +117,13 @@ impl MaskTable {
 
     pub fn size(&self) -> usize {
         self.n
+    }
+
+    /// Whether every row holds a single sub-sample. From then on the rows stay as they are (in
+    /// sub-sample order), so a new mask depends on its opacity, split order and priorities only,
+    /// not on the masks added before it other than those priorities.
+    pub fn is_saturated(&self) -> bool {
+        self.rows.len() == self.n
     }
 
     /// The last generation of rows.
@@ -143,36 +168,17 @@ impl MaskTable {
             SplitOrder::Shuffled { seed, .. } => Some(seed),
             _ => None,
         };
-        // Ranks must fit the counting sort's byte keys.
-        self.priority.truncate(100);
         self.order.clear();
         match order {
             SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
             _ if !self.priority.is_empty() => {
-                // A counting sort on the compensation rank keeps ties in table order.
-                let ranks = 2 * (self.priority.len() + 1);
-                self.keys.clear();
-                let priority = &self.priority;
-                self.keys.extend(self.rows.iter().map(|row| split_key(usize::from(row.start), priority) as u8));
-                let starts = &mut self.starts;
-                starts.clear();
-                starts.resize(ranks + 1, 0);
-                for &k in &self.keys {
-                    starts[usize::from(k) + 1] += 1;
-                }
-                for i in 1..=ranks {
-                    starts[i] += starts[i - 1];
-                }
-                self.order.resize(rows, 0);
-                for (r, &k) in self.keys.iter().enumerate() {
-                    self.order[starts[usize::from(k)]] = r;
-                    starts[usize::from(k)] += 1;
-                }
+                let scratch = (&mut self.order, &mut self.starts, &mut self.words, &mut self.row_at);
+                compensation_ranks(&self.rows, &self.priority, self.n, scratch);
                 if let Some(seed) = seed {
-                    // starts[k] is now where rank k ends.
+                    // starts[k] is where rank k ends.
                     let mut rng = crate::rng::XorShift::seeded(seed);
                     let mut from = 0;
-                    for &end in &starts[..ranks] {
+                    for &end in &self.starts {
                         rng.shuffle(&mut self.order[from..end]);
                         from = end;
                     }
@@ -206,6 +212,53 @@ impl MaskTable {
         std::mem::swap(&mut self.rows, &mut self.next);
         self.masks.push(mask);
         mask
+    }
+}
+
+/// `rows` (sorted by start, each wholly inside or outside every priority mask) into `order` by
+/// their [`split_key`], ties in table order, with `ends[k]` where rank k ends: the sets of
+/// sub-samples of each rank are found a word at a time, and each set's row starts listed in order.
+/// `words` and `row_at` are scratch: the agreement sets and row starts, and the row at a start.
+fn compensation_ranks(
+    rows: &[Row],
+    priorities: &[Mask],
+    n: usize,
+    (order, ends, words, row_at): (&mut Vec<usize>, &mut Vec<usize>, &mut Vec<u64>, &mut Vec<u16>),
+) {
+    let (len, nw) = (priorities.len(), n.div_ceil(64));
+    // agree[i]: sub-samples where priorities 0..=i all match the first (in or out); row starts.
+    words.clear();
+    words.resize((len + 1) * nw, 0);
+    let (agree, starts) = words.split_at_mut(len * nw);
+    let top = &priorities[0];
+    for w in 0..nw {
+        let mut same = u64::MAX;
+        for (i, m) in priorities.iter().enumerate() {
+            same &= !(m.word(w) ^ top.word(w));
+            agree[i * nw + w] = same;
+        }
+    }
+    row_at.resize(n, 0);
+    for (r, row) in rows.iter().enumerate() {
+        starts[usize::from(row.start) / 64] |= 1 << (row.start % 64);
+        row_at[usize::from(row.start)] = r as u16;
+    }
+    order.clear();
+    ends.clear();
+    for filled in [true, false] {
+        // Rank len - run on each side: the longest runs of agreement first.
+        for run in (0..=len).rev() {
+            for w in (0..nw).filter(|_| run > 0) {
+                let side = if filled { top.word(w) } else { !top.word(w) };
+                let longer = if run < len { agree[run * nw + w] } else { 0 };
+                let mut set = side & agree[(run - 1) * nw + w] & !longer & starts[w];
+                while set != 0 {
+                    order.push(usize::from(row_at[w * 64 + set.trailing_zeros() as usize]));
+                    set &= set - 1;
+                }
+            }
+            ends.push(order.len());
+        }
     }
 }
 
@@ -342,6 +395,27 @@ mod tests {
                     );
                 }
                 depths.push(depth);
+            }
+        }
+    }
+
+    #[test]
+    fn ranks_found_a_word_at_a_time_sort_as_the_keys_do() {
+        let mut rng = crate::rng::XorShift::seeded(3);
+        for n in [16, 64, 100, 1024] {
+            let mut t = MaskTable::new(n);
+            for _ in 0..6 {
+                let alpha = rng.unit();
+                t.add(alpha, SplitOrder::Table);
+                let priorities: Vec<Mask> = t.masks().iter().rev().copied().collect();
+                let first: Vec<usize> = t.rows().iter().map(|r| usize::from(r.start)).collect();
+                let (mut order, mut ends, mut words, mut row_at) = Default::default();
+                compensation_ranks(t.rows(), &priorities, n, (&mut order, &mut ends, &mut words, &mut row_at));
+                assert_eq!(order, compensation_order(&first, &priorities), "n = {n}");
+                let keys: Vec<usize> = order.iter().map(|&r| split_key(first[r], &priorities)).collect();
+                for (rank, w) in ends.windows(2).enumerate() {
+                    assert!(keys[w[0]..w[1]].iter().all(|&k| k == rank + 1), "n = {n}: rank {}", rank + 1);
+                }
             }
         }
     }
