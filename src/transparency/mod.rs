@@ -173,7 +173,8 @@ pub struct TransparencySettings {
     pub interactive_subsamples: usize,
     /// Side of a mask region in pixels.
     pub region_px: u32,
-    /// Nearest organs that neighbourhood error compensation favours.
+    /// Most nearest organs that neighbourhood error compensation favours (at most log2 of the
+    /// sub-samples less one are followed).
     pub k: usize,
     /// Most layers the depth-peeling modes peel (they stop earlier once nothing is left).
     pub peel_layers: usize,
@@ -192,8 +193,10 @@ impl Default for TransparencySettings {
     }
 }
 
-/// Neighbourhood error compensation's K by default: the nearest organs of a region whose depth
-/// order its masks follow, and in the mask experiment the farther neighbours a new mask weighs.
+/// Neighbourhood error compensation's K by default: the most nearest organs of a region whose
+/// depth order its masks follow (fewer where the masks have few sub-samples:
+/// [`regions::followed_nearest`]), and in the mask experiment the farther neighbours a new mask
+/// weighs.
 /// 8 keeps the experiment's worst stacking level within 2 sub-samples at 32x32 (6 gave 4).
 pub const DEFAULT_K: usize = 8;
 

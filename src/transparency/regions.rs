@@ -8,7 +8,8 @@
 //!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
-//! 2. A region's configuration is the set of organs present and its K nearest, nearest first.
+//! 2. A region's configuration is the set of organs present and its K nearest, nearest first (K at
+//!    most what the masks' sub-samples resolve, [`followed_nearest`]).
 //! 3. Each distinct configuration gets one generation: masks in the order K nearest (nearest
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
 //!    Configurations that begin alike share the masks they begin with ([`configuration_masks`]).
@@ -261,6 +262,16 @@ fn common_run(a: &[usize], b: &[usize]) -> usize {
     a.iter().zip(b).take_while(|(x, y)| x == y).count()
 }
 
+/// How many of a region's nearest organs its masks follow in depth order: at most `k`, and no
+/// more than the stacking levels a mask of `n` sub-samples resolves with two sub-samples or more
+/// at 50 % opacity (log2(n) - 1: 2 for 8, 3 for 16, 5 for 64). Following deeper levels only makes
+/// their rounding err the same way in every mask: with every organ at 50 % and 16 sub-samples the
+/// image's mean error is 2.77 following 8 and 1.51 following 3.
+pub fn followed_nearest(k: usize, n: usize) -> usize {
+    let levels = n.max(4).ilog2() as usize - 1;
+    k.clamp(1, levels)
+}
+
 /// The last frame's configurations (key: present organs as bits, then the K nearest) and their
 /// masks, valid while `settings` (every organ's opacity, sub-samples, K, method) stay the same.
 #[derive(Debug, Default)]
@@ -285,7 +296,8 @@ pub fn region_masks_kept(
 ) -> RegionMasks {
     let started = std::time::Instant::now();
     let region_px = p.region_px.max(1);
-    let p = RegionParams { region_px, subsamples: p.subsamples.clamp(4, 64), ..*p };
+    let subsamples = p.subsamples.clamp(4, 64);
+    let p = RegionParams { region_px, subsamples, k: followed_nearest(p.k, subsamples), ..*p };
     let cols = p.width.div_ceil(region_px).max(1);
     let rows = p.height.div_ceil(region_px).max(1);
     let organs = set.organs.len().min(layout.organs.len());
@@ -452,6 +464,14 @@ mod tests {
             m.config_of_region[(ay / 16 * 8 + ax / 16) as usize],
             m.config_of_region[(by / 16 * 8 + bx / 16) as usize]
         );
+    }
+
+    #[test]
+    fn masks_follow_no_more_nearest_organs_than_they_resolve() {
+        let followed: Vec<usize> = [4, 8, 16, 32, 64].into_iter().map(|n| followed_nearest(8, n)).collect();
+        assert_eq!(followed, [1, 2, 3, 4, 5]);
+        assert_eq!(followed_nearest(2, 64), 2, "K itself is the most");
+        assert_eq!(followed_nearest(0, 64), 1);
     }
 
     #[test]

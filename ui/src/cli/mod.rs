@@ -226,7 +226,8 @@ pub struct RenderArgs {
     /// Screen-door mask region side in pixels, 4..=256 [default: 32]
     #[arg(long, value_parser = region())]
     pub region: Option<u32>,
-    /// Nearest organs whose depth order the masks' error compensation follows, 1..=64 [default: 8]
+    /// Most nearest organs whose depth order the masks' error compensation follows (no more than
+    /// log2(sub-samples) - 1 are), 1..=64 [default: 8]
     #[arg(long, value_parser = k())]
     pub k: Option<usize>,
     /// Most layers `peel` and `dual-peel` peel, 1..=64 [default: 8]

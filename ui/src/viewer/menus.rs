@@ -219,7 +219,9 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
     }
     let r = ui.add(egui::Slider::new(&mut t.region_px, vbrain::transparency::REGION_PX).text("region (pixels)"));
     accessible(&r, "Mask region size");
-    let r = ui.add(egui::Slider::new(&mut t.k, vbrain::transparency::K_RANGE).text("K nearest organs compensated"));
+    let r = ui
+        .add(egui::Slider::new(&mut t.k, vbrain::transparency::K_RANGE).text("K nearest organs compensated"))
+        .on_hover_text("At most this many; masks of n sub-samples follow no more than log2(n) - 1 (5 for 64)");
     accessible(&r, "Neighbourhood error compensation K");
     if ui.button("Defaults").clicked() {
         *t = TransparencySettings::default();
