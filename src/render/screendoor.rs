@@ -4,9 +4,9 @@
 //! organ's mask in its screen region (`sample_mask`; pass p uses mask bits 4p..4p+3, so P passes
 //! give 4P sub-samples). Each pass draws into its own tile of an atlas ([`super::tiles`]), a copy of
 //! the rectangle the faded organs cover, first filled per sample with the opaque colour and depth
-//! (`fs_restore`), so a pass costs the faded organs' triangles and pixels, not the scene's. Tiles
-//! are resolved and averaged into the rectangle (`fs_gather`, a running mean), and the rectangle is
-//! shown over the opaque image. No sorting by depth, and the image does not depend on drawing
+//! (`fs_restore`; cleared to the background where no opaque triangle is drawn), so a pass costs
+//! the faded organs' triangles and pixels, not the scene's. Tiles are resolved and averaged into
+//! the rectangle (`fs_gather`, a running mean), and the rectangle is shown over the opaque image. No sorting by depth, and the image does not depend on drawing
 //! order (faded organs are drawn in index order, which settles exact depth ties).
 //!
 //! Progressive refinement ([`super::FrameInput::refine`]): a first frame draws the interactive
@@ -478,8 +478,14 @@ fn draw_passes(
     // In index order, whatever the drawing order: where two faded surfaces meet at exactly the
     // same depth in a sample both masks hold, the first drawn wins, so this keeps the image the
     // same in any drawing order (no sorting by depth is involved; the masks do the rest).
-    let (_, mut faded) = input.split(scene.organ_count());
+    let (opaque, mut faded) = input.split(scene.organ_count());
     faded.sort_unstable();
+    // Where no opaque triangle is drawn, the opaque image is the background: a clear restores it.
+    let restore = opaque.iter().any(|&i| scene.ranges(i, input.draw).iter().any(|r| !r.is_empty()));
+    let clear = match restore {
+        true => wgpu::Color::TRANSPARENT,
+        false => super::pipelines::clear_colour(input.background),
+    };
     let hdr = target.hdr(f.device);
     let rect = tiling.rect;
     let mut first = passes.start;
@@ -499,10 +505,7 @@ fn draw_passes(
                     view: &atlas.msaa,
                     depth_slice: None,
                     resolve_target: Some(&atlas.resolved),
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Discard,
-                    },
+                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Discard },
                 })],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                     view: &atlas.depth,
@@ -517,9 +520,11 @@ fn draw_passes(
                 let p = (first + t - first_tile) as u64;
                 let c = tiling.corner(t);
                 pass.set_scissor_rect(c[0], c[1], rect.w, rect.h);
-                pass.set_pipeline(&sd.restore);
-                pass.set_bind_group(0, &images.restore, &[(p * SLOT) as u32]);
-                pass.draw(0..3, 0..1);
+                if restore {
+                    pass.set_pipeline(&sd.restore);
+                    pass.set_bind_group(0, &images.restore, &[(p * SLOT) as u32]);
+                    pass.draw(0..3, 0..1);
+                }
                 scene.set_frame(&mut pass, 1 + p);
                 pass.set_bind_group(2, &pool.bind, &[(p * SLOT) as u32]);
                 scene.draw_many(&mut pass, &sd.masked, 0, faded.iter().map(|&i| (i, scene.ranges(i, input.draw))));
