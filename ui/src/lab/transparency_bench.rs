@@ -143,6 +143,26 @@ struct CurvePoint {
     frame_ms: f64,
 }
 
+/// Against each peeling mode at its most layers: the cheapest screen-door point of `curve` with no
+/// more error, and its frame time over the peeling frame's (the target, with every organ at 50 %:
+/// at most 0.5 against dual peeling). Null where no screen-door point gets there.
+fn at_equal_error(curve: &[CurvePoint]) -> serde_json::Value {
+    let peeled = CURVE_MODES.iter().filter(|&&m| m != TransparencyMode::Screendoor).filter_map(|&m| {
+        let deepest = curve.iter().filter(|p| p.mode == m).max_by_key(|p| p.setting)?;
+        let cheapest = curve
+            .iter()
+            .filter(|p| p.mode == TransparencyMode::Screendoor && p.mae <= deepest.mae)
+            .min_by(|a, b| a.frame_ms.total_cmp(&b.frame_ms));
+        let figures = cheapest.map(|sd| {
+            json!({"layers": deepest.setting, "mean_abs_error": deepest.mae, "frame_ms": deepest.frame_ms,
+                "screendoor_subsamples": sd.setting, "screendoor_mean_abs_error": sd.mae,
+                "screendoor_frame_ms": sd.frame_ms, "time_ratio": sd.frame_ms / deepest.frame_ms})
+        });
+        Some((m.name().to_string(), figures.unwrap_or(serde_json::Value::Null)))
+    });
+    serde_json::Value::Object(peeled.collect())
+}
+
 /// One view's figures besides the rows.
 struct ViewFigures {
     opaque_frame_ms: f64,
@@ -359,7 +379,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                     .collect();
                 json!({"view": spec.name, "transparent_organs": transparent, "opaque_frame_ms": fig.opaque_frame_ms,
                     "opaque_gpu_ms": fig.opaque_gpu_ms, "screendoor_moving_frame_ms": fig.moving_frame_ms,
-                    "modes": modes, "curve": curve})
+                    "modes": modes, "curve": curve, "screendoor_at_equal_error": at_equal_error(&fig.curve)})
             })
             .collect();
         let means: serde_json::Map<_, _> = MODES.iter().map(|&m| (m.name().to_string(), json!(mean(m)))).collect();
@@ -384,6 +404,13 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         for (spec, fig) in VIEWS.iter().zip(&figures) {
             let (o, m) = (fig.opaque_frame_ms, fig.moving_frame_ms);
             println!("{:<40} opaque {o:.1} ms, screen-door moving {m:.1} ms ({:.2}x)", spec.name, m / o);
+        }
+        if let (Some(spec), Some(fig)) = (VIEWS.last(), figures.last()) {
+            println!(
+                "{}: screen-door at the error of peeling's most layers: {}",
+                spec.name,
+                at_equal_error(&fig.curve)
+            );
         }
         for m in MODES {
             println!("mean over views  {:<22} {:.3}", m.name(), mean(m));
@@ -545,6 +572,25 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn screen_door_is_compared_where_its_error_is_no_higher() {
+        let point = |mode, setting, mae, frame_ms| CurvePoint { mode, setting, mae, frame_ms };
+        let (sd, dual) = (TransparencyMode::Screendoor, TransparencyMode::DualPeel);
+        let curve = [
+            point(sd, 8, 2.7, 270.0),
+            point(sd, 16, 1.5, 475.0),
+            point(sd, 64, 0.9, 1700.0),
+            point(dual, 4, 3.8, 580.0),
+            point(dual, 8, 2.0, 1000.0),
+            point(TransparencyMode::Peel, 8, 0.5, 1300.0),
+        ];
+        let v = at_equal_error(&curve);
+        assert_eq!(v["dual-peel"]["layers"], 8);
+        assert_eq!(v["dual-peel"]["screendoor_subsamples"], 16);
+        assert!((v["dual-peel"]["time_ratio"].as_f64().unwrap() - 0.475).abs() < 1e-9);
+        assert!(v["peel"].is_null(), "no screen-door point is as close as peeling there");
+    }
 
     #[test]
     fn a_contact_sheet_is_scaled_down_to_fit_and_never_up() {
