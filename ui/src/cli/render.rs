@@ -74,7 +74,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let transparency = TransparencySettings {
         mode: args.transparency.unwrap_or(base.mode),
         subsamples,
-        interactive_subsamples: subsamples,
+        // A render is a still frame; a scene it saves keeps the viewer's count while moving.
+        interactive_subsamples: base.interactive_subsamples,
         region_px: args.region.unwrap_or(base.region_px),
         k: args.k.unwrap_or(base.k),
         peel_layers: args.layers.unwrap_or(base.peel_layers),

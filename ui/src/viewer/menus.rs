@@ -208,14 +208,20 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
     }
     ui.separator();
     ui.label("Screen-door masks");
-    for (label, value) in
-        [("sub-samples, still", &mut t.subsamples), ("sub-samples, moving", &mut t.interactive_subsamples)]
-    {
-        egui::ComboBox::from_label(label).selected_text(value.to_string()).show_ui(ui, |ui| {
-            for n in SUBSAMPLE_CHOICES {
-                ui.selectable_value(value, n, n.to_string());
-            }
-        });
+    let moving = "At most: fewer while moving frames take over a tenth of a second";
+    for (label, value, tip) in [
+        ("sub-samples, still", &mut t.subsamples, "What a still image converges to"),
+        ("sub-samples, moving", &mut t.interactive_subsamples, moving),
+    ] {
+        egui::ComboBox::from_label(label)
+            .selected_text(value.to_string())
+            .show_ui(ui, |ui| {
+                for n in SUBSAMPLE_CHOICES {
+                    ui.selectable_value(value, n, n.to_string());
+                }
+            })
+            .response
+            .on_hover_text(tip);
     }
     let r = ui.add(egui::Slider::new(&mut t.region_px, vbrain::transparency::REGION_PX).text("region (pixels)"));
     accessible(&r, "Mask region size");

@@ -24,6 +24,7 @@ pub mod inspector;
 pub mod jobs;
 pub mod lesson_panel;
 pub mod menus;
+pub mod motion;
 pub mod panels;
 pub mod paths;
 pub mod quiz_panel;

@@ -56,6 +56,8 @@ pub struct Viewport {
     culler: Culler,
     /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
     moving: bool,
+    /// How many, and when the last moving frame was drawn.
+    motion: (super::motion::MotionQuality, Option<Instant>),
     target: Option<(Target, egui::TextureId)>,
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
@@ -75,6 +77,7 @@ impl Default for Viewport {
             cull: CullStats::default(),
             culler: Culler::default(),
             moving: false,
+            motion: Default::default(),
             target: None,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
@@ -439,10 +442,12 @@ impl Viewport {
         let clip = vbrain::cull::Clip::of(section, scene.renderer().cuts_geometry());
         let (draw, cull) =
             self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
+        let mut transparency = settings.transparency;
+        transparency.interactive_subsamples = self.motion.0.subsamples(settings.transparency.interactive_subsamples);
         let frame = FrameInput {
             draw: Some(&draw),
             background: settings.background_linear(false),
-            transparency: settings.transparency,
+            transparency,
             moving: self.moving,
             // Still: one more screen-door pass a frame into the image, until all are in.
             refine: !self.moving,
@@ -483,6 +488,15 @@ impl Viewport {
         self.stats = stats;
         self.cull = cull;
         let now = Instant::now();
+        let (quality, last) = &mut self.motion;
+        if let (true, Some(last)) = (self.moving, *last) {
+            quality.observe(
+                settings.transparency.interactive_subsamples,
+                transparency.interactive_subsamples,
+                now - last,
+            );
+        }
+        *last = self.moving.then_some(now);
         self.frame_times.push_back(now);
         while self.frame_times.front().is_some_and(|t| now.duration_since(*t).as_secs_f32() > 1.0) {
             self.frame_times.pop_front();
