@@ -68,11 +68,12 @@ pub struct MaskTable {
     masks: Vec<Mask>,
     /// Accumulated error after each row split of the last mask, in split order (for inspection).
     errors: Vec<f64>,
-    /// Scratch buffers reused by every mask: split order, filled counts, the next generation.
+    /// Scratch buffers reused by every mask: split order, the compensation ranks' word sets, row
+    /// by start and where each rank ends, priority masks, filled counts, the next generation.
     order: Vec<usize>,
     words: Vec<u64>,
     row_at: Vec<u16>,
-    starts: Vec<usize>,
+    ends: Vec<usize>,
     priority: Vec<Mask>,
     take: Vec<u16>,
     next: Vec<Row>,
@@ -108,7 +109,7 @@ impl MaskTable {
             order: Vec::new(),
             words: Vec::new(),
             row_at: Vec::new(),
-            starts: Vec::new(),
+            ends: Vec::new(),
             priority: Vec::new(),
             take: Vec::new(),
             next: Vec::new(),
@@ -172,13 +173,12 @@ impl MaskTable {
         match order {
             SplitOrder::Given(o) if is_permutation(o, rows) => self.order.extend_from_slice(o),
             _ if !self.priority.is_empty() => {
-                let scratch = (&mut self.order, &mut self.starts, &mut self.words, &mut self.row_at);
+                let scratch = (&mut self.order, &mut self.ends, &mut self.words, &mut self.row_at);
                 compensation_ranks(&self.rows, &self.priority, self.n, scratch);
                 if let Some(seed) = seed {
-                    // starts[k] is where rank k ends.
                     let mut rng = crate::rng::XorShift::seeded(seed);
                     let mut from = 0;
-                    for &end in &self.starts {
+                    for &end in &self.ends {
                         rng.shuffle(&mut self.order[from..end]);
                         from = end;
                     }
