@@ -28,6 +28,7 @@ use crate::camera::Camera;
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 use std::collections::HashMap;
 
 #[derive(Clone, Copy, Debug)]
@@ -75,13 +76,20 @@ impl RegionMasks {
 
 /// Nearest NDC depth of each transparent organ in each region (`f32::INFINITY` where absent),
 /// `depths[region * organs + organ]`, from the screen rectangles of the organs' hierarchy leaves.
-fn region_depths(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams, cols: u32, rows: u32) -> Vec<f32> {
-    let organs = set.organs.len();
+/// Also each region's organs as bits, `words` u64 a region.
+fn region_depths(
+    (set, layout, organs): (&OrganSet, &Layout, usize),
+    camera: &Camera,
+    p: &RegionParams,
+    (cols, rows): (u32, u32),
+) -> (Vec<f32>, Vec<u64>) {
+    let words = organs.div_ceil(64);
     let mut depths = vec![f32::INFINITY; (cols * rows) as usize * organs];
+    let mut present = vec![0u64; (cols * rows) as usize * words];
     let vp = camera.view_projection(p.width as f32 / p.height as f32);
     let (w, h) = (p.width as f32, p.height as f32);
     let scale = 1.0 / p.region_px as f32;
-    for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
+    for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate().take(organs) {
         if !state.is_drawn() || state.is_opaque() {
             continue;
         }
@@ -110,25 +118,28 @@ fn region_depths(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionPar
             let cell = |v: f32, n: u32| ((v * scale).floor().max(0.0) as u32).min(n - 1);
             for r in cell(y0, rows)..=cell(y1, rows) {
                 for c in cell(x0, cols)..=cell(x1, cols) {
-                    let d = &mut depths[(r * cols + c) as usize * organs + o];
+                    let region = (r * cols + c) as usize;
+                    let d = &mut depths[region * organs + o];
                     *d = d.min(z);
+                    present[region * words + o / 64] |= 1 << (o % 64);
                 }
             }
         }
     }
-    depths
+    (depths, present)
 }
 
-/// The pixel rectangle `[x, y, width, height]` of the regions where any organ is present.
-fn covered_pixels(depths: &[f32], organs: usize, cols: u32, p: &RegionParams) -> [u32; 4] {
+/// The pixel rectangle `[x, y, width, height]` of the regions where any organ is present (`words`
+/// bits a region).
+fn covered_pixels(present: &[u64], words: usize, cols: u32, p: &RegionParams) -> [u32; 4] {
     let (mut c0, mut c1, mut r0, mut r1) = (u32::MAX, 0, u32::MAX, 0);
-    for (i, region) in depths.chunks_exact(organs.max(1)).enumerate() {
-        if region.iter().any(|d| d.is_finite()) {
+    for (i, region) in present.chunks_exact(words.max(1)).enumerate() {
+        if region.iter().any(|&w| w != 0) {
             let (c, r) = (i as u32 % cols, i as u32 / cols);
             (c0, c1, r0, r1) = (c0.min(c), c1.max(c), r0.min(r), r1.max(r));
         }
     }
-    if c0 > c1 || organs == 0 {
+    if c0 > c1 || words == 0 {
         return [0; 4];
     }
     let s = p.region_px;
@@ -310,23 +321,28 @@ pub fn region_masks_kept(
             bits.of(&t.add(opacity(o), SplitOrder::Table))
         })
         .collect();
-    let depths = region_depths(set, layout, camera, &p, cols, rows);
-    let covered = covered_pixels(&depths, organs, cols, &p);
+    let words = organs.div_ceil(64);
+    let (depths, present) = region_depths((set, layout, organs), camera, &p, (cols, rows));
+    let covered = covered_pixels(&present, words, cols, &p);
     // Key of a region: its present organs as bits, then its K nearest, nearest first (padded with
     // `u64::MAX`); made a row of regions at a time in parallel, then numbered in region order.
-    let words = organs.div_ceil(64);
     let stride = words + p.k;
     let region_keys: Vec<u64> = depths
         .par_chunks(organs.max(1) * cols as usize)
-        .flat_map_iter(|row| {
+        .zip(present.par_chunks(words.max(1) * cols as usize))
+        .flat_map_iter(|(row, row_present)| {
             let mut keys = vec![u64::MAX; stride * cols as usize];
             let mut nearest: Vec<usize> = Vec::new();
-            for (region, key) in row.chunks_exact(organs.max(1)).zip(keys.chunks_exact_mut(stride)) {
-                key[..words].fill(0);
+            let regions = row.chunks_exact(organs.max(1)).zip(row_present.chunks_exact(words.max(1)));
+            for ((region, bits), key) in regions.zip(keys.chunks_exact_mut(stride)) {
+                key[..words].copy_from_slice(&bits[..words]);
                 nearest.clear();
-                for o in (0..organs).filter(|&o| region[o].is_finite()) {
-                    key[o / 64] |= 1 << (o % 64);
-                    nearest.push(o);
+                for (w, &word) in bits.iter().enumerate() {
+                    let mut word = word;
+                    while word != 0 {
+                        nearest.push(w * 64 + word.trailing_zeros() as usize);
+                        word &= word - 1;
+                    }
                 }
                 nearest.sort_by(|&a, &b| region[a].total_cmp(&region[b]).then(a.cmp(&b)));
                 for (k, &o) in key[words..].iter_mut().zip(&nearest) {
@@ -336,7 +352,7 @@ pub fn region_masks_kept(
             keys
         })
         .collect();
-    let mut configs: HashMap<&[u64], u32> = HashMap::new();
+    let mut configs: FxHashMap<&[u64], u32> = FxHashMap::default();
     let mut unique: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
     let mut config_of_region = Vec::with_capacity((cols * rows) as usize);
     let mut last: Option<(&[u64], u32)> = None;
