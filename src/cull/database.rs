@@ -2,8 +2,9 @@
 //! occluders (thesis §3.2, made by [`crate::mos`]); stored beside the set as `occluders.json`
 //! (versioned JSON, written atomically) and owned at run time by the [`super::Culler`]. It
 //! names the set's content and the layout it was computed for by fingerprints: a database whose set
-//! changed is stale and ignored; one whose layout differs from the current one is not used (the
-//! culler falls back to projected size), nor is it for a camera far from every viewpoint.
+//! changed is stale and ignored. It serves a layout with nothing moved whose opaque organs it had
+//! opaque too (organs faded or hidden since simply no longer occlude, [`Database::serves`]); for
+//! another layout, or a camera far from every viewpoint, the culler uses projected size.
 
 use super::LeafRef;
 use crate::camera::Camera;
@@ -39,6 +40,12 @@ pub struct Database {
     pub set: String,
     /// Fingerprint of the layout: which organs are opaque and where every organ is (hex).
     pub layout: String,
+    /// Which organs were opaque, and the fingerprint of where every organ was (hex); empty in
+    /// files written before they were kept, which then serve their own layout only.
+    #[serde(default)]
+    pub opaque: Vec<bool>,
+    #[serde(default)]
+    pub placement: String,
     /// Grid directions, image size and occluder limit used.
     pub directions: usize,
     pub size: usize,
@@ -90,6 +97,15 @@ pub fn layout_fingerprint(layout: &Layout) -> String {
     format!("{:016x}", h.0)
 }
 
+/// Fingerprint of every organ's placement in a layout.
+pub fn placement_fingerprint(layout: &Layout) -> String {
+    let mut h = Fnv::new();
+    for s in &layout.organs {
+        s.transform.matrix().to_cols_array().iter().for_each(|c| h.u32(c.to_bits()));
+    }
+    format!("{:016x}", h.0)
+}
+
 impl Database {
     /// A database for `set` in `layout`, made on a grid of `directions` with images of `size`
     /// pixels and at most `limit` occluders per viewpoint.
@@ -103,6 +119,8 @@ impl Database {
             version: VERSION,
             set: set_fingerprint(set),
             layout: layout_fingerprint(layout),
+            opaque: layout.organs.iter().map(|s| s.is_opaque()).collect(),
+            placement: placement_fingerprint(layout),
             directions,
             size,
             limit,
@@ -113,6 +131,15 @@ impl Database {
     /// Is `layout` the one pre-processed (same opaque organs, nothing moved)?
     pub fn layout_matches(&self, layout: &Layout) -> bool {
         layout_fingerprint(layout) == self.layout
+    }
+
+    /// Do its occluders serve `layout`: nothing moved, and every organ opaque now was opaque when
+    /// they were chosen (faded or hidden ones are left out of them)?
+    pub fn serves(&self, layout: &Layout) -> bool {
+        self.layout_matches(layout)
+            || (self.opaque.len() == layout.organs.len()
+                && self.placement == placement_fingerprint(layout)
+                && layout.organs.iter().zip(&self.opaque).all(|(s, &was)| was || !s.is_opaque()))
     }
 
     /// The viewpoint nearest to the camera's eye (world space).

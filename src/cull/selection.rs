@@ -157,9 +157,11 @@ pub fn opaque(layout: &Layout) -> Vec<bool> {
 }
 
 /// The occluders of this frame among the organs marked `occluding` (opaque and visible), those
-/// marked `cut` (by clip planes) with their own leaves only, never a stand-in's: the pre-computed set of the nearest viewpoint where `settings.selection`
-/// allows it (automatic: the layout is the pre-processed one and the camera is near a viewpoint),
-/// else projected size. Other or unknown organs never occlude, whatever the database says.
+/// marked `cut` (by clip planes) with their own leaves only, never a stand-in's: the pre-computed
+/// set of the nearest viewpoint where `settings.selection` allows it (automatic: the database
+/// serves the layout, at least half of the set still occludes, and the camera is near a
+/// viewpoint), else projected size. Other or unknown organs never occlude, whatever the database
+/// says.
 pub fn choose_occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -171,16 +173,19 @@ pub fn choose_occluders(
 ) -> (Vec<LeafRef>, OccluderSource) {
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
-        Selection::Mos => db.nearest(camera),
-        Selection::Auto => db.layout_matches(layout).then(|| db.near(camera)).flatten(),
+        Selection::Mos => db.nearest(camera).map(|v| (v, true)),
+        Selection::Auto => db.serves(layout).then(|| db.near(camera)).flatten().map(|v| (v, db.layout_matches(layout))),
     });
-    if let Some(viewpoint) = viewpoint {
+    if let Some((viewpoint, whole)) = viewpoint {
         let is_cut = |r: &LeafRef| cut.get(r.organ as usize).is_some_and(|p| !p.is_empty());
         let occludes = |r: &LeafRef| occluding.get(r.organ as usize).copied().unwrap_or(false);
         let valid = |r: &&LeafRef| r.exists_in(set) && occludes(r) && !(r.stand_in && is_cut(r));
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
-        let list = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
-        return (list, OccluderSource::Mos);
+        let list: Vec<LeafRef> = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
+        // With organs faded or hidden since, the set is used while at least half of it occludes.
+        if whole || 2 * list.len() >= viewpoint.occluders.len().min(limit) {
+            return (list, OccluderSource::Mos);
+        }
     }
     (by_projected_size(set, layout, camera, view_proj, settings, (occluding, cut)), OccluderSource::ProjectedSize)
 }

@@ -1,6 +1,7 @@
 //! The occluder database and its use at run time (CPU only): pre-processing writes a database that
 //! loads back beside the set, is ignored once the set changes, is used while the layout is the
-//! pre-processed one and not after an organ moves, and never lets a faded organ occlude.
+//! pre-processed one or has organs faded since (not after an organ moves or one hidden is shown),
+//! and never lets a faded organ occlude.
 
 use crate::common::cube;
 use glam::Vec3;
@@ -110,4 +111,28 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     faded.organs[0].opacity = 0.5;
     let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db), (&opaque(&faded), &[]));
     assert!(list.iter().all(|r| r.organ != 0));
+    // Automatic: with the wall faded too little of the set is left; a faded box leaves the wall.
+    let pick = |l: &Layout| choose_occluders(&set, l, &camera, &vp, &auto, Some(&db), (&opaque(l), &[]));
+    assert_eq!(pick(&faded).1, OccluderSource::ProjectedSize);
+    let box_faded = {
+        let mut l = layout.clone();
+        let used = |o: usize| list_of(&db, &camera).iter().filter(|r| r.organ as usize == o).count();
+        let (o, _) = (1..6).map(|o| (o, used(o))).min_by_key(|&(_, n)| n).unwrap();
+        l.organs[o].opacity = 0.5;
+        l
+    };
+    let (list, source) = pick(&box_faded);
+    assert_eq!(source, OccluderSource::Mos, "a faded box leaves most of the set");
+    assert!(list.iter().all(|r| box_faded.organs[r.organ as usize].is_opaque()));
+    // An organ shown that was hidden when the set was chosen: projected size.
+    let mut hidden = layout.clone();
+    hidden.organs[3].visible = false;
+    let db_hidden = mos::preprocess(&set, &hidden, 32, &Params::default(), &|_, _| {});
+    let (_, source) = choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db_hidden), (&opaque(&layout), &[]));
+    assert_eq!(source, OccluderSource::ProjectedSize);
+}
+
+/// The pre-computed occluders of the viewpoint nearest `camera`.
+fn list_of(db: &Database, camera: &Camera) -> Vec<vbrain::cull::LeafRef> {
+    db.nearest(camera).map(|v| v.occluders.clone()).unwrap_or_default()
 }
