@@ -67,8 +67,9 @@ impl Default for CullSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Selection {
-    /// The pre-computed minimum occluder sets while the layout is the pre-processed one, the set
-    /// has a fresh database and the camera is near one of its viewpoints; projected size otherwise.
+    /// The pre-computed minimum occluder sets while the set has a fresh database that serves the
+    /// layout (nothing moved; organs faded since left out, while half of a set still occludes)
+    /// and the camera is near one of its viewpoints; projected size otherwise.
     #[default]
     Auto,
     /// Projected size every frame.
