@@ -63,8 +63,9 @@ pub fn logical_to_bit(n: usize) -> Vec<usize> {
     order
 }
 
-/// [`to_gpu_bits`] for one `order`, a byte of the logical mask at a time (eight table lookups
-/// instead of one step per sub-sample).
+/// The GPU bits of logical masks for one `order` (`order[i]` = the bit of logical sub-sample i,
+/// n <= 64), a byte of the logical mask at a time: eight table lookups instead of one step per
+/// sub-sample.
 pub struct GpuBits {
     bytes: Box<[[u64; 256]; 8]>,
 }
@@ -74,7 +75,7 @@ impl GpuBits {
         let mut bytes = Box::new([[0u64; 256]; 8]);
         for (byte, table) in bytes.iter_mut().enumerate() {
             for (value, bits) in table.iter_mut().enumerate() {
-                *bits = to_gpu_bits_of((value as u64) << (8 * byte), order);
+                *bits = bit_by_bit((value as u64) << (8 * byte), order);
             }
         }
         GpuBits { bytes }
@@ -87,12 +88,8 @@ impl GpuBits {
     }
 }
 
-/// Maps a logical mask (n <= 64 sub-samples) to GPU bits.
-pub fn to_gpu_bits(mask: &super::Mask, order: &[usize]) -> u64 {
-    to_gpu_bits_of(mask.low_bits(), order)
-}
-
-fn to_gpu_bits_of(low: u64, order: &[usize]) -> u64 {
+/// The GPU bits of the logical sub-samples set in `low`, one at a time.
+fn bit_by_bit(low: u64, order: &[usize]) -> u64 {
     let (mut bits, mut low) = (0u64, low);
     while low != 0 {
         let i = low.trailing_zeros() as usize;
@@ -144,7 +141,7 @@ mod tests {
         for _ in 0..200 {
             let word = rng.next_u64();
             let mask = super::super::Mask::from_indices((0..64).filter(|i| word >> i & 1 == 1));
-            assert_eq!(table.of(&mask), to_gpu_bits(&mask, &order));
+            assert_eq!(table.of(&mask), bit_by_bit(word, &order));
         }
     }
 

@@ -216,8 +216,11 @@ impl MaskTable {
 }
 
 /// `rows` (sorted by start, each wholly inside or outside every priority mask) into `order` by
-/// their [`split_key`], ties in table order, with `ends[k]` where rank k ends: the sets of
-/// sub-samples of each rank are found a word at a time, and each set's row starts listed in order.
+/// neighbourhood error compensation's rank among the priority masks, highest first: rows in the
+/// filled region of priorities 0..=i for the largest i come first (F^i before F^(i-1) \ F^i ...),
+/// then rows of the empty regions likewise (thesis §4.3.3, Table 1); ties in table order, with
+/// `ends[k]` where rank k ends. The sets of sub-samples of each rank are found a word at a time,
+/// and each set's row starts listed in order.
 /// `words` and `row_at` are scratch: the agreement sets and row starts, and the row at a start.
 fn compensation_ranks(
     rows: &[Row],
@@ -267,29 +270,27 @@ fn is_permutation(order: &[usize], len: usize) -> bool {
     order.len() == len && order.iter().all(|&i| i < len && !std::mem::replace(&mut seen[i], true))
 }
 
-/// Neighbourhood error compensation's rank of a row represented by its sub-sample `p` (rows lie
-/// wholly inside or outside each mask) among priority masks, highest first: rows in the filled
-/// region of priorities 0..=i for the largest i come first (F^i before F^(i-1) \ F^i ...), then
-/// rows of the empty regions likewise (thesis §4.3.3, Table 1).
-fn split_key(p: usize, priorities: &[Mask]) -> usize {
-    let Some(top) = priorities.first() else { return 0 };
-    let filled = top.contains(p);
-    let run = priorities.iter().take_while(|m| m.contains(p) == filled).count();
-    usize::from(!filled) * (priorities.len() + 1) + priorities.len() - run
-}
-
-/// The split order of rows represented by one sub-sample each (`first[r]`), for priority masks
-/// highest first; ties keep table order.
-pub fn compensation_order(first: &[usize], priorities: &[Mask]) -> Vec<usize> {
-    let mut keyed: Vec<(usize, usize)> =
-        first.iter().enumerate().map(|(r, &p)| (split_key(p, priorities), r)).collect();
-    keyed.sort_unstable();
-    keyed.into_iter().map(|(_, r)| r).collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The reference for [`compensation_ranks`], one row at a time: the rank of a row represented
+    /// by its sub-sample `p` among priority masks, highest first.
+    fn split_key(p: usize, priorities: &[Mask]) -> usize {
+        let Some(top) = priorities.first() else { return 0 };
+        let filled = top.contains(p);
+        let run = priorities.iter().take_while(|m| m.contains(p) == filled).count();
+        usize::from(!filled) * (priorities.len() + 1) + priorities.len() - run
+    }
+
+    /// The split order of rows represented by one sub-sample each (`first[r]`), for priority masks
+    /// highest first; ties keep table order.
+    fn compensation_order(first: &[usize], priorities: &[Mask]) -> Vec<usize> {
+        let mut keyed: Vec<(usize, usize)> =
+            first.iter().enumerate().map(|(r, &p)| (split_key(p, priorities), r)).collect();
+        keyed.sort_unstable();
+        keyed.into_iter().map(|(_, r)| r).collect()
+    }
 
     #[test]
     fn figure_12() {
