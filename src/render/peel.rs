@@ -267,23 +267,10 @@ fn pass<'e>(
 
 /// Submits `encoder` with the occlusion query's result copied out, and reads it back (blocking).
 fn submit_counting(f: &Frame, mut encoder: wgpu::CommandEncoder, query: &wgpu::QuerySet) -> Result<u64> {
-    let device = f.device;
-    let buffer = |usage| {
-        device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("occlusion"),
-            size: 8,
-            usage,
-            mapped_at_creation: false,
-        })
-    };
-    let resolved = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
-    let read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-    encoder.resolve_query_set(query, 0..1, &resolved, 0);
-    encoder.copy_buffer_to_buffer(&resolved, 0, &read, 0, 8);
+    let readback = super::target::QueryReadback::new(f.device, "occlusion", 1);
+    readback.record(&mut encoder, query);
     f.queue.submit([encoder.finish()]);
-    super::target::read_mapped(device, &read, "occlusion query", |data| {
-        u64::from_le_bytes(data[..8].try_into().unwrap_or([0; 8]))
-    })
+    Ok(readback.read(f.device, "occlusion query")?[0])
 }
 
 /// Depth peeling or dual depth peeling, with the composite passes they need.

@@ -250,3 +250,41 @@ pub(super) fn read_mapped<T>(
     buffer.unmap();
     Ok(out)
 }
+
+/// Buffers that bring `count` query results (u64 each) back to the CPU: resolved into one, copied
+/// into one it maps.
+pub(super) struct QueryReadback {
+    resolved: wgpu::Buffer,
+    read: wgpu::Buffer,
+    count: u32,
+}
+
+impl QueryReadback {
+    pub fn new(device: &wgpu::Device, label: &'static str, count: u32) -> QueryReadback {
+        let buffer = |usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 8 * u64::from(count),
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let resolved = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
+        let read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+        QueryReadback { resolved, read, count }
+    }
+
+    /// Records resolving queries `0..count` of `set` and copying them out.
+    pub fn record(&self, encoder: &mut wgpu::CommandEncoder, set: &wgpu::QuerySet) {
+        encoder.resolve_query_set(set, 0..self.count, &self.resolved, 0);
+        encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.read, 0, 8 * u64::from(self.count));
+    }
+
+    /// The results, once the recording has been submitted (waits for the GPU); `what` names the
+    /// read in errors.
+    pub fn read(&self, device: &wgpu::Device, what: &'static str) -> Result<Vec<u64>> {
+        read_mapped(device, &self.read, what, |data| {
+            data.chunks_exact(8).map(|c| u64::from_le_bytes(c.try_into().unwrap_or([0; 8]))).collect()
+        })
+    }
+}

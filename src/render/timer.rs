@@ -4,6 +4,7 @@
 //! covers every pass a technique submits, in milliseconds of the GPU's clock. Reading it back waits
 //! for the GPU, so the renderer takes it only when a frame asks ([`super::FrameInput::time_gpu`]).
 
+use super::target::QueryReadback;
 use crate::error::Result;
 
 /// The features a device needs for [`GpuTimer`].
@@ -12,8 +13,7 @@ pub const FEATURES: wgpu::Features =
 
 pub(super) struct GpuTimer {
     queries: wgpu::QuerySet,
-    resolved: wgpu::Buffer,
-    read: wgpu::Buffer,
+    readback: QueryReadback,
 }
 
 impl GpuTimer {
@@ -27,17 +27,7 @@ impl GpuTimer {
             ty: wgpu::QueryType::Timestamp,
             count: 2,
         });
-        let buffer = |usage| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("frame time"),
-                size: 16,
-                usage,
-                mapped_at_creation: false,
-            })
-        };
-        let resolved = buffer(wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC);
-        let read = buffer(wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-        Some(GpuTimer { queries, resolved, read })
+        Some(GpuTimer { queries, readback: QueryReadback::new(device, "frame time", 2) })
     }
 
     /// Submits the frame's first timestamp.
@@ -51,13 +41,10 @@ impl GpuTimer {
     pub fn stop(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<f64> {
         let mut encoder = device.create_command_encoder(&Default::default());
         encoder.write_timestamp(&self.queries, 1);
-        encoder.resolve_query_set(&self.queries, 0..2, &self.resolved, 0);
-        encoder.copy_buffer_to_buffer(&self.resolved, 0, &self.read, 0, 16);
+        self.readback.record(&mut encoder, &self.queries);
         queue.submit([encoder.finish()]);
-        let ticks = super::target::read_mapped(device, &self.read, "frame time", |data| {
-            let at = |i: usize| u64::from_le_bytes(data[i * 8..i * 8 + 8].try_into().unwrap_or([0; 8]));
-            at(1).saturating_sub(at(0))
-        })?;
+        let stamps = self.readback.read(device, "frame time")?;
+        let ticks = stamps[1].saturating_sub(stamps[0]);
         Ok(ticks as f64 * f64::from(queue.get_timestamp_period()) / 1e6)
     }
 }
