@@ -134,12 +134,16 @@ impl Database {
     }
 
     /// Do its occluders serve `layout`: nothing moved, and every organ opaque now was opaque when
-    /// they were chosen (faded or hidden ones are left out of them)?
-    pub fn serves(&self, layout: &Layout) -> bool {
-        self.layout_matches(layout)
-            || (self.opaque.len() == layout.organs.len()
-                && self.placement == placement_fingerprint(layout)
-                && layout.organs.iter().zip(&self.opaque).all(|(s, &was)| was || !s.is_opaque()))
+    /// they were chosen (faded or hidden ones are left out of them)? `Some(true)` for the layout
+    /// pre-processed, `Some(false)` for one with organs faded or hidden since, `None` otherwise.
+    pub fn serves(&self, layout: &Layout) -> Option<bool> {
+        if self.layout_matches(layout) {
+            return Some(true);
+        }
+        (self.opaque.len() == layout.organs.len()
+            && self.placement == placement_fingerprint(layout)
+            && layout.organs.iter().zip(&self.opaque).all(|(s, &was)| was || !s.is_opaque()))
+        .then_some(false)
     }
 
     /// The viewpoint nearest to the camera's eye (world space).

@@ -175,7 +175,7 @@ pub fn choose_occluders(
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
         Selection::Mos => db.nearest(camera).map(|v| (v, true)),
-        Selection::Auto => db.serves(layout).then(|| db.near(camera)).flatten().map(|v| (v, db.layout_matches(layout))),
+        Selection::Auto => db.serves(layout).and_then(|whole| Some((db.near(camera)?, whole))),
     });
     if let Some((viewpoint, whole)) = viewpoint {
         let is_cut = |r: &LeafRef| cut.get(r.organ as usize).is_some_and(|p| !p.is_empty());
