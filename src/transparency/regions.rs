@@ -3,8 +3,9 @@
 //! `region_px` screen pixels (x right, y down); depth is NDC z (larger is farther).
 //!
 //! 1. The leaves of each drawn transparent organ's hierarchy (at most 256 triangles each) are
-//!    projected; every region a leaf's screen rectangle (grown by a pixel, for MSAA
-//!    samples and rounding) touches records the organ as present, with the nearest depth of the leaf's box.
+//!    projected; every region a leaf's screen rectangle (grown by a pixel, for MSAA samples and
+//!    rounding) touches records the organ as present, with the nearest depth of the leaf's box
+//!    (a row of regions at a time).
 //!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
@@ -17,7 +18,9 @@
 //!
 //! 4. A [`MaskCache`] keeps the last frame's configurations and their masks: a configuration seen
 //!    again with the same opacities, sub-samples, K and method is not generated again (most survive
-//!    a small camera move). Masks depend on the configuration only, so the images do not change.
+//!    a small camera move). It also keeps, per list of K nearest, what configurations with those
+//!    K nearest share ([`AfterNearest`]). Masks depend on the configuration only, so the images
+//!    do not change.
 //!
 //! The output is plain data for the renderer: a configuration per region and, per configuration,
 //! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
@@ -29,7 +32,7 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
-use std::collections::HashMap;
+use std::collections::hash_map::Entry;
 
 #[derive(Clone, Copy, Debug)]
 pub struct RegionParams {
@@ -74,24 +77,33 @@ impl RegionMasks {
     }
 }
 
-/// Nearest NDC depth of each transparent organ in each region (`f32::INFINITY` where absent),
-/// `depths[region * organs + organ]`, from the screen rectangles of the organs' hierarchy leaves.
-/// Also each region's organs as bits, `words` u64 a region.
-fn region_depths(
+/// A hierarchy leaf of a transparent organ on screen: the regions its rectangle touches (columns
+/// `c0..=c1`, rows `r0..=r1`) and the nearest NDC depth of its box.
+#[derive(Clone, Copy, Debug)]
+struct LeafRect {
+    organ: u32,
+    c0: u32,
+    c1: u32,
+    r0: u32,
+    r1: u32,
+    z: f32,
+}
+
+/// The screen rectangles of the hierarchy leaves of every drawn transparent organ (the first
+/// `organs`), an organ at a time in parallel.
+fn leaf_rects(
     (set, layout, organs): (&OrganSet, &Layout, usize),
     camera: &Camera,
     p: &RegionParams,
     (cols, rows): (u32, u32),
-) -> (Vec<f32>, Vec<u64>) {
-    let words = organs.div_ceil(64);
-    let mut depths = vec![f32::INFINITY; (cols * rows) as usize * organs];
-    let mut present = vec![0u64; (cols * rows) as usize * words];
+) -> Vec<LeafRect> {
     let vp = camera.view_projection(p.width as f32 / p.height as f32);
     let (w, h) = (p.width as f32, p.height as f32);
     let scale = 1.0 / p.region_px as f32;
-    for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate().take(organs) {
+    let organ_rects = |(o, (organ, state)): (usize, (&crate::organ_set::Organ, &crate::layout::OrganState))| {
+        let mut rects = Vec::new();
         if !state.is_drawn() || state.is_opaque() {
-            continue;
+            return rects;
         }
         let m = vp * state.transform.matrix();
         for &leaf in &organ.bvh.leaves {
@@ -116,36 +128,75 @@ fn region_depths(
                 (x0 - 1.0, x1 + 1.0, y0 - 1.0, y1 + 1.0, z.max(0.0))
             };
             let cell = |v: f32, n: u32| ((v * scale).floor().max(0.0) as u32).min(n - 1);
-            for r in cell(y0, rows)..=cell(y1, rows) {
-                for c in cell(x0, cols)..=cell(x1, cols) {
-                    let region = (r * cols + c) as usize;
-                    let d = &mut depths[region * organs + o];
-                    *d = d.min(z);
-                    present[region * words + o / 64] |= 1 << (o % 64);
-                }
-            }
+            let (c0, c1, r0, r1) = (cell(x0, cols), cell(x1, cols), cell(y0, rows), cell(y1, rows));
+            rects.push(LeafRect { organ: o as u32, c0, c1, r0, r1, z });
         }
-    }
-    (depths, present)
+        rects
+    };
+    let drawn = set.organs.par_iter().zip(&layout.organs).enumerate().take(organs);
+    drawn.flat_map_iter(organ_rects).collect()
 }
 
-/// The pixel rectangle `[x, y, width, height]` of the regions where any organ is present (`words`
-/// bits a region).
-fn covered_pixels(present: &[u64], words: usize, cols: u32, p: &RegionParams) -> [u32; 4] {
-    let (mut c0, mut c1, mut r0, mut r1) = (u32::MAX, 0, u32::MAX, 0);
-    for (i, region) in present.chunks_exact(words.max(1)).enumerate() {
-        if region.iter().any(|&w| w != 0) {
-            let (c, r) = (i as u32 % cols, i as u32 / cols);
-            (c0, c1, r0, r1) = (c0.min(c), c1.max(c), r0.min(r), r1.max(r));
-        }
-    }
-    if c0 > c1 || words == 0 {
-        return [0; 4];
+/// The pixel rectangle `[x, y, width, height]` of the regions the leaves touch.
+fn covered_pixels(rects: &[LeafRect], p: &RegionParams) -> [u32; 4] {
+    let Some(first) = rects.first() else { return [0; 4] };
+    let (mut c0, mut c1, mut r0, mut r1) = (first.c0, first.c1, first.r0, first.r1);
+    for r in rects {
+        (c0, c1, r0, r1) = (c0.min(r.c0), c1.max(r.c1), r0.min(r.r0), r1.max(r.r1));
     }
     let s = p.region_px;
     let (x, y) = (c0 * s, r0 * s);
     [x, y, ((c1 + 1) * s).min(p.width) - x, ((r1 + 1) * s).min(p.height) - y]
 }
+
+/// The key of every region in row-major order, `stride` = `words + k` u64 a region: its organs as
+/// bits (`words` u64), then its K nearest by the nearest depth of their leaves there, nearest
+/// first (ties by index), padded with `u64::MAX`. A row of regions at a time, in parallel.
+fn region_keys(rects: &[LeafRect], organs: usize, k: usize, (cols, rows): (u32, u32)) -> Vec<u64> {
+    let words = organs.div_ceil(64);
+    let stride = words + k;
+    let cols = cols as usize;
+    // Per row: the nearest depth of each organ in each region of the row, and which are present.
+    let scratch = || (vec![f32::INFINITY; cols * organs], vec![0u64; cols * words], Vec::new());
+    let row_keys = |(depths, present, nearest): &mut (Vec<f32>, Vec<u64>, Vec<usize>), r: u32| {
+        depths.fill(f32::INFINITY);
+        present.fill(0);
+        for rect in rects.iter().filter(|x| x.r0 <= r && r <= x.r1) {
+            let o = rect.organ as usize;
+            for c in rect.c0 as usize..=rect.c1 as usize {
+                let d = &mut depths[c * organs + o];
+                *d = d.min(rect.z);
+                present[c * words + o / 64] |= 1 << (o % 64);
+            }
+        }
+        let mut keys = vec![u64::MAX; stride * cols];
+        for ((key, bits), depth) in keys
+            .chunks_exact_mut(stride)
+            .zip(present.chunks_exact(words.max(1)))
+            .zip(depths.chunks_exact(organs.max(1)))
+        {
+            key[..words].copy_from_slice(bits);
+            nearest.clear();
+            for (w, &word) in bits.iter().enumerate() {
+                let mut word = word;
+                while word != 0 {
+                    nearest.push(w * 64 + word.trailing_zeros() as usize);
+                    word &= word - 1;
+                }
+            }
+            nearest.sort_by(|&a, &b| depth[a].total_cmp(&depth[b]).then(a.cmp(&b)));
+            for (k, &o) in key[words..].iter_mut().zip(nearest.iter()) {
+                *k = o as u64;
+            }
+        }
+        keys
+    };
+    let rows: Vec<Vec<u64>> = (0..rows).into_par_iter().map_init(scratch, row_keys).collect();
+    rows.concat()
+}
+
+/// The masks of a configuration's organs: (organ, GPU mask) pairs.
+pub type OrganMasks = Vec<(usize, u64)>;
 
 /// Masks for one configuration: `present` organs (by index) of which `nearest` are the K nearest,
 /// nearest first. Returns (organ, GPU mask) pairs.
@@ -156,7 +207,7 @@ pub fn config_masks(
     p: &RegionParams,
     bits: &GpuBits,
 ) -> Vec<(usize, u64)> {
-    configuration_masks(&[(present, nearest)], opacity, p, bits).pop().unwrap_or_default()
+    configuration_masks(&[(present, nearest)], opacity, p, bits, &mut KnownMasks::default()).pop().unwrap_or_default()
 }
 
 /// Masks for configurations `(present, nearest)`, one list of (organ, GPU mask) per configuration.
@@ -173,6 +224,7 @@ pub fn configuration_masks(
     opacity: impl Fn(usize) -> f32 + Sync,
     p: &RegionParams,
     bits: &GpuBits,
+    known: &mut KnownMasks,
 ) -> Vec<Vec<(usize, u64)>> {
     let others: Vec<Vec<usize>> = configs
         .iter()
@@ -194,7 +246,8 @@ pub fn configuration_masks(
     let mut visit: Vec<usize> = (0..configs.len()).collect();
     visit.sort_by(|&a, &b| configs[a].1.cmp(configs[b].1).then_with(|| others[a].cmp(&others[b])));
     let runs: Vec<&[usize]> = visit.chunk_by(|&a, &b| configs[a].1.get(..2) == configs[b].1.get(..2)).collect();
-    let walk = |run: &&[usize]| -> Vec<(usize, Vec<(usize, u64)>)> {
+    let was_known = &*known;
+    let walk = |run: &&[usize]| -> (Vec<(usize, OrganMasks)>, KnownMasks) {
         let k_most = run.iter().map(|&i| configs[i].1.len()).max().unwrap_or(0);
         let priorities: Vec<usize> = (0..k_most).collect();
         let nec = p.method == MaskMethod::TabularNec;
@@ -211,29 +264,46 @@ pub fn configuration_masks(
         let (mut near, mut near_depth) = (vec![MaskTable::new(p.subsamples)], 0);
         let (mut tables, mut depth) = (vec![MaskTable::new(p.subsamples)], 0);
         let mut spare = MaskTable::new(p.subsamples);
-        let mut after_full: HashMap<usize, u64> = HashMap::new();
+        let (mut after_full, mut learned) = (FxHashMap::default(), KnownMasks::default());
+        let mut known_here: Option<&AfterNearest> = None;
         let mut masks: Vec<(usize, u64)> = Vec::new();
         let (mut last_near, mut last_others): (Option<&[usize]>, &[usize]) = (None, &[]);
         for &i in run.iter() {
             let (nearest, mine) = (configs[i].1, others[i].as_slice());
             let k = nearest.len();
             if last_near != Some(nearest) {
-                near_depth = common_run(last_near.unwrap_or_default(), nearest).min(near_depth);
-                masks.truncate(near_depth);
-                for (j, &o) in nearest.iter().enumerate().skip(near_depth) {
-                    let table = next_table(&mut near, j);
-                    masks.push((o, bits.of(&table.add(opacity(o), near_split(j)))));
+                if let Some(last) = last_near.filter(|_| !after_full.is_empty()) {
+                    learned.entry(last.to_vec()).or_default().saturated = std::mem::take(&mut after_full);
                 }
-                near_depth = k;
-                tables[0].clone_from(&near[k]);
+                known_here = was_known.get(nearest);
+                if let Some(kept) = known_here {
+                    // The near stack no longer holds the nearest visited last.
+                    near_depth = 0;
+                    masks.clone_from(&kept.masks);
+                    tables[0].clone_from(&kept.table);
+                } else {
+                    near_depth = common_run(last_near.unwrap_or_default(), nearest).min(near_depth);
+                    masks.truncate(near_depth);
+                    for (j, &o) in nearest.iter().enumerate().skip(near_depth) {
+                        let table = next_table(&mut near, j);
+                        masks.push((o, bits.of(&table.add(opacity(o), near_split(j)))));
+                    }
+                    near_depth = k;
+                    tables[0].clone_from(&near[k]);
+                    let after = AfterNearest { table: near[k].clone(), masks: masks.clone(), ..Default::default() };
+                    learned.insert(nearest.to_vec(), after);
+                }
                 depth = 0;
-                after_full.clear();
                 (last_near, last_others) = (Some(nearest), &[]);
             }
             depth = common_run(last_others, mine).min(depth);
             masks.truncate(k + depth);
             for &o in &mine[depth..] {
                 if tables[depth].is_saturated() {
+                    if let Some(&mask) = known_here.and_then(|m| m.saturated.get(&o)) {
+                        masks.push((o, mask));
+                        continue;
+                    }
                     let mut add = || {
                         spare.clone_from(&tables[depth]);
                         bits.of(&spare.add(opacity(o), other_split(k, o)))
@@ -248,14 +318,46 @@ pub fn configuration_masks(
             walked.push((i, masks.clone()));
             last_others = mine;
         }
-        walked
+        if let Some(last) = last_near.filter(|_| !after_full.is_empty()) {
+            learned.entry(last.to_vec()).or_default().saturated = after_full;
+        }
+        (walked, learned)
     };
     let mut out = vec![Vec::new(); configs.len()];
-    for (i, masks) in runs.par_iter().flat_map_iter(walk).collect::<Vec<_>>() {
-        out[i] = masks;
+    for (walked, learned) in runs.par_iter().map(walk).collect::<Vec<_>>() {
+        for (i, masks) in walked {
+            out[i] = masks;
+        }
+        for (nearest, after) in learned {
+            match known.entry(nearest) {
+                Entry::Occupied(mut e) => e.get_mut().saturated.extend(after.saturated),
+                Entry::Vacant(e) => {
+                    e.insert(after);
+                }
+            }
+        }
     }
     out
 }
+
+/// What configurations with the same K nearest (nearest first) share, for the same opacities,
+/// sub-samples and method: the table after the K nearest and their masks, and the masks of organs
+/// made after a saturated table, where a mask depends on the K nearest and the organ alone.
+#[derive(Debug)]
+pub struct AfterNearest {
+    table: MaskTable,
+    masks: Vec<(usize, u64)>,
+    saturated: FxHashMap<usize, u64>,
+}
+
+impl Default for AfterNearest {
+    fn default() -> Self {
+        AfterNearest { table: MaskTable::new(1), masks: Vec::new(), saturated: FxHashMap::default() }
+    }
+}
+
+/// [`AfterNearest`] by K nearest.
+pub type KnownMasks = FxHashMap<Vec<usize>, AfterNearest>;
 
 /// `stack[depth + 1]` made a copy of `stack[depth]`, reusing its allocation where it has one.
 fn next_table(stack: &mut Vec<MaskTable>, depth: usize) -> &mut MaskTable {
@@ -288,8 +390,15 @@ pub fn followed_nearest(k: usize, n: usize) -> usize {
 #[derive(Debug, Default)]
 pub struct MaskCache {
     settings: Vec<u64>,
-    masks: HashMap<Vec<u64>, Vec<(usize, u64)>>,
+    /// Masks by configuration key, with the frame that last had the configuration.
+    masks: FxHashMap<Vec<u64>, (u64, OrganMasks)>,
+    frame: u64,
+    /// What every K nearest seen under these settings share (up to [`NEAREST_KEPT`] of them).
+    known: KnownMasks,
 }
+
+/// Most lists of K nearest a [`MaskCache`] keeps; beyond it, it starts again.
+const NEAREST_KEPT: usize = 1 << 14;
 
 /// The masks of every region for this frame, all generated anew.
 pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams) -> RegionMasks {
@@ -322,82 +431,76 @@ pub fn region_masks_kept(
         })
         .collect();
     let words = organs.div_ceil(64);
-    let (depths, present) = region_depths((set, layout, organs), camera, &p, (cols, rows));
-    let covered = covered_pixels(&present, words, cols, &p);
-    // Key of a region: its present organs as bits, then its K nearest, nearest first (padded with
-    // `u64::MAX`); made a row of regions at a time in parallel, then numbered in region order.
+    let rects = leaf_rects((set, layout, organs), camera, &p, (cols, rows));
+    let covered = covered_pixels(&rects, &p);
     let stride = words + p.k;
-    let region_keys: Vec<u64> = depths
-        .par_chunks(organs.max(1) * cols as usize)
-        .zip(present.par_chunks(words.max(1) * cols as usize))
-        .flat_map_iter(|(row, row_present)| {
-            let mut keys = vec![u64::MAX; stride * cols as usize];
-            let mut nearest: Vec<usize> = Vec::new();
-            let regions = row.chunks_exact(organs.max(1)).zip(row_present.chunks_exact(words.max(1)));
-            for ((region, bits), key) in regions.zip(keys.chunks_exact_mut(stride)) {
-                key[..words].copy_from_slice(&bits[..words]);
-                nearest.clear();
-                for (w, &word) in bits.iter().enumerate() {
-                    let mut word = word;
-                    while word != 0 {
-                        nearest.push(w * 64 + word.trailing_zeros() as usize);
-                        word &= word - 1;
-                    }
-                }
-                nearest.sort_by(|&a, &b| region[a].total_cmp(&region[b]).then(a.cmp(&b)));
-                for (k, &o) in key[words..].iter_mut().zip(&nearest) {
-                    *k = o as u64;
-                }
-            }
-            keys
-        })
-        .collect();
+    let region_keys = region_keys(&rects, organs, p.k, (cols, rows));
+    // Configurations numbered in region order, by key.
     let mut configs: FxHashMap<&[u64], u32> = FxHashMap::default();
-    let mut unique: Vec<(Vec<usize>, Vec<usize>)> = Vec::new();
+    let mut keys: Vec<&[u64]> = Vec::new();
     let mut config_of_region = Vec::with_capacity((cols * rows) as usize);
-    let mut last: Option<(&[u64], u32)> = None;
-    for key in region_keys.chunks_exact(stride) {
-        if let Some((_, id)) = last.filter(|&(last, _)| last == key) {
-            config_of_region.push(id);
-            continue;
-        }
-        let id = *configs.entry(key).or_insert_with(|| {
-            let present = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
-            let nearest = key[words..].iter().take_while(|&&o| o != u64::MAX).map(|&o| o as usize).collect();
-            unique.push((present, nearest));
-            unique.len() as u32 - 1
-        });
+    // A region's key is most often its left or upper neighbour's.
+    let (row_len, width) = (stride * cols as usize, cols as usize);
+    for (i, key) in region_keys.chunks_exact(stride).enumerate() {
+        let at = i * stride;
+        let same_as = |j: usize| region_keys[j..j + stride] == *key;
+        let id = if i % width > 0 && same_as(at - stride) {
+            config_of_region[i - 1]
+        } else if i >= width && same_as(at - row_len) {
+            config_of_region[i - width]
+        } else {
+            *configs.entry(key).or_insert_with(|| {
+                keys.push(key);
+                keys.len() as u32 - 1
+            })
+        };
         config_of_region.push(id);
-        last = Some((key, id));
-    }
-    let mut keys: Vec<&[u64]> = vec![&[]; unique.len()];
-    for (&key, &id) in &configs {
-        keys[id as usize] = key;
     }
     // The last frame's masks where its configuration and settings come again.
     let settings: Vec<u64> = [p.subsamples as u64, p.k as u64, p.method as u64]
         .into_iter()
         .chain((0..organs).map(|o| u64::from(opacity(o).to_bits())))
         .collect();
-    if cache.settings != settings {
+    if cache.settings != settings || cache.known.len() > NEAREST_KEPT {
         cache.masks.clear();
+        cache.known.clear();
         cache.settings = settings;
     }
-    let mut generated: Vec<Option<Vec<(usize, u64)>>> = keys.iter().map(|&k| cache.masks.remove(k)).collect();
-    let kept = generated.iter().filter(|m| m.is_some()).count();
+    cache.frame += 1;
+    let frame = cache.frame;
+    let todo: Vec<&[u64]> = keys
+        .iter()
+        .copied()
+        .filter(|&key| match cache.masks.get_mut(key) {
+            Some((seen, _)) => {
+                *seen = frame;
+                false
+            }
+            None => true,
+        })
+        .collect();
+    let kept = keys.len() - todo.len();
     // One generation for every other distinct configuration.
-    let todo: Vec<usize> = (0..unique.len()).filter(|&i| generated[i].is_none()).collect();
-    let wanted: Vec<(&[usize], &[usize])> =
-        todo.iter().map(|&i| (unique[i].0.as_slice(), unique[i].1.as_slice())).collect();
-    for (i, masks) in todo.into_iter().zip(configuration_masks(&wanted, opacity, &p, &bits)) {
-        generated[i] = Some(masks);
+    let decoded: Vec<(Vec<usize>, Vec<usize>)> = todo
+        .iter()
+        .map(|key| {
+            let present = (0..organs).filter(|&o| key[o / 64] >> (o % 64) & 1 == 1).collect();
+            let nearest = key[words..].iter().take_while(|&&o| o != u64::MAX).map(|&o| o as usize).collect();
+            (present, nearest)
+        })
+        .collect();
+    let wanted: Vec<(&[usize], &[usize])> = decoded.iter().map(|(p, n)| (p.as_slice(), n.as_slice())).collect();
+    let gen = configuration_masks(&wanted, opacity, &p, &bits, &mut cache.known);
+    for (key, masks) in todo.into_iter().zip(gen) {
+        cache.masks.insert(key.to_vec(), (frame, masks));
     }
-    let mut masks = Vec::with_capacity(generated.len().max(1) * organs);
-    let generated: Vec<Vec<(usize, u64)>> = generated.into_iter().map(Option::unwrap_or_default).collect();
-    for config in &generated {
+    // Only this frame's configurations are kept for the next.
+    cache.masks.retain(|_, (seen, _)| *seen == frame);
+    let mut masks = Vec::with_capacity(keys.len().max(1) * organs);
+    for key in &keys {
         let at = masks.len();
         masks.extend_from_slice(&defaults);
-        for &(o, m) in config {
+        for &(o, m) in cache.masks.get(*key).map(|(_, m)| m.as_slice()).unwrap_or_default() {
             masks[at + o] = m;
         }
     }
@@ -405,8 +508,6 @@ pub fn region_masks_kept(
     if masks.is_empty() {
         masks.extend_from_slice(&defaults);
     }
-    // Only this frame's configurations are kept for the next.
-    cache.masks = keys.into_iter().map(<[u64]>::to_vec).zip(generated).collect();
     RegionMasks {
         region_px,
         cols,
@@ -414,7 +515,7 @@ pub fn region_masks_kept(
         subsamples: p.subsamples,
         organ_count: organs,
         config_of_region,
-        configs: unique.len(),
+        configs: keys.len(),
         kept,
         covered,
         masks,
@@ -517,6 +618,39 @@ mod tests {
         layout.organs[1].opacity = 0.3;
         let camera = Camera::orbit(&bounds, 4.0, 0.0);
         assert_eq!(region_masks_kept(&set, &layout, &camera, &p, &mut cache).kept, 0);
+    }
+
+    #[test]
+    fn masks_kept_past_a_saturated_table_are_the_masks_generated_anew() {
+        // Eight overlapping squares at staggered depths. At 16 sub-samples a table is saturated
+        // after four masks of 50 %, so configurations share the masks made after it, and the
+        // tables after their K nearest, with configurations of earlier frames.
+        let mut set = OrganSet::default();
+        for i in 0..8 {
+            let mut mesh = square((i % 4) as f32 * 12.0 - 18.0, (i / 4) as f32 * 12.0 - 6.0, 20.0);
+            mesh.positions.iter_mut().for_each(|v| v[1] = i as f32 * 3.0);
+            set.organs.push(Organ::new(format!("o{i}"), "o".into(), [1.0; 3], mesh));
+        }
+        let mut layout = Layout::new(&set);
+        layout.organs.iter_mut().for_each(|o| o.opacity = 0.5);
+        let p = RegionParams {
+            width: 128,
+            height: 128,
+            region_px: 8,
+            subsamples: 16,
+            k: 3,
+            method: MaskMethod::TabularNec,
+        };
+        let mut cache = MaskCache::default();
+        let bounds = set.bounds();
+        for step in 0..12 {
+            let az = step as f32 * 2.0;
+            let camera = Camera::orbit(&bounds, az, 10.0 + az);
+            let kept = region_masks_kept(&set, &layout, &camera, &p, &mut cache);
+            let anew = region_masks(&set, &layout, &camera, &p);
+            assert_eq!((&kept.config_of_region, &kept.masks), (&anew.config_of_region, &anew.masks), "at {az} degrees");
+        }
+        assert!(cache.known.values().any(|after| !after.saturated.is_empty()), "some tables were saturated");
     }
 
     #[test]

@@ -59,6 +59,7 @@ pub enum SplitOrder<'a> {
     Given(&'a [usize]),
 }
 
+#[derive(Debug)]
 pub struct MaskTable {
     n: usize,
     /// The last generation (the table's rows *start*..*end*); earlier generations are never read
