@@ -194,16 +194,21 @@ pub fn choose_occluders(
 /// The solids ([`crate::organ_set::Solid`]) whose stand-ins may occlude this frame: with a
 /// stand-in, every organ `occluding`, all moved as one (the same transform), and the union of
 /// their bounds wholly beyond the near plane (so the eye is outside it, and every ray to a point
-/// inside meets a drawn surface first); of those, only the largest (none whose organs another's
-/// hold).
+/// inside meets a drawn surface first).
+///
+/// A solid inside another (whose organs another's hold) still culls where the outer stand-in is
+/// shallow or the frame's occluders leave gaps, so every valid solid is chosen, unless an
+/// occluding organ outside every solid encloses them all (the skull): behind it the nested
+/// stand-ins only add raster work, and only the largest are chosen.
 pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bool]) -> Vec<usize> {
+    let mut all = crate::mesh::Bounds::EMPTY;
     let valid: Vec<usize> = (0..set.solids.len())
         .filter(|&s| {
             let solid = &set.solids[s];
             let Some(&first) = solid.organs.first() else { return false };
             let transform = layout.organs.get(first).map(|o| o.transform.matrix());
             let mut bounds = crate::mesh::Bounds::EMPTY;
-            solid.stand_in.is_some()
+            let valid = solid.stand_in.is_some()
                 && solid.organs.iter().all(|&o| {
                     let ok = occluding.get(o).copied().unwrap_or(false)
                         && Some(layout.organs[o].transform.matrix()) == transform
@@ -213,9 +218,29 @@ pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bo
                     }
                     ok
                 })
-                && transform.is_some_and(|t| wholly_ahead(&(*view_proj * t), &bounds))
+                && transform.is_some_and(|t| wholly_ahead(&(*view_proj * t), &bounds));
+            if let Some(t) = transform.filter(|_| valid) {
+                all = all.union(bounds.transformed(&t));
+            }
+            valid
         })
         .collect();
+    let in_a_solid = |o: usize| set.solids.iter().any(|s| s.organs.binary_search(&o).is_ok());
+    // Seen from outside, so its far side is behind them.
+    let encloses = |o: usize| {
+        let (Some(root), model) = (set.organs[o].bvh.nodes.first(), layout.organs[o].transform.matrix()) else {
+            return false;
+        };
+        let b = root.bounds.transformed(&model);
+        (0..3).all(|i| b.min[i] <= all.min[i] && all.max[i] <= b.max[i])
+            && wholly_ahead(&(*view_proj * model), &root.bounds)
+    };
+    let enclosed = !valid.is_empty()
+        && (0..set.organs.len().min(layout.organs.len()))
+            .any(|o| occluding.get(o).copied().unwrap_or(false) && !in_a_solid(o) && encloses(o));
+    if !enclosed {
+        return valid;
+    }
     let holds = |a: usize, b: usize| set.solids[b].organs.iter().all(|o| set.solids[a].organs.binary_search(o).is_ok());
     // Of two with the same organs, the first.
     let larger = |a: usize, b: usize| set.solids[a].organs.len() > set.solids[b].organs.len() || a < b;
@@ -249,8 +274,8 @@ mod tests {
         let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
         let vp = camera.view_projection(1.0);
         let chosen = |layout: &Layout| solids(&set, layout, &vp, &opaque(layout));
-        // The largest valid one only; none without a stand-in.
-        assert_eq!(chosen(&layout), [1]);
+        // Every valid one, the nested too; none without a stand-in.
+        assert_eq!(chosen(&layout), [0, 1]);
         let mut faded = layout.clone();
         faded.organs[2].opacity = 0.5;
         assert_eq!(chosen(&faded), [0]);
@@ -260,7 +285,19 @@ mod tests {
         // Moved as one, they still occlude.
         let mut together = layout.clone();
         together.organs.iter_mut().for_each(|o| o.transform.translation = Vec3::Z);
-        assert_eq!(chosen(&together), [1]);
+        assert_eq!(chosen(&together), [0, 1]);
+        // Inside an opaque organ of no solid that encloses them (a skull), the largest only.
+        let mut skull = crate::mesh::Mesh::octahedron();
+        skull.positions.iter_mut().for_each(|p| *p = [p[0] * 8.0 + 1.0, p[1] * 8.0, p[2] * 8.0]);
+        let mut with_skull = set.clone();
+        with_skull.organs.push(Organ::new("skull".into(), "skull".into(), [0.9; 3], skull));
+        let mut skull_layout = Layout::new(&with_skull);
+        let outside = Camera::orbit(&skull_layout.bounds(&with_skull), 30.0, 15.0).view_projection(1.0);
+        assert_eq!(solids(&with_skull, &skull_layout, &outside, &opaque(&skull_layout)), [1]);
+        // Not with the eye inside it, nor with it hidden.
+        assert_eq!(solids(&with_skull, &skull_layout, &vp, &opaque(&skull_layout)), [0, 1]);
+        skull_layout.organs[3].visible = false;
+        assert_eq!(solids(&with_skull, &skull_layout, &outside, &opaque(&skull_layout)), [0, 1]);
         let mut hidden = layout.clone();
         hidden.organs[0].visible = false;
         assert_eq!(chosen(&hidden), Vec::<usize>::new());
