@@ -346,7 +346,7 @@ pub fn configuration_masks(
 #[derive(Debug)]
 pub struct AfterNearest {
     table: MaskTable,
-    masks: Vec<(usize, u64)>,
+    masks: OrganMasks,
     saturated: FxHashMap<usize, u64>,
 }
 
@@ -397,8 +397,8 @@ pub struct MaskCache {
     known: KnownMasks,
 }
 
-/// Most lists of K nearest a [`MaskCache`] keeps; beyond it, it starts again.
-const NEAREST_KEPT: usize = 1 << 14;
+/// Most lists of K nearest a [`MaskCache`] keeps (a few kB each); beyond it, it starts again.
+const NEAREST_KEPT: usize = 1 << 13;
 
 /// The masks of every region for this frame, all generated anew.
 pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams) -> RegionMasks {
