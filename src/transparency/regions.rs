@@ -386,10 +386,14 @@ pub fn followed_nearest(k: usize, n: usize) -> usize {
 }
 
 /// The last frame's configurations (key: present organs as bits, then the K nearest) and their
-/// masks, valid while `settings` (every organ's opacity, sub-samples, K, method) stay the same.
+/// masks, valid while `settings` (sub-samples, K, method) stay the same and, for each
+/// configuration, the opacities of its organs: when an organ's opacity changes (a slider dragged),
+/// only what involves that organ is dropped.
 #[derive(Debug, Default)]
 pub struct MaskCache {
-    settings: Vec<u64>,
+    settings: [u64; 3],
+    /// Every organ's opacity (as bits) the masks were made with.
+    opacities: Vec<u32>,
     /// Masks by configuration key, with the frame that last had the configuration.
     masks: FxHashMap<Vec<u64>, (u64, OrganMasks)>,
     frame: u64,
@@ -399,6 +403,24 @@ pub struct MaskCache {
 
 /// Most lists of K nearest a [`MaskCache`] keeps (a few kB each); beyond it, it starts again.
 const NEAREST_KEPT: usize = 1 << 13;
+
+impl MaskCache {
+    /// Drops what depends on the opacity of the `changed` organs: the configurations they are in
+    /// (their key's first `words` u64 hold the organs as bits), the lists of K nearest they are
+    /// in, and their masks after saturated tables.
+    fn forget(&mut self, changed: &[usize], words: usize) {
+        let mut bits = vec![0u64; words];
+        for &o in changed {
+            bits[o / 64] |= 1 << (o % 64);
+        }
+        let has = |o: usize| bits[o / 64] >> (o % 64) & 1 == 1;
+        self.masks.retain(|key, _| key.iter().zip(&bits).all(|(k, b)| k & b == 0));
+        self.known.retain(|nearest, _| !nearest.iter().any(|&o| has(o)));
+        for after in self.known.values_mut() {
+            after.saturated.retain(|&o, _| !has(o));
+        }
+    }
+}
 
 /// The masks of every region for this frame, all generated anew.
 pub fn region_masks(set: &OrganSet, layout: &Layout, camera: &Camera, p: &RegionParams) -> RegionMasks {
@@ -457,15 +479,16 @@ pub fn region_masks_kept(
         config_of_region.push(id);
     }
     // The last frame's masks where its configuration and settings come again.
-    let settings: Vec<u64> = [p.subsamples as u64, p.k as u64, p.method as u64]
-        .into_iter()
-        .chain((0..organs).map(|o| u64::from(opacity(o).to_bits())))
-        .collect();
-    if cache.settings != settings || cache.known.len() > NEAREST_KEPT {
+    let settings = [p.subsamples as u64, p.k as u64, p.method as u64];
+    let opacities: Vec<u32> = (0..organs).map(|o| opacity(o).to_bits()).collect();
+    if cache.settings != settings || cache.opacities.len() != organs || cache.known.len() > NEAREST_KEPT {
         cache.masks.clear();
         cache.known.clear();
-        cache.settings = settings;
+    } else if cache.opacities != opacities {
+        let changed: Vec<usize> = (0..organs).filter(|&o| cache.opacities[o] != opacities[o]).collect();
+        cache.forget(&changed, words);
     }
+    (cache.settings, cache.opacities) = (settings, opacities);
     cache.frame += 1;
     let frame = cache.frame;
     let todo: Vec<&[u64]> = keys
@@ -614,10 +637,16 @@ mod tests {
                 _ => assert!(kept.kept > 0, "a small move keeps some"),
             }
         }
-        // Another opacity: nothing is kept.
+        // Another opacity for the middle square: only the configurations without it are kept.
         layout.organs[1].opacity = 0.3;
         let camera = Camera::orbit(&bounds, 4.0, 0.0);
-        assert_eq!(region_masks_kept(&set, &layout, &camera, &p, &mut cache).kept, 0);
+        let kept = region_masks_kept(&set, &layout, &camera, &p, &mut cache);
+        let anew = region_masks(&set, &layout, &camera, &p);
+        assert_eq!((&kept.config_of_region, &kept.masks), (&anew.config_of_region, &anew.masks));
+        assert!(kept.kept > 0 && kept.kept < kept.configs, "{} of {} kept", kept.kept, kept.configs);
+        // Another sub-sample count: nothing is.
+        let fewer = RegionParams { subsamples: 16, ..p };
+        assert_eq!(region_masks_kept(&set, &layout, &camera, &fewer, &mut cache).kept, 0);
     }
 
     #[test]
@@ -651,6 +680,14 @@ mod tests {
             assert_eq!((&kept.config_of_region, &kept.masks), (&anew.config_of_region, &anew.masks), "at {az} degrees");
         }
         assert!(cache.known.values().any(|after| !after.saturated.is_empty()), "some tables were saturated");
+        // A slider dragged: one organ's opacity changes a frame at a time, and the view moves.
+        for (step, alpha) in [0.3f32, 0.35, 0.6].into_iter().enumerate() {
+            layout.organs[3].opacity = alpha;
+            let camera = Camera::orbit(&bounds, 20.0 + step as f32, 30.0);
+            let kept = region_masks_kept(&set, &layout, &camera, &p, &mut cache);
+            let anew = region_masks(&set, &layout, &camera, &p);
+            assert_eq!((&kept.config_of_region, &kept.masks), (&anew.config_of_region, &anew.masks), "at {alpha}");
+        }
     }
 
     #[test]

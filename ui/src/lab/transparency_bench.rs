@@ -517,7 +517,8 @@ fn write_sheet(path: &Path, rows: &[Vec<image::RgbaImage>], size: (u32, u32)) ->
 /// Mask regeneration at 1920x1080 with every shown organ at 50 %: over 24 orbit frames, after
 /// two warm-up frames, the median and largest times and the distinct configurations, all generated
 /// anew; then, as the renderer does, keeping the last frame's configurations, on the same orbit
-/// (15 degrees a frame) and on one of small moves (1 degree a frame, as a drag turns the view).
+/// (15 degrees a frame) and on one of small moves (1 degree a frame, as a drag turns the view);
+/// and at a still view with the largest organ's opacity changing every frame (a slider dragged).
 fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value> {
     let mut layout = Layout::new(set);
     layout.organs.iter_mut().for_each(|s| s.opacity = 0.5);
@@ -560,12 +561,37 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
     let (median_ms, max_ms, median_configs, _) = orbit(360.0 / frames as f32, false);
     let (kept_ms, kept_max_ms, _, kept_configs) = orbit(360.0 / frames as f32, true);
     let (small_ms, small_max_ms, small_configs, small_kept) = orbit(1.0, true);
+    // An opacity slider dragged at a still view: the largest shown organ's opacity changes every
+    // frame, so only the configurations it is in are made again.
+    let largest = (0..set.organs.len().min(layout.organs.len()))
+        .filter(|&o| layout.organs[o].is_drawn())
+        .max_by_key(|&o| set.organs[o].mesh().triangle_count());
+    let slider = largest.map(|organ| {
+        let (mut layout, mut cache) = (layout.clone(), regions::MaskCache::default());
+        let camera = Camera::orbit(&bounds, 30.0, 15.0);
+        let (mut times, mut configs, mut kept) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..frames + 2 {
+            layout.organs[organ].opacity = 0.3 + 0.01 * i as f32;
+            let m = regions::region_masks_kept(set, &layout, &camera, &p, &mut cache);
+            if i >= 2 {
+                times.push(m.ms);
+                configs.push(m.configs);
+                kept.push(m.kept);
+            }
+        }
+        times.sort_by(f64::total_cmp);
+        kept.sort_unstable();
+        let mid = times.len() / 2;
+        json!({"organ": set.organs[organ].id, "median_ms": times[mid], "max_ms": times.last().copied().unwrap_or(0.0),
+            "configs": configs[mid], "median_configs_kept": kept[mid]})
+    });
     Ok(json!({
         "width": 1920, "height": 1080, "region_px": region_px, "subsamples": s.subsamples, "k": s.k,
         "frames": frames, "median_ms": median_ms, "max_ms": max_ms, "median_configs": median_configs,
         "kept": {"median_ms": kept_ms, "max_ms": kept_max_ms, "median_configs_kept": kept_configs},
         "small_moves": {"step_deg": 1.0, "median_ms": small_ms, "max_ms": small_max_ms,
             "median_configs": small_configs, "median_configs_kept": small_kept},
+        "opacity_slider": slider,
     }))
 }
 
