@@ -263,7 +263,6 @@ pub fn configuration_masks(
         // allocations beyond their depths for reuse.
         let (mut near, mut near_depth) = (vec![MaskTable::new(p.subsamples)], 0);
         let (mut tables, mut depth) = (vec![MaskTable::new(p.subsamples)], 0);
-        let mut spare = MaskTable::new(p.subsamples);
         let (mut after_full, mut learned) = (FxHashMap::default(), KnownMasks::default());
         let mut known_here: Option<&AfterNearest> = None;
         let mut masks: Vec<(usize, u64)> = Vec::new();
@@ -304,10 +303,8 @@ pub fn configuration_masks(
                         masks.push((o, mask));
                         continue;
                     }
-                    let mut add = || {
-                        spare.clone_from(&tables[depth]);
-                        bits.of(&spare.add(opacity(o), other_split(k, o)))
-                    };
+                    let table = &mut tables[depth];
+                    let mut add = || bits.of(&table.saturated_mask(opacity(o), other_split(k, o)));
                     masks.push((o, *after_full.entry(o).or_insert_with(&mut add)));
                     continue;
                 }

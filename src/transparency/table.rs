@@ -152,8 +152,58 @@ impl MaskTable {
     }
 
     /// Adds a mask of opacity `alpha` and returns it.
-    pub fn add<'a>(&mut self, alpha: f32, order: SplitOrder<'a>) -> Mask {
+    pub fn add(&mut self, alpha: f32, order: SplitOrder) -> Mask {
         let alpha = f64::from(alpha.clamp(0.0, 1.0));
+        self.split_order(order);
+        let rows = self.rows.len();
+        self.take.clear();
+        self.take.resize(rows, 0);
+        let mut carried = 0.0f64;
+        self.errors.clear();
+        for &r in &self.order {
+            let count = self.rows[r].count;
+            let want = alpha * f64::from(count) + carried;
+            let k = (want + 0.5).floor().clamp(0.0, f64::from(count));
+            carried = want - k;
+            self.take[r] = k as u16;
+            self.errors.push(carried);
+        }
+        self.next.clear();
+        let mut mask = Mask::EMPTY;
+        for (row, &k) in self.rows.iter().zip(&self.take) {
+            mask.insert_range(usize::from(row.start)..usize::from(row.start + k));
+            for (start, count, filled) in [(row.start, k, true), (row.start + k, row.count - k, false)] {
+                if count > 0 {
+                    self.next.push(Row { start, count, filled });
+                }
+            }
+        }
+        self.row_entries += self.next.len();
+        std::mem::swap(&mut self.rows, &mut self.next);
+        self.masks.push(mask);
+        mask
+    }
+
+    /// The mask [`add`](Self::add) would make on this saturated table (every row one sub-sample;
+    /// see [`is_saturated`](Self::is_saturated)), without adding it: the table is left as it was.
+    pub fn saturated_mask(&mut self, alpha: f32, order: SplitOrder) -> Mask {
+        debug_assert!(self.is_saturated());
+        let alpha = f64::from(alpha.clamp(0.0, 1.0));
+        self.split_order(order);
+        let (mut carried, mut mask) = (0.0f64, Mask::EMPTY);
+        for &r in &self.order {
+            let want = alpha + carried;
+            let k = (want + 0.5).floor().clamp(0.0, 1.0);
+            carried = want - k;
+            if k > 0.0 {
+                mask.insert(usize::from(self.rows[r].start));
+            }
+        }
+        mask
+    }
+
+    /// The order in which the next mask splits the rows, into `self.order`.
+    fn split_order<'a>(&mut self, order: SplitOrder<'a>) {
         let rows = self.rows.len();
         self.priority.clear();
         let masks = &self.masks;
@@ -187,32 +237,6 @@ impl MaskTable {
             }
             _ => self.order.extend(0..rows),
         }
-        self.take.clear();
-        self.take.resize(rows, 0);
-        let mut carried = 0.0f64;
-        self.errors.clear();
-        for &r in &self.order {
-            let count = self.rows[r].count;
-            let want = alpha * f64::from(count) + carried;
-            let k = (want + 0.5).floor().clamp(0.0, f64::from(count));
-            carried = want - k;
-            self.take[r] = k as u16;
-            self.errors.push(carried);
-        }
-        self.next.clear();
-        let mut mask = Mask::EMPTY;
-        for (row, &k) in self.rows.iter().zip(&self.take) {
-            mask.insert_range(usize::from(row.start)..usize::from(row.start + k));
-            for (start, count, filled) in [(row.start, k, true), (row.start + k, row.count - k, false)] {
-                if count > 0 {
-                    self.next.push(Row { start, count, filled });
-                }
-            }
-        }
-        self.row_entries += self.next.len();
-        std::mem::swap(&mut self.rows, &mut self.next);
-        self.masks.push(mask);
-        mask
     }
 }
 
@@ -418,6 +442,26 @@ mod tests {
                 for (rank, w) in ends.windows(2).enumerate() {
                     assert!(keys[w[0]..w[1]].iter().all(|&k| k == rank + 1), "n = {n}: rank {}", rank + 1);
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn saturated_mask_is_the_mask_add_would_make() {
+        let mut rng = crate::rng::XorShift::seeded(5);
+        for n in [16, 64] {
+            let mut t = MaskTable::new(n);
+            while !t.is_saturated() {
+                t.add(0.5, SplitOrder::Table);
+            }
+            let priorities: Vec<usize> = (0..t.masks().len().min(5)).collect();
+            for seed in 0..20 {
+                let (alpha, order) = (rng.unit(), SplitOrder::Shuffled { priorities: &priorities, seed });
+                let (rows, masks) = (t.rows().to_vec(), t.masks().len());
+                let mask = t.saturated_mask(alpha, order);
+                assert_eq!((t.rows(), t.masks().len()), (rows.as_slice(), masks), "the table is left as it was");
+                let mut added = t.clone();
+                assert_eq!(mask, added.add(alpha, order), "n = {n}, alpha {alpha}");
             }
         }
     }
