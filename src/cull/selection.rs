@@ -226,7 +226,7 @@ pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bo
         })
         .collect();
     let in_a_solid = |o: usize| set.solids.iter().any(|s| s.organs.binary_search(&o).is_ok());
-    // Seen from outside, so its far side is behind them.
+    // Its box holds theirs, with the eye outside it: its near side lies between the eye and them.
     let encloses = |o: usize| {
         let (Some(root), model) = (set.organs[o].bvh.nodes.first(), layout.organs[o].transform.matrix()) else {
             return false;
