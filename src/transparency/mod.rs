@@ -15,6 +15,7 @@
 
 pub mod layout;
 pub mod mask;
+mod region_keys;
 pub mod regions;
 pub mod table;
 pub mod white_noise;

@@ -2,11 +2,10 @@
 //! space, moved into world space by the layout and projected by the camera; regions are squares of
 //! `region_px` screen pixels (x right, y down); depth is NDC z (larger is farther).
 //!
-//! 1. The leaves of each drawn transparent organ's hierarchy (at most 256 triangles each) are
-//!    projected; every region a leaf's screen rectangle (grown by a pixel, for MSAA samples and
-//!    rounding) touches records the organ as present, with the nearest depth of the leaf's box
-//!    (a row of regions at a time).
-//!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
+//! 1. (`region_keys`) The leaves of each drawn transparent organ's hierarchy (at most 256
+//!    triangles each) are projected; every region a leaf's screen rectangle (grown by a pixel, for
+//!    MSAA samples and rounding) touches records the organ as present, with the nearest depth of
+//!    the leaf's box (a row of regions at a time). Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
 //! 2. A region's configuration is the set of organs present and its K nearest, nearest first (K at
@@ -17,8 +16,8 @@
 //!    The result depends on the configuration only, never on the order organs are drawn in.
 //!
 //! 4. A [`MaskCache`] keeps the last frame's configurations and their masks: a configuration seen
-//!    again with the same opacities, sub-samples, K and method is not generated again (most survive
-//!    a small camera move). It also keeps, per list of K nearest, what configurations with those
+//!    again with the same sub-samples, K, method and opacities of its organs is not generated
+//!    again (most survive a small camera move or a slider dragged). It also keeps, per list of K nearest, what configurations with those
 //!    K nearest share ([`AfterNearest`]). Masks depend on the configuration only, so the images
 //!    do not change.
 //!
@@ -26,6 +25,7 @@
 //! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
 
 use super::layout::{self, GpuBits};
+use super::region_keys::{covered_pixels, leaf_rects, region_keys, Grid};
 use super::{generate, MaskMethod, MaskTable, SplitOrder};
 use crate::camera::Camera;
 use crate::layout::Layout;
@@ -75,124 +75,6 @@ impl RegionMasks {
         let config = self.config_of_region[(r * self.cols + c) as usize] as usize;
         self.masks[config * self.organ_count + organ]
     }
-}
-
-/// A hierarchy leaf of a transparent organ on screen: the regions its rectangle touches (columns
-/// `c0..=c1`, rows `r0..=r1`) and the nearest NDC depth of its box.
-#[derive(Clone, Copy, Debug)]
-struct LeafRect {
-    organ: u32,
-    c0: u32,
-    c1: u32,
-    r0: u32,
-    r1: u32,
-    z: f32,
-}
-
-/// The screen rectangles of the hierarchy leaves of every drawn transparent organ (the first
-/// `organs`), an organ at a time in parallel.
-fn leaf_rects(
-    (set, layout, organs): (&OrganSet, &Layout, usize),
-    camera: &Camera,
-    p: &RegionParams,
-    (cols, rows): (u32, u32),
-) -> Vec<LeafRect> {
-    let vp = camera.view_projection(p.width as f32 / p.height as f32);
-    let (w, h) = (p.width as f32, p.height as f32);
-    let scale = 1.0 / p.region_px as f32;
-    let organ_rects = |(o, (organ, state)): (usize, (&crate::organ_set::Organ, &crate::layout::OrganState))| {
-        let mut rects = Vec::new();
-        if !state.is_drawn() || state.is_opaque() {
-            return rects;
-        }
-        let m = vp * state.transform.matrix();
-        for &leaf in &organ.bvh.leaves {
-            let Some(node) = organ.bvh.nodes.get(leaf as usize) else { continue };
-            let v = node.bounds.corners().map(|c| m * c.extend(1.0));
-            let outside = |f: &dyn Fn(&glam::Vec4) -> bool| v.iter().all(f);
-            if outside(&|c| c.x > c.w) || outside(&|c| c.x < -c.w) || outside(&|c| c.y > c.w) {
-                continue;
-            }
-            if outside(&|c| c.y < -c.w) || outside(&|c| c.z > c.w) {
-                continue;
-            }
-            let (x0, x1, y0, y1, z) = if v.iter().any(|c| c.w <= 1e-6) {
-                // Crosses the eye plane: present everywhere, as near as can be.
-                (0.0, w, 0.0, h, 0.0)
-            } else {
-                let (mut x0, mut x1, mut y0, mut y1, mut z) = (f32::MAX, f32::MIN, f32::MAX, f32::MIN, f32::MAX);
-                for c in &v {
-                    let (x, y) = ((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h);
-                    (x0, x1, y0, y1, z) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y), z.min(c.z / c.w));
-                }
-                (x0 - 1.0, x1 + 1.0, y0 - 1.0, y1 + 1.0, z.max(0.0))
-            };
-            let cell = |v: f32, n: u32| ((v * scale).floor().max(0.0) as u32).min(n - 1);
-            let (c0, c1, r0, r1) = (cell(x0, cols), cell(x1, cols), cell(y0, rows), cell(y1, rows));
-            rects.push(LeafRect { organ: o as u32, c0, c1, r0, r1, z });
-        }
-        rects
-    };
-    let drawn = set.organs.par_iter().zip(&layout.organs).enumerate().take(organs);
-    drawn.flat_map_iter(organ_rects).collect()
-}
-
-/// The pixel rectangle `[x, y, width, height]` of the regions the leaves touch.
-fn covered_pixels(rects: &[LeafRect], p: &RegionParams) -> [u32; 4] {
-    let Some(first) = rects.first() else { return [0; 4] };
-    let (mut c0, mut c1, mut r0, mut r1) = (first.c0, first.c1, first.r0, first.r1);
-    for r in rects {
-        (c0, c1, r0, r1) = (c0.min(r.c0), c1.max(r.c1), r0.min(r.r0), r1.max(r.r1));
-    }
-    let s = p.region_px;
-    let (x, y) = (c0 * s, r0 * s);
-    [x, y, ((c1 + 1) * s).min(p.width) - x, ((r1 + 1) * s).min(p.height) - y]
-}
-
-/// The key of every region in row-major order, `stride` = `words + k` u64 a region: its organs as
-/// bits (`words` u64), then its K nearest by the nearest depth of their leaves there, nearest
-/// first (ties by index), padded with `u64::MAX`. A row of regions at a time, in parallel.
-fn region_keys(rects: &[LeafRect], organs: usize, k: usize, (cols, rows): (u32, u32)) -> Vec<u64> {
-    let words = organs.div_ceil(64);
-    let stride = words + k;
-    let cols = cols as usize;
-    // Per row: the nearest depth of each organ in each region of the row, and which are present.
-    let scratch = || (vec![f32::INFINITY; cols * organs], vec![0u64; cols * words], Vec::new());
-    let row_keys = |(depths, present, nearest): &mut (Vec<f32>, Vec<u64>, Vec<usize>), r: u32| {
-        depths.fill(f32::INFINITY);
-        present.fill(0);
-        for rect in rects.iter().filter(|x| x.r0 <= r && r <= x.r1) {
-            let o = rect.organ as usize;
-            for c in rect.c0 as usize..=rect.c1 as usize {
-                let d = &mut depths[c * organs + o];
-                *d = d.min(rect.z);
-                present[c * words + o / 64] |= 1 << (o % 64);
-            }
-        }
-        let mut keys = vec![u64::MAX; stride * cols];
-        for ((key, bits), depth) in keys
-            .chunks_exact_mut(stride)
-            .zip(present.chunks_exact(words.max(1)))
-            .zip(depths.chunks_exact(organs.max(1)))
-        {
-            key[..words].copy_from_slice(bits);
-            nearest.clear();
-            for (w, &word) in bits.iter().enumerate() {
-                let mut word = word;
-                while word != 0 {
-                    nearest.push(w * 64 + word.trailing_zeros() as usize);
-                    word &= word - 1;
-                }
-            }
-            nearest.sort_by(|&a, &b| depth[a].total_cmp(&depth[b]).then(a.cmp(&b)));
-            for (k, &o) in key[words..].iter_mut().zip(nearest.iter()) {
-                *k = o as u64;
-            }
-        }
-        keys
-    };
-    let rows: Vec<Vec<u64>> = (0..rows).into_par_iter().map_init(scratch, row_keys).collect();
-    rows.concat()
 }
 
 /// The masks of a configuration's organs: (organ, GPU mask) pairs.
@@ -450,10 +332,11 @@ pub fn region_masks_kept(
         })
         .collect();
     let words = organs.div_ceil(64);
-    let rects = leaf_rects((set, layout, organs), camera, &p, (cols, rows));
-    let covered = covered_pixels(&rects, &p);
+    let grid = Grid { width: p.width, height: p.height, region_px, cols, rows };
+    let rects = leaf_rects((set, layout, organs), camera, &grid);
+    let covered = covered_pixels(&rects, &grid);
     let stride = words + p.k;
-    let region_keys = region_keys(&rects, organs, p.k, (cols, rows));
+    let region_keys = region_keys(&rects, organs, p.k, &grid);
     // Configurations numbered in region order, by key.
     let mut configs: FxHashMap<&[u64], u32> = FxHashMap::default();
     let mut keys: Vec<&[u64]> = Vec::new();
