@@ -536,27 +536,15 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
     };
     let bounds = layout.bounds(set);
     let frames = 24;
-    // (median ms, max ms, median configurations, median configurations kept) over the orbit.
     let orbit = |step_deg: f32, keep: bool| {
         let mut cache = regions::MaskCache::default();
-        let (mut times, mut configs, mut kept) = (Vec::new(), Vec::new(), Vec::new());
-        for i in 0..frames + 2 {
+        regeneration_times(frames, |i| {
             let camera = Camera::orbit(&bounds, i as f32 * step_deg, 15.0);
-            let m = match keep {
+            match keep {
                 true => regions::region_masks_kept(set, &layout, &camera, &p, &mut cache),
                 false => regions::region_masks(set, &layout, &camera, &p),
-            };
-            if i >= 2 {
-                times.push(m.ms);
-                configs.push(m.configs);
-                kept.push(m.kept);
             }
-        }
-        times.sort_by(f64::total_cmp);
-        configs.sort_unstable();
-        kept.sort_unstable();
-        let mid = times.len() / 2;
-        (times[mid], times.last().copied().unwrap_or(0.0), configs[mid], kept[mid])
+        })
     };
     let (median_ms, max_ms, median_configs, _) = orbit(360.0 / frames as f32, false);
     let (kept_ms, kept_max_ms, _, kept_configs) = orbit(360.0 / frames as f32, true);
@@ -569,21 +557,12 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
     let slider = largest.map(|organ| {
         let (mut layout, mut cache) = (layout.clone(), regions::MaskCache::default());
         let camera = Camera::orbit(&bounds, 30.0, 15.0);
-        let (mut times, mut configs, mut kept) = (Vec::new(), Vec::new(), Vec::new());
-        for i in 0..frames + 2 {
+        let (ms, max_ms, configs, kept) = regeneration_times(frames, |i| {
             layout.organs[organ].opacity = 0.3 + 0.01 * i as f32;
-            let m = regions::region_masks_kept(set, &layout, &camera, &p, &mut cache);
-            if i >= 2 {
-                times.push(m.ms);
-                configs.push(m.configs);
-                kept.push(m.kept);
-            }
-        }
-        times.sort_by(f64::total_cmp);
-        kept.sort_unstable();
-        let mid = times.len() / 2;
-        json!({"organ": set.organs[organ].id, "median_ms": times[mid], "max_ms": times.last().copied().unwrap_or(0.0),
-            "configs": configs[mid], "median_configs_kept": kept[mid]})
+            regions::region_masks_kept(set, &layout, &camera, &p, &mut cache)
+        });
+        json!({"organ": set.organs[organ].id, "median_ms": ms, "max_ms": max_ms, "configs": configs,
+            "median_configs_kept": kept})
     });
     Ok(json!({
         "width": 1920, "height": 1080, "region_px": region_px, "subsamples": s.subsamples, "k": s.k,
@@ -593,6 +572,25 @@ fn mask_regeneration(set: &OrganSet, region_px: u32) -> Result<serde_json::Value
             "median_configs": small_configs, "median_configs_kept": small_kept},
         "opacity_slider": slider,
     }))
+}
+
+/// Over `frames` frames made by `frame` (given the frame's number), after two warm-up frames: the
+/// median and largest times, the median distinct configurations and the median kept.
+fn regeneration_times(frames: usize, mut frame: impl FnMut(usize) -> regions::RegionMasks) -> (f64, f64, usize, usize) {
+    let (mut times, mut configs, mut kept) = (Vec::new(), Vec::new(), Vec::new());
+    for i in 0..frames + 2 {
+        let m = frame(i);
+        if i >= 2 {
+            times.push(m.ms);
+            configs.push(m.configs);
+            kept.push(m.kept);
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    configs.sort_unstable();
+    kept.sort_unstable();
+    let mid = times.len() / 2;
+    (times[mid], times.last().copied().unwrap_or(0.0), configs[mid], kept[mid])
 }
 
 #[cfg(test)]
