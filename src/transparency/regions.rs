@@ -32,7 +32,6 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
-use std::collections::hash_map::Entry;
 
 #[derive(Clone, Copy, Debug)]
 pub struct RegionParams {
@@ -129,7 +128,7 @@ pub fn configuration_masks(
     visit.sort_by(|&a, &b| configs[a].1.cmp(configs[b].1).then_with(|| others[a].cmp(&others[b])));
     let runs: Vec<&[usize]> = visit.chunk_by(|&a, &b| configs[a].1.get(..2) == configs[b].1.get(..2)).collect();
     let was_known = &*known;
-    let walk = |run: &&[usize]| -> (Vec<(usize, OrganMasks)>, KnownMasks) {
+    let walk = |run: &&[usize]| -> (Vec<(usize, OrganMasks)>, KnownMasks, Vec<AfterFull>) {
         let k_most = run.iter().map(|&i| configs[i].1.len()).max().unwrap_or(0);
         let priorities: Vec<usize> = (0..k_most).collect();
         let nec = p.method == MaskMethod::TabularNec;
@@ -145,7 +144,9 @@ pub fn configuration_masks(
         // allocations beyond their depths for reuse.
         let (mut near, mut near_depth) = (vec![MaskTable::new(p.subsamples)], 0);
         let (mut tables, mut depth) = (vec![MaskTable::new(p.subsamples)], 0);
-        let (mut after_full, mut learned) = (FxHashMap::default(), KnownMasks::default());
+        // What this run learns: each new list of K nearest, and the saturated-table masks made
+        // after each list.
+        let (mut after_full, mut learned, mut made) = (FxHashMap::default(), KnownMasks::default(), Vec::new());
         let mut known_here: Option<&AfterNearest> = None;
         let mut masks: Vec<(usize, u64)> = Vec::new();
         let (mut last_near, mut last_others): (Option<&[usize]>, &[usize]) = (None, &[]);
@@ -154,7 +155,7 @@ pub fn configuration_masks(
             let k = nearest.len();
             if last_near != Some(nearest) {
                 if let Some(last) = last_near.filter(|_| !after_full.is_empty()) {
-                    learned.entry(last.to_vec()).or_default().saturated = std::mem::take(&mut after_full);
+                    made.push((last, std::mem::take(&mut after_full)));
                 }
                 known_here = was_known.get(nearest);
                 if let Some(kept) = known_here {
@@ -171,7 +172,8 @@ pub fn configuration_masks(
                     }
                     near_depth = k;
                     tables[0].clone_from(&near[k]);
-                    let after = AfterNearest { table: near[k].clone(), masks: masks.clone(), ..Default::default() };
+                    let saturated = FxHashMap::default();
+                    let after = AfterNearest { table: near[k].clone(), masks: masks.clone(), saturated };
                     learned.insert(nearest.to_vec(), after);
                 }
                 depth = 0;
@@ -198,21 +200,20 @@ pub fn configuration_masks(
             last_others = mine;
         }
         if let Some(last) = last_near.filter(|_| !after_full.is_empty()) {
-            learned.entry(last.to_vec()).or_default().saturated = after_full;
+            made.push((last, after_full));
         }
-        (walked, learned)
+        (walked, learned, made)
     };
     let mut out = vec![Vec::new(); configs.len()];
-    for (walked, learned) in runs.par_iter().map(walk).collect::<Vec<_>>() {
+    for (walked, learned, made) in runs.par_iter().map(walk).collect::<Vec<_>>() {
         for (i, masks) in walked {
             out[i] = masks;
         }
-        for (nearest, after) in learned {
-            match known.entry(nearest) {
-                Entry::Occupied(mut e) => e.get_mut().saturated.extend(after.saturated),
-                Entry::Vacant(e) => {
-                    e.insert(after);
-                }
+        // Every list made after is known from an earlier frame or learned in this run.
+        known.extend(learned);
+        for (nearest, masks) in made {
+            if let Some(after) = known.get_mut(nearest) {
+                after.saturated.extend(masks);
             }
         }
     }
@@ -229,14 +230,11 @@ pub struct AfterNearest {
     saturated: FxHashMap<usize, u64>,
 }
 
-impl Default for AfterNearest {
-    fn default() -> Self {
-        AfterNearest { table: MaskTable::new(1), masks: Vec::new(), saturated: FxHashMap::default() }
-    }
-}
-
 /// [`AfterNearest`] by K nearest.
 pub type KnownMasks = FxHashMap<Vec<usize>, AfterNearest>;
+
+/// Saturated-table masks made after one list of K nearest, by organ.
+type AfterFull<'a> = (&'a [usize], FxHashMap<usize, u64>);
 
 /// `stack[depth + 1]` made a copy of `stack[depth]`, reusing its allocation where it has one.
 fn next_table(stack: &mut Vec<MaskTable>, depth: usize) -> &mut MaskTable {
