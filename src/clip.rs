@@ -147,6 +147,49 @@ pub fn in_model_space(planes: &[ClipPlane], model: &glam::Mat4) -> Vec<ModelPlan
     planes.iter().take(MAX_PLANES).map(|p| (linear.transpose() * p.normal(), p.d - p.normal().dot(shift))).collect()
 }
 
+/// Where triangle `tri` (organ space) lies against `planes`: kept where every plane keeps each
+/// corner by `margin` millimetres, as [`clip_triangle`] decides.
+pub fn triangle_side(tri: [Vec3; 3], planes: &[ModelPlane], margin: f32) -> Side {
+    let mut side = Side::Kept;
+    for &(n, d) in planes {
+        let inside = tri.map(|p| n.dot(p) - (d - margin) < 0.0);
+        if inside == [false; 3] {
+            return Side::Removed;
+        }
+        if inside != [true; 3] {
+            side = Side::Cut;
+        }
+    }
+    side
+}
+
+/// The part of triangle `tri` (organ space) that every plane of `planes` keeps by `margin`
+/// millimetres (`n · p < d - margin`): a convex polygon with the triangle's winding, its corners
+/// in order, empty where nothing is kept (Sutherland-Hodgman, one plane at a time).
+pub fn clip_triangle(tri: [Vec3; 3], planes: &[ModelPlane], margin: f32) -> Vec<Vec3> {
+    let mut polygon = tri.to_vec();
+    let mut next = Vec::with_capacity(3 + planes.len());
+    for &(n, d) in planes {
+        let inside = |p: Vec3| n.dot(p) - (d - margin);
+        next.clear();
+        for (i, &a) in polygon.iter().enumerate() {
+            let b = polygon[(i + 1) % polygon.len()];
+            let (sa, sb) = (inside(a), inside(b));
+            if sa < 0.0 {
+                next.push(a);
+            }
+            if (sa < 0.0) != (sb < 0.0) {
+                next.push(a + (b - a) * (sa / (sa - sb)));
+            }
+        }
+        std::mem::swap(&mut polygon, &mut next);
+        if polygon.len() < 3 {
+            return Vec::new();
+        }
+    }
+    polygon
+}
+
 /// The planes for the shaders: the first [`MAX_PLANES`], the rest removing nothing.
 pub fn uniform(planes: &[ClipPlane]) -> [[f32; 4]; MAX_PLANES] {
     let mut out = [[0.0, 0.0, 0.0, f32::MAX]; MAX_PLANES];
@@ -173,6 +216,28 @@ mod tests {
         for bad in ["axial=x", "axial=NaN", "0,0,0,1", "1,2,3", "oblique=3", "1,2,3,inf"] {
             assert!(ClipPlane::parse(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn triangles_are_cut_to_what_the_planes_keep() {
+        let tri = [Vec3::ZERO, Vec3::new(2.0, 0.0, 0.0), Vec3::new(0.0, 2.0, 0.0)];
+        let x_below_1: ModelPlane = (Vec3::X, 1.0);
+        // Kept wholly, removed wholly, and cut into a quadrilateral of the same winding.
+        assert_eq!(clip_triangle(tri, &[(Vec3::X, 5.0)], 0.0), tri.to_vec());
+        assert!(clip_triangle(tri, &[(-Vec3::X, -5.0)], 0.0).is_empty());
+        assert_eq!(triangle_side(tri, &[(Vec3::X, 5.0)], 0.0), Side::Kept);
+        assert_eq!(triangle_side(tri, &[(-Vec3::X, -5.0)], 0.0), Side::Removed);
+        assert_eq!(triangle_side(tri, &[(Vec3::X, 5.0), x_below_1], 0.0), Side::Cut);
+        assert_eq!(triangle_side(tri, &[(Vec3::X, 2.5)], 0.6), Side::Cut, "within the margin");
+        let cut = clip_triangle(tri, &[x_below_1], 0.0);
+        assert_eq!(cut, [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
+        let area = |p: &[Vec3]| (1..p.len() - 1).map(|i| (p[i] - p[0]).cross(p[i + 1] - p[0]).z).sum::<f32>() / 2.0;
+        assert!((area(&cut) - 1.5).abs() < 1e-6);
+        // The margin keeps the polygon that far inside; two planes cut a corner off twice.
+        let inset = clip_triangle(tri, &[x_below_1], 0.25);
+        assert!(inset.iter().all(|p| p.x <= 0.75 + 1e-6) && inset.iter().any(|p| (p.x - 0.75).abs() < 1e-6));
+        let both = clip_triangle(tri, &[x_below_1, (Vec3::Y, 1.0)], 0.0);
+        assert!((area(&both) - 1.0).abs() < 1e-6, "the unit square: {both:?}");
     }
 
     #[test]

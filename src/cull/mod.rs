@@ -7,7 +7,8 @@
 //! 1. [`selection`]: occluders by projected size, or the pre-computed minimum occluder sets of the
 //!    [`database`] while the layout is unchanged (§3.1-3.2); and the set's solids whose organs are
 //!    all opaque, unmoved relative to each other and clear of the clip planes (beyond the thesis:
-//!    one stand-in inside a union of organs, with no seams between them);
+//!    one stand-in inside a union of organs, with no seams between them; cut at the clip planes
+//!    while the eye lies on the side they keep);
 //! 2. [`raster`]: their front triangles rasterised conservatively into coverage and depth (§3.3);
 //! 3. maps: the [`opacity_map`] (summed-area table) and the [`sparse_depth`] map (§3.4), held with
 //!    the tests of boxes, footprints, triangles and points by [`occluders`] ([`depth_bound`]: a
@@ -103,9 +104,11 @@ impl Culler {
         self.cull_with(set, layout, camera, aspect, settings, None, Clip::NONE)
     }
 
-    /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) do not
-    /// occlude, nor are their back-facing runs culled while cut faces are drawn (the renderer draws
-    /// those runs again as the cut faces). What the planes remove is culled only where the renderer
+    /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) occlude
+    /// only where the renderer cuts triangles at the planes, with what the planes keep of their
+    /// own triangles, and their solids' stand-ins cut there only while the eye is on the kept side;
+    /// their back-facing runs are not culled while cut faces are drawn (the renderer draws those
+    /// runs again as the cut faces). What the planes remove is culled only where the renderer
     /// cuts triangles at the planes ([`Clip::exact`]): where the shaders discard removed samples
     /// instead, a sample of a removed triangle seen at a grazing angle may pass (its position is
     /// interpolated off the triangle), so culling it would change that sample.
@@ -200,6 +203,10 @@ impl<'a> Clip<'a> {
 /// pixels across) still changed samples in the identity test; this one changes none there.
 pub const CLEAR_OF_PLANES: f32 = 1.0 / 16.0;
 
+/// How far (millimetres) inside every clip plane the eye must lie for the stand-ins of solids
+/// the planes cut to occlude.
+const EYE_CLEAR_OF_PLANES_MM: f32 = 1.0;
+
 /// Whether `organ` lies inside every clip plane by [`CLEAR_OF_PLANES`] of its far corner's distance.
 fn clear_of_planes(
     organ: &crate::organ_set::Organ,
@@ -291,7 +298,13 @@ fn cull_in_phases<'a>(
                 list
             }
         };
-        let solids = selection::solids(set, layout, &view_proj, &whole);
+        // A solid the planes cut occludes with its stand-in cut at them while the eye lies where
+        // every plane keeps: no ray from it to a kept point then passes a plane, so each enters the
+        // solid through a drawn surface, never through a cut face (drawn at the depth of the faces
+        // beyond it, behind the stand-in).
+        let eye_kept = clip.exact && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
+        let solid_organs = if eye_kept { &occluding } else { &whole };
+        let solids = selection::solids(set, layout, &view_proj, solid_organs);
         stats.solids = solids.len();
         let mut o = rasterise_occluders(
             set,

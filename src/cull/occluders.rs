@@ -198,7 +198,9 @@ impl Occluders {
 
 /// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
 /// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
-/// structures. An organ the planes cut (`cuts`) gives only its own triangles they keep wholly.
+/// structures. An organ the planes cut (`cuts`) gives only its own triangles, cut at the planes,
+/// and a solid one of whose organs they cut gives its stand-in cut there (the caller chose it
+/// only where that hides what lies behind).
 pub(super) fn rasterise_occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -221,8 +223,11 @@ pub(super) fn rasterise_occluders(
         let mvp = *view_proj * layout.organs[first].transform.matrix();
         let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
         leaves += all.len();
+        // Its organs move as one, so the planes cutting any of them are the same in its space.
+        let planes = solid.organs.iter().find_map(|&o| cuts.planes.get(o).filter(|p| !p.is_empty()));
+        let planes = planes.map_or(&[][..], Vec::as_slice);
         triangles +=
-            rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
+            rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, (w, h), STAND_IN_DEPTH_BIAS, planes, false);
     }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
@@ -268,8 +273,9 @@ const FACING_MARGIN_NDC: f32 = 1e-4;
 
 /// Adds the camera-facing triangles of the chosen leaves of one organ to the raster (with `away`,
 /// those facing away instead, their corners reversed), each with its neighbours among them, pushed
-/// back by `bias` in NDC depth; with clip planes in `keep` (organ space), only the triangles they
-/// keep wholly. Returns how many.
+/// back by `bias` in NDC depth. With clip planes in `keep` (organ space), a triangle they cut gives
+/// the part they keep by [`crate::clip::SIDE_MARGIN_MM`], as a fan whose edges on the triangle's
+/// own are outlines (the renderer cuts it at the planes the same way). Returns how many.
 fn rasterise_organ(
     raster: &mut OccluderRaster,
     (mesh, bvh, leaves): (&Mesh, &Bvh, &[u32]),
@@ -280,41 +286,75 @@ fn rasterise_organ(
     away: bool,
 ) -> usize {
     let m = crate::clip::SIDE_MARGIN_MM;
-    let kept = |t: u32| {
-        let corner = |k: usize| Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]);
-        let [a, b, c] = [corner(0), corner(1), corner(2)];
-        keep.iter().all(|&(n, d)| n.dot(a) < d - m && n.dot(b) < d - m && n.dot(c) < d - m)
+    let corners = |t: u32| [0, 1, 2].map(|k| Vec3::from(mesh.positions[mesh.indices[3 * t as usize + k] as usize]));
+    let margin = FACING_MARGIN_NDC * 0.5 * w.max(h) as f32;
+    // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area; wider than the
+    // margin across its longest edge.
+    let faces = |[a, b, c]: &[Vec3; 3]| {
+        let twice_area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        let longest =
+            (*b - *a).truncate().length().max((*c - *b).truncate().length()).max((*a - *c).truncate().length());
+        let facing = if away { twice_area } else { -twice_area };
+        facing > margin * longest
     };
+    let oriented =
+        |[a, b, c]: [Vec3; 3]| (if away { [a, c, b] } else { [a, b, c] }).map(|v| v + Vec3::new(0.0, 0.0, bias));
+    // Corners reversed (a, c, b), edge k runs along the old edge 2 - k.
+    let linked = |[n0, n1, n2]: [u32; 3]| if away { [n2, n1, n0] } else { [n0, n1, n2] };
     // Per chosen leaf, `start - first`: triangle t of the leaf sits at `offset[leaf] + t` in `slot`
     // (wrapping arithmetic; `None` for leaves not chosen). `slot` holds each chosen triangle's index
-    // among the occluder triangles, or NONE where it faces away or reaches before the near plane.
+    // among the occluder triangles, or NONE where it is not one whole (it faces away, reaches
+    // before the near plane, or the planes cut or remove it).
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
     let chosen = leaves.iter().map(|&l| bvh.leaf_range(l).len() / 3).sum();
     let mut slot: Vec<u32> = Vec::with_capacity(chosen);
+    // Per occluder triangle, the mesh triangle it is (`Ok`), or the neighbours of a piece of one
+    // the planes cut (`Err`, already indices among the occluder triangles).
     let (mut triangles, mut ids) = (Vec::with_capacity(chosen), Vec::with_capacity(chosen));
     let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
-    let margin = FACING_MARGIN_NDC * 0.5 * w.max(h) as f32;
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
         offset[l as usize] = Some((slot.len() as u32).wrapping_sub(node.first));
         for t in node.first..node.first + node.count {
-            let tri = projected.triangle(mesh, t).filter(|_| kept(t)).filter(|[a, b, c]| {
-                // Counter-clockwise in NDC (y up) is clockwise here (y down): negative area; wider
-                // than the margin across its longest edge.
-                let twice_area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
-                let longest =
-                    (*b - *a).truncate().length().max((*c - *b).truncate().length()).max((*a - *c).truncate().length());
-                let facing = if away { twice_area } else { -twice_area };
-                facing > margin * longest
-            });
+            let side = crate::clip::triangle_side(corners(t), keep, m);
+            let tri = projected.triangle(mesh, t).filter(|tri| side == crate::clip::Side::Kept && faces(tri));
             match tri {
-                Some([a, b, c]) => {
+                Some(tri) => {
                     slot.push(triangles.len() as u32);
-                    let tri = if away { [a, c, b] } else { [a, b, c] };
-                    triangles.push(tri.map(|v| v + Vec3::new(0.0, 0.0, bias)));
-                    ids.push(t);
+                    triangles.push(oriented(tri));
+                    ids.push(Ok(t));
                 }
                 None => slot.push(NONE),
+            }
+            if side != crate::clip::Side::Cut {
+                continue;
+            }
+            let polygon = crate::clip::clip_triangle(corners(t), keep, m);
+            let points: Option<Vec<Vec3>> =
+                polygon.iter().map(|p| super::project::project_point(p.to_array(), mvp, w, h)).collect();
+            let Some(points) = points else { continue };
+            // The fan from the first corner; a piece links to the pieces beside it that are kept.
+            let pieces: Vec<Option<[Vec3; 3]>> = (1..points.len().saturating_sub(1))
+                .map(|i| Some([points[0], points[i], points[i + 1]]).filter(faces))
+                .collect();
+            let (first, mut n) = (triangles.len() as u32, 0);
+            let index: Vec<u32> = pieces
+                .iter()
+                .map(|p| {
+                    n += u32::from(p.is_some());
+                    if p.is_some() {
+                        first + n - 1
+                    } else {
+                        NONE
+                    }
+                })
+                .collect();
+            for (i, piece) in pieces.iter().enumerate() {
+                let Some(piece) = piece else { continue };
+                let before = if i > 0 { index[i - 1] } else { NONE };
+                let after = index.get(i + 1).copied().unwrap_or(NONE);
+                triangles.push(oriented(*piece));
+                ids.push(Err(linked([before, NONE, after])));
             }
         }
     }
@@ -322,11 +362,12 @@ fn rasterise_organ(
         let leaf = bvh.leaf_of.get(t as usize).and_then(|&l| offset.get(l as usize)).copied().flatten();
         leaf.map_or(NONE, |o| slot[o.wrapping_add(t) as usize])
     };
-    // Corners reversed (a, c, b), edge k runs along the old edge 2 - k.
     let neighbours: Vec<[u32; 3]> = ids
         .iter()
-        .map(|&t| bvh.neighbours[t as usize].map(index))
-        .map(|[n0, n1, n2]| if away { [n2, n1, n0] } else { [n0, n1, n2] })
+        .map(|id| match *id {
+            Ok(t) => linked(bvh.neighbours[t as usize].map(index)),
+            Err(links) => links,
+        })
         .collect();
     raster.add(&triangles, &neighbours);
     triangles.len()

@@ -120,29 +120,65 @@ fn random_planes(set: &OrganSet, rng: &mut Rng) -> Vec<ClipPlane> {
 /// error removes whole parts: many pixels, in many poses.
 const RASTER_CRACKS: usize = 1;
 
+/// The poses a test renders.
+#[derive(Clone, Copy)]
+enum Poses {
+    /// Random layouts (the skull, where the set has one, shown and opaque or not) and cameras,
+    /// every fifth pose the set's own layout; three in four cut by random planes (mostly with
+    /// solid cut faces, now and then with an organ kept whole).
+    Random { skull_opaque: bool },
+    /// The set's own layout seen from outside on an orbit, cut by one plane through its middle
+    /// (coronal, axial or sagittal, either side kept), with solid cut faces: the eye lies on
+    /// the kept side in about half the poses.
+    CutOrbit,
+}
+
+/// What [`identical_images`] found besides: the share of triangles occlusion culling removed in
+/// the poses without planes, in how many cut poses solids' stand-ins occluded, and whether the
+/// renderer cuts triangles at the planes (else cut organs never occlude).
+struct Outcome {
+    share: f64,
+    cut_solids: usize,
+    exact: bool,
+}
+
 /// Renders every pose with culling off and on and checks the images are identical (but for
-/// [`RASTER_CRACKS`]); three poses in four are cut by random clip planes (mostly with solid cut
-/// faces, now and then with an organ kept whole), and what they remove is culled where the
-/// renderer cuts triangles at the planes. Returns the share of triangles occlusion culling removed in the
-/// poses without planes.
-fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, seed: u64, skull_opaque: bool) -> f64 {
+/// [`RASTER_CRACKS`]), and that what the planes remove was culled in the cut poses where the
+/// renderer cuts triangles at the planes.
+fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, seed: u64, poses: Poses) -> Outcome {
     let gpu = gpu();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
     let target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(XorShift(seed));
     let (mut culled, mut total, mut cracks, mut removed) = (0usize, 0usize, 0usize, 0usize);
+    let mut cut_solids = 0;
     let mut culler = Culler::new(database);
-    for pose in 0..poses {
-        // Every fifth pose keeps the set's own layout, for which its occluder database was made.
-        let layout = if pose % 5 == 4 { Layout::new(set) } else { random_layout(set, &mut rng, skull_opaque) };
-        let camera = random_camera(set, &layout, &mut rng);
-        let planes = if pose % 4 == 3 { Vec::new() } else { random_planes(set, &mut rng) };
-        // Cut faces in most cut poses; now and then an organ kept whole.
-        let caps = pose % 7 != 2;
-        let whole: Vec<usize> = if pose % 3 == 1 {
-            vec![(rng.next() * set.organs.len() as f32) as usize % set.organs.len()]
-        } else {
-            vec![]
+    for pose in 0..count {
+        let (layout, camera, planes, caps, whole) = match poses {
+            Poses::Random { skull_opaque } => {
+                // Every fifth pose keeps the set's own layout, for which its occluder database was made.
+                let layout = if pose % 5 == 4 { Layout::new(set) } else { random_layout(set, &mut rng, skull_opaque) };
+                let camera = random_camera(set, &layout, &mut rng);
+                let planes = if pose % 4 == 3 { Vec::new() } else { random_planes(set, &mut rng) };
+                // Cut faces in most cut poses; now and then an organ kept whole.
+                let caps = pose % 7 != 2;
+                let whole: Vec<usize> = if pose % 3 == 1 {
+                    vec![(rng.next() * set.organs.len() as f32) as usize % set.organs.len()]
+                } else {
+                    vec![]
+                };
+                (layout, camera, planes, caps, whole)
+            }
+            Poses::CutOrbit => {
+                let layout = Layout::new(set);
+                let home = layout.bounds(set);
+                let yaw = 360.0 * pose as f32 / count as f32 + rng.range(0.0, 20.0);
+                let camera = Navigator::framing(&home, yaw, rng.range(-40.0, 40.0)).camera(&home);
+                let normal = [Vec3::X, Vec3::Y, Vec3::Z][pose % 3];
+                let plane = ClipPlane::new(normal, normal.dot(home.center())).unwrap();
+                let plane = if pose % 2 == 0 { plane } else { plane.flipped() };
+                (layout, camera, vec![plane], true, Vec::new())
+            }
         };
         let clip = Clip { planes: &planes, caps, whole: &whole, exact: renderer.cuts_geometry() };
         let settings = CullSettings {
@@ -159,6 +195,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
                 _ => Culler::default().cull(set, &layout, &camera, target.aspect(), &settings),
             };
             removed += stats.clip_culled;
+            cut_solids += usize::from(!planes.is_empty() && stats.solids > 0);
             if mode == CullMode::Occlusion && planes.is_empty() {
                 culled += stats.occlusion_culled;
                 total += stats.triangles;
@@ -205,7 +242,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, poses: usize, se
     }
     // Where the renderer cuts triangles at the planes, what they remove was culled in the cut poses.
     assert!(!renderer.cuts_geometry() || removed > 0, "nothing the planes remove was culled");
-    culled as f64 / total.max(1) as f64
+    Outcome { share: culled as f64 / total.max(1) as f64, cut_solids, exact: renderer.cuts_geometry() }
 }
 
 #[test]
@@ -213,9 +250,12 @@ fn default_brain_culling_changes_no_pixel() {
     let set = default_set();
     let database = default_database();
     assert!(database.is_some(), "organs/brain/occluders.json is missing: run `vbrain occluders organs/brain`");
-    let share = identical_images(set, database.clone(), 120, 0x5eed, true);
+    let share = identical_images(set, database.clone(), 120, 0x5eed, Poses::Random { skull_opaque: true }).share;
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
-    identical_images(set, database, 40, 0xbeef, false);
+    identical_images(set, database.clone(), 40, 0xbeef, Poses::Random { skull_opaque: false });
+    // Cut solids occlude with their stand-ins cut at the plane while the eye is on the kept side.
+    let cut = identical_images(set, database, 24, 0xc07, Poses::CutOrbit);
+    assert!(!cut.exact || cut.cut_solids >= 6, "stand-ins occluded in {} cut poses", cut.cut_solids);
 }
 
 #[test]
@@ -223,7 +263,7 @@ fn depth_complex_scene_culling_changes_no_pixel() {
     let set = depth_complex_scene();
     let params = vbrain::mos::Params { limit: 32, ..Default::default() };
     let database = vbrain::mos::preprocess(&set, &Layout::new(&set), 8, &params, &|_, _| {});
-    let share = identical_images(&set, Some(database), 80, 0xfeed, false);
+    let share = identical_images(&set, Some(database), 80, 0xfeed, Poses::Random { skull_opaque: false }).share;
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
 }
 
@@ -232,7 +272,7 @@ fn occluder_stand_ins_change_no_pixel() {
     // Subdivided 2 x 2: every organ keeps its original mesh as occluder stand-in, on its surface.
     let set = organ_set::scale::scale_set(&depth_complex_scene(), 2, &mut |_, _, _| {});
     assert!(set.organs.iter().all(|o| o.stand_in().is_some()));
-    let share = identical_images(&set, None, 40, 0x57a1d, false);
+    let share = identical_images(&set, None, 40, 0x57a1d, Poses::Random { skull_opaque: false }).share;
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
 }
 
