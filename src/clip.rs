@@ -147,42 +147,69 @@ pub fn in_model_space(planes: &[ClipPlane], model: &glam::Mat4) -> Vec<ModelPlan
     planes.iter().take(MAX_PLANES).map(|p| (linear.transpose() * p.normal(), p.d - p.normal().dot(shift))).collect()
 }
 
-/// Where triangle `tri` (organ space) lies against `planes`: kept where every plane keeps each
+/// A corner of a polygon to cut: where it lies, and the corner a share `t` of the way to another.
+pub trait Corner: Copy {
+    fn position(self) -> Vec3;
+    fn lerp(self, other: Self, t: f32) -> Self;
+}
+
+impl Corner for Vec3 {
+    fn position(self) -> Vec3 {
+        self
+    }
+    fn lerp(self, other: Vec3, t: f32) -> Vec3 {
+        Vec3::lerp(self, other, t)
+    }
+}
+
+/// The part of the convex polygon `polygon` that the plane `(n, d)` keeps (`n · p <= d`;
+/// Sutherland-Hodgman), in the same winding.
+pub fn clip_polygon<C: Corner>(polygon: &[C], (n, d): ModelPlane) -> Vec<C> {
+    let mut out = Vec::with_capacity(polygon.len() + 1);
+    for (k, &a) in polygon.iter().enumerate() {
+        let b = polygon[(k + 1) % polygon.len()];
+        let (da, db) = (n.dot(a.position()) - d, n.dot(b.position()) - d);
+        if da <= 0.0 {
+            out.push(a);
+        }
+        if (da <= 0.0) != (db <= 0.0) {
+            out.push(crossing(a, b, (n, d)));
+        }
+    }
+    out
+}
+
+/// Where the edge from `a` to `b` crosses the plane `(n, d)`. Computed from the lesser end (by
+/// position) so that both polygons of an edge get the very same point.
+pub fn crossing<C: Corner>(a: C, b: C, (n, d): ModelPlane) -> C {
+    let (a, b) = if a.position().to_array() <= b.position().to_array() { (a, b) } else { (b, a) };
+    let (da, db) = (n.dot(a.position()) - d, n.dot(b.position()) - d);
+    a.lerp(b, da / (da - db))
+}
+
+/// Where triangle `tri` lies against `planes` (in its space): kept where every plane keeps every
 /// corner by `margin` millimetres, as [`clip_triangle`] decides.
 pub fn triangle_side(tri: [Vec3; 3], planes: &[ModelPlane], margin: f32) -> Side {
     let mut side = Side::Kept;
     for &(n, d) in planes {
-        let inside = tri.map(|p| n.dot(p) - (d - margin) < 0.0);
-        if inside == [false; 3] {
+        let kept = tri.map(|p| n.dot(p) - (d - margin) <= 0.0);
+        if kept == [false; 3] {
             return Side::Removed;
         }
-        if inside != [true; 3] {
+        if kept != [true; 3] {
             side = Side::Cut;
         }
     }
     side
 }
 
-/// The part of triangle `tri` (organ space) that every plane of `planes` keeps by `margin`
-/// millimetres (`n · p < d - margin`): a convex polygon with the triangle's winding, its corners
-/// in order, empty where nothing is kept (Sutherland-Hodgman, one plane at a time).
+/// The part of triangle `tri` that every plane of `planes` (in its space) keeps by `margin`
+/// millimetres (`n · p <= d - margin`): a convex polygon in the triangle's winding, empty where
+/// nothing is kept.
 pub fn clip_triangle(tri: [Vec3; 3], planes: &[ModelPlane], margin: f32) -> Vec<Vec3> {
     let mut polygon = tri.to_vec();
-    let mut next = Vec::with_capacity(3 + planes.len());
     for &(n, d) in planes {
-        let inside = |p: Vec3| n.dot(p) - (d - margin);
-        next.clear();
-        for (i, &a) in polygon.iter().enumerate() {
-            let b = polygon[(i + 1) % polygon.len()];
-            let (sa, sb) = (inside(a), inside(b));
-            if sa < 0.0 {
-                next.push(a);
-            }
-            if (sa < 0.0) != (sb < 0.0) {
-                next.push(a + (b - a) * (sa / (sa - sb)));
-            }
-        }
-        std::mem::swap(&mut polygon, &mut next);
+        polygon = clip_polygon(&polygon, (n, d - margin));
         if polygon.len() < 3 {
             return Vec::new();
         }

@@ -9,7 +9,7 @@
 //! into outlines with holes, triangulated by earcut, turned to face the removed side and clipped by
 //! the other planes.
 
-use crate::clip::ClipPlane;
+use crate::clip::{self, ClipPlane};
 use crate::mesh::Mesh;
 use glam::{Vec2, Vec3};
 use std::collections::HashMap;
@@ -39,6 +39,15 @@ struct Vertex {
     n: Vec3,
 }
 
+impl clip::Corner for Vertex {
+    fn position(self) -> Vec3 {
+        self.p
+    }
+    fn lerp(self, other: Vertex, t: f32) -> Vertex {
+        Vertex { p: self.p.lerp(other.p, t), n: self.n.lerp(other.n, t) }
+    }
+}
+
 /// Clips every triangle of `mesh` by every plane. Triangles no plane touches keep their vertices;
 /// cut ones get new vertices of their own.
 fn clip_triangles(mesh: &Mesh, planes: &[ClipPlane]) -> Mesh {
@@ -53,7 +62,7 @@ fn clip_triangles(mesh: &Mesh, planes: &[ClipPlane]) -> Mesh {
         }
         let mut poly = corners.to_vec();
         for plane in planes {
-            poly = clip_polygon(&poly, plane);
+            poly = clip::clip_polygon(&poly, (plane.normal(), plane.d));
             if poly.len() < 3 {
                 break;
             }
@@ -73,33 +82,6 @@ fn clip_triangles(mesh: &Mesh, planes: &[ClipPlane]) -> Mesh {
         }
     }
     out
-}
-
-/// The part of the convex polygon `poly` that `plane` keeps (Sutherland-Hodgman).
-fn clip_polygon(poly: &[Vertex], plane: &ClipPlane) -> Vec<Vertex> {
-    let (n, d) = (plane.normal(), plane.d);
-    let mut out = Vec::with_capacity(poly.len() + 1);
-    for (k, &a) in poly.iter().enumerate() {
-        let b = poly[(k + 1) % poly.len()];
-        let (da, db) = (n.dot(a.p) - d, n.dot(b.p) - d);
-        if da <= 0.0 {
-            out.push(a);
-        }
-        if (da <= 0.0) != (db <= 0.0) {
-            out.push(crossing(a, b, plane));
-        }
-    }
-    out
-}
-
-/// Where the edge from `a` to `b` crosses `plane`. Computed from the lesser end (by position) so
-/// that both triangles of an edge, and the cap, get the very same point.
-fn crossing(a: Vertex, b: Vertex, plane: &ClipPlane) -> Vertex {
-    let (a, b) = if a.p.to_array() <= b.p.to_array() { (a, b) } else { (b, a) };
-    let (n, d) = (plane.normal(), plane.d);
-    let (da, db) = (n.dot(a.p) - d, n.dot(b.p) - d);
-    let t = da / (da - db);
-    Vertex { p: a.p.lerp(b.p, t), n: a.n.lerp(b.n, t) }
 }
 
 /// The cap of `mesh` on `plane`: its cross-section filled, facing the removed side (+normal).
@@ -154,7 +136,7 @@ fn section_loops(mesh: &Mesh, plane: &ClipPlane) -> Vec<Vec<Vec3>> {
     let vertex = |i: u32| Vertex { p: Vec3::from(mesh.positions[i as usize]), n: Vec3::ZERO };
     let removed: Vec<bool> = mesh.positions.iter().map(|&p| plane.removes(Vec3::from(p))).collect();
     let key = |a: u32, b: u32| (a.min(b), a.max(b));
-    let point_on = |a: u32, b: u32| crossing(vertex(a), vertex(b), plane).p;
+    let point_on = |a: u32, b: u32| clip::crossing(vertex(a), vertex(b), (plane.normal(), plane.d)).p;
     // Each segment runs from the edge where the triangle's boundary leaves the kept side to the one
     // where it comes back, so loops run one way round.
     let mut next: HashMap<(u32, u32), (u32, u32)> = HashMap::new();
