@@ -40,10 +40,13 @@ pub struct CullStats {
     /// Culled as removed by the clip planes.
     pub clip_culled: usize,
     pub nodes_tested: usize,
+    /// Occluder leaves rasterised (where organs are tested against different occluders, the most
+    /// any organ is tested against).
     pub occluder_leaves: usize,
-    /// Solids whose stand-ins were rasterised (their leaves are among the occluder leaves).
+    /// Solids whose stand-ins were rasterised (their leaves are among the occluder leaves), for
+    /// every organ or for those of no solid behind a cut.
     pub solids: usize,
-    /// Occluder triangles rasterised (facing the eye).
+    /// Occluder triangles rasterised (facing the eye; counted as the leaves are).
     pub occluder_triangles: usize,
     /// Where the occluders came from (`None` without occlusion culling or with occluders given).
     pub source: Option<OccluderSource>,

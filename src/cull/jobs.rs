@@ -1,7 +1,7 @@
 //! The culler's parallel work as tasks for [`super::share`]: the subtrees below the top levels of
 //! the hierarchies (and groups of small starts), traversed by the calling thread and the pool.
 
-use super::occluders::Occluders;
+use super::occluders::FrameOccluders;
 use super::settings::CullSettings;
 use super::share::Tasks;
 use super::traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -13,7 +13,7 @@ use std::ops::Range;
 pub(super) struct Subtrees<'a> {
     pub set: &'a OrganSet,
     pub views: Vec<Option<OrganView<'a>>>,
-    pub occ: Option<Occluders>,
+    pub occ: Option<FrameOccluders>,
     pub settings: CullSettings,
     pub starts: Vec<Start>,
     /// (triangles, starts) per task.
@@ -58,7 +58,7 @@ impl Tasks for Subtrees<'_> {
             if let Some((_, walk)) = done.last_mut() {
                 let organ = &self.set.organs[o];
                 let start = Start { organ: o, node, test, started };
-                traverse_below(organ, view, self.occ.as_ref(), &self.settings, start, walk, None);
+                traverse_below(organ, view, self.occ.as_ref().map(|f| f.of(o)), &self.settings, start, walk, None);
             }
         }
     }

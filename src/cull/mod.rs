@@ -8,7 +8,8 @@
 //!    [`database`] while the layout is unchanged (§3.1-3.2); and the set's solids whose organs are
 //!    all opaque, unmoved relative to each other and clear of the clip planes (beyond the thesis:
 //!    one stand-in inside a union of organs, with no seams between them; cut at the clip planes
-//!    while the eye lies on the side they keep);
+//!    while the eye lies on the side they keep, and else for the organs of no solid behind them,
+//!    each organ then tested against its own set of occluders, `occluders::FrameOccluders`);
 //! 2. [`raster`]: their front triangles rasterised conservatively into coverage and depth (§3.3);
 //! 3. maps: the [`opacity_map`] (summed-area table) and the [`sparse_depth`] map (§3.4), held with
 //!    the tests of boxes, footprints, triangles and points by [`occluders`] ([`depth_bound`]: a
@@ -48,7 +49,7 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use cut::Cut;
 use jobs::Subtrees;
-use occluders::{rasterise_occluders, Cuts};
+use occluders::{rasterise_occluders, rasterise_stand_in, Cuts, FrameOccluders};
 use share::Phase;
 use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -106,7 +107,8 @@ impl Culler {
 
     /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) occlude
     /// only where the renderer cuts triangles at the planes, with what the planes keep of their
-    /// own triangles, and their solids' stand-ins cut there only while the eye is on the kept side;
+    /// own triangles, and their solids' stand-ins cut there (while the eye is on the side the
+    /// planes keep, for every organ; else for the organs of no solid behind them);
     /// their back-facing runs are not culled while cut faces are drawn (the renderer draws those
     /// runs again as the cut faces). What the planes remove is culled only where the renderer
     /// cuts triangles at the planes ([`Clip::exact`]): where the shaders discard removed samples
@@ -220,6 +222,72 @@ fn clear_of_planes(
     crate::clip::side_within(clip.planes, &world, CLEAR_OF_PLANES * far) == crate::clip::Side::Kept
 }
 
+/// The solids whose stand-ins, cut at the clip planes, hide what lies behind them from any side,
+/// but only from organs of none of them (indices into the set's solids, at most 64, leaving out
+/// `shared`: those every organ is tested against). Such a solid's organs are all `occluding`, move
+/// as one, lie beyond the near plane, and each is drawn as a closed whole (the planes keep it,
+/// `sides`), as a cut organ with its cut faces (`capped`), or not at all (the planes remove it).
+/// Then a ray from a kept point of the stand-in, inside the solid, on to a point of another organ
+/// drawn where the planes keep (so the ray stays there) and unmoved relative to the solid (so,
+/// the solid's organs filling it, outside it) leaves the solid through a drawn surface first: a
+/// cut organ's faces beyond are drawn as its cut face, and a whole organ's back face is behind a
+/// front face it entered by, itself behind the stand-in or in front of it (then hiding both).
+/// The solid's own organs are not hidden: through a cut, the stand-in lies in front of the faces
+/// their cut faces are drawn from.
+fn behind_solids(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &glam::Mat4,
+    (occluding, sides, capped): (&[bool], &[crate::clip::Side], &[bool]),
+    shared: &[usize],
+) -> Vec<usize> {
+    use crate::clip::Side;
+    let sealed: Vec<bool> = (0..set.organs.len())
+        .map(|o| occluding[o] && (capped[o] || matches!(sides.get(o), Some(Side::Kept | Side::Removed))))
+        .collect();
+    selection::solids(set, layout, view_proj, &sealed).into_iter().filter(|s| !shared.contains(s)).take(64).collect()
+}
+
+/// `shared`, and for each drawn organ that solids of `behind` ([`behind_solids`]) may hide (of
+/// none of them, unmoved relative to the solid, cut by the planes where they cut anything), those
+/// solids' stand-ins cut at the planes as well; and how many of `behind` hide an organ.
+fn with_solids_behind(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &glam::Mat4,
+    clip: Clip,
+    behind: Vec<usize>,
+    shared: occluders::Occluders,
+    (w, h): (usize, usize),
+) -> (FrameOccluders, usize) {
+    let model = |o: usize| layout.organs[o].transform.matrix();
+    let hides = |s: usize, o: usize| {
+        let solid = &set.solids[s];
+        layout.organs[o].is_drawn()
+            && solid.organs.binary_search(&o).is_err()
+            && clip.applies_to(o)
+            && model(o) == model(solid.organs[0])
+    };
+    let behind: Vec<usize> = behind.into_iter().filter(|&s| (0..set.organs.len()).any(|o| hides(s, o))).collect();
+    if behind.is_empty() {
+        return (FrameOccluders::shared(shared), 0);
+    }
+    let planes = &clip.planes[..clip.planes.len().min(crate::clip::MAX_PLANES)];
+    // The raster's phase has run: these are rasterised on this thread.
+    let stand_ins: Vec<occluders::Occluders> = behind
+        .iter()
+        .map(|&s| {
+            let planes = crate::clip::in_model_space(planes, &model(set.solids[s].organs[0]));
+            rasterise_stand_in(set, layout, view_proj, s, &planes, (w, h))
+        })
+        .collect();
+    // Per organ, bit i for behind[i].
+    let behind_of: Vec<u64> = (0..set.organs.len())
+        .map(|o| behind.iter().enumerate().filter(|&(_, &s)| hides(s, o)).fold(0, |m, (i, _)| m | 1 << i))
+        .collect();
+    (FrameOccluders::with_stand_ins(shared, &stand_ins, &behind_of), behind.len())
+}
+
 /// Where a frame's occluders come from: given by the caller, or chosen with the database.
 #[derive(Clone, Copy)]
 enum Given<'a> {
@@ -275,16 +343,18 @@ fn cull_in_phases<'a>(
         .zip(&models)
         .map(|(&c, model)| if c { crate::clip::in_model_space(planes, model) } else { Vec::new() })
         .collect();
-    let capped: Vec<bool> = set
+    let sides: Vec<crate::clip::Side> = set
         .organs
         .iter()
         .zip(&models)
+        .map(|(organ, model)| crate::clip::side(planes, &organ.mesh.bounds().transformed(model)))
+        .collect();
+    let capped: Vec<bool> = set
+        .organs
+        .iter()
+        .zip(&sides)
         .zip(&cut)
-        .map(|((organ, model), &c)| {
-            c && clip.caps
-                && organ.closed()
-                && crate::clip::side(planes, &organ.mesh.bounds().transformed(model)) == crate::clip::Side::Cut
-        })
+        .map(|((organ, &side), &c)| c && clip.caps && organ.closed() && side == crate::clip::Side::Cut)
         .collect();
     let (w, h) = (settings.width, settings.height);
     let mut stats = CullStats::default();
@@ -305,8 +375,7 @@ fn cull_in_phases<'a>(
         let eye_kept = clip.exact && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
         let solid_organs = if eye_kept { &occluding } else { &whole };
         let solids = selection::solids(set, layout, &view_proj, solid_organs);
-        stats.solids = solids.len();
-        let mut o = rasterise_occluders(
+        let shared = rasterise_occluders(
             set,
             layout,
             &view_proj,
@@ -315,16 +384,30 @@ fn cull_in_phases<'a>(
             (w, h),
             &phases.raster,
         );
+        // Seen from the side a plane removes, a cut solid's stand-in still hides the organs of no
+        // valid solid behind it (see `behind_solids`).
+        let behind = match eye_kept || !clip.exact || planes.is_empty() {
+            true => Vec::new(),
+            false => behind_solids(set, layout, &view_proj, (&occluding, &sides, &capped), &solids),
+        };
+        let (mut occ, behind) = with_solids_behind(set, layout, &view_proj, clip, behind, shared, (w, h));
+        stats.solids = solids.len() + behind;
         if settings.hole_tolerance.is_some() {
-            let depth: Vec<f32> =
-                o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
-            let sparse = SparseDepth::new(&depth, w, h);
-            o.approximate = Some((depth, sparse));
+            for o in &mut occ.sets {
+                let depth: Vec<f32> =
+                    o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
+                let sparse = SparseDepth::new(&depth, w, h);
+                o.approximate = Some((depth, sparse));
+            }
         }
-        o
+        occ
     });
     if let Some(o) = &occ {
-        (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
+        (stats.occluder_leaves, stats.occluder_triangles) = (o.sets[0].leaves, o.sets[0].triangles);
+        for s in &o.sets[1..] {
+            stats.occluder_leaves = stats.occluder_leaves.max(s.leaves);
+            stats.occluder_triangles = stats.occluder_triangles.max(s.triangles);
+        }
     }
     let testing = occ.is_some();
     let views: Vec<Option<OrganView>> = set
@@ -364,7 +447,15 @@ fn cull_in_phases<'a>(
             }
             let mut split = Vec::new();
             let start = Start { organ: o, node, test: testing, started: true };
-            traverse_below(organ, view, occ.as_ref(), settings, start, &mut walks[o], Some(&mut split));
+            traverse_below(
+                organ,
+                view,
+                occ.as_ref().map(|f| f.of(o)),
+                settings,
+                start,
+                &mut walks[o],
+                Some(&mut split),
+            );
             for (node, test) in split {
                 let count = organ.bvh.nodes[node as usize].count;
                 job.add(Start { organ: o, node, test, started: false }, count, false);

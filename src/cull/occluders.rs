@@ -247,10 +247,88 @@ pub(super) fn rasterise_occluders(
             triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
         }
     }
-    let maps = raster.finish_on(phase);
-    let opacity = OpacityMap::new(&maps.covered, w, h);
-    let sparse = SparseDepth::new(&maps.depth, w, h);
-    Occluders { maps, opacity, sparse, approximate: None, leaves, triangles }
+    Occluders::over(raster.finish_on(phase), leaves, triangles)
+}
+
+impl Occluders {
+    /// The look-up structures over `maps`, of `leaves` leaves and `triangles` triangles.
+    fn over(maps: OccluderMaps, leaves: usize, triangles: usize) -> Occluders {
+        let opacity = OpacityMap::new(&maps.covered, maps.width, maps.height);
+        let sparse = SparseDepth::new(&maps.depth, maps.width, maps.height);
+        Occluders { maps, opacity, sparse, approximate: None, leaves, triangles }
+    }
+}
+
+/// A frame's occluders, per organ: the ones every organ is tested against (the first set), and,
+/// for organs that other solids' stand-ins may hide too, those with the stand-ins added.
+pub(super) struct FrameOccluders {
+    pub sets: Vec<Occluders>,
+    /// Per organ, its set.
+    of_organ: Vec<u32>,
+}
+
+impl FrameOccluders {
+    /// The same occluders for every organ.
+    pub(super) fn shared(occ: Occluders) -> FrameOccluders {
+        FrameOccluders { sets: vec![occ], of_organ: Vec::new() }
+    }
+
+    /// `shared`'s occluders, and per organ whose bit `i` of `behind_of[o]` is set, stand-in `i` of
+    /// `stand_ins` ([`rasterise_stand_in`]) as well; organs with the same bits share a set.
+    pub(super) fn with_stand_ins(shared: Occluders, stand_ins: &[Occluders], behind_of: &[u64]) -> FrameOccluders {
+        let mut sets = vec![shared];
+        let mut masks = vec![0u64];
+        let mut of_organ = Vec::with_capacity(behind_of.len());
+        for &mask in behind_of {
+            let i = match masks.iter().position(|&m| m == mask) {
+                Some(i) => i,
+                None => {
+                    let (mut leaves, mut triangles) = (sets[0].leaves, sets[0].triangles);
+                    let mut maps = sets[0].maps.clone();
+                    for (_, s) in stand_ins.iter().enumerate().filter(|(i, _)| mask & (1 << i) != 0) {
+                        maps = maps.merge(s.maps.clone());
+                        (leaves, triangles) = (leaves + s.leaves, triangles + s.triangles);
+                    }
+                    sets.push(Occluders::over(maps, leaves, triangles));
+                    masks.push(mask);
+                    sets.len() - 1
+                }
+            };
+            of_organ.push(i as u32);
+        }
+        FrameOccluders { sets, of_organ }
+    }
+
+    /// The occluders organ `o` is tested against.
+    pub(super) fn of(&self, o: usize) -> &Occluders {
+        &self.sets[self.of_organ.get(o).map_or(0, |&i| i as usize)]
+    }
+}
+
+/// The stand-in of solid `solid` alone, cut at `planes` (in its space), as occluders of their own
+/// (rasterised on the calling thread).
+pub(super) fn rasterise_stand_in(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &Mat4,
+    solid: usize,
+    planes: &[ModelPlane],
+    (w, h): (usize, usize),
+) -> Occluders {
+    let mut raster = OccluderRaster::new(w, h);
+    let (mut leaves, mut triangles) = (0, 0);
+    let solid = &set.solids[solid];
+    if let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) {
+        let mvp = *view_proj * layout.organs[first].transform.matrix();
+        let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
+        leaves = all.len();
+        // Through the cut, its faces turned away: every point of it hides what lies behind.
+        for away in [false, true] {
+            let leaves = (&s.mesh, &s.bvh, &all[..]);
+            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, planes, away);
+        }
+    }
+    Occluders::over(raster.finish_on(&Phase::default()), leaves, triangles)
 }
 
 /// Organs the clip planes cut, as occluders: per organ the planes in its space (empty where none

@@ -133,9 +133,10 @@ pub struct OrganSet {
 }
 
 /// Organs that together fill one solid ([`manifest::SolidEntry`]), and a stand-in inside their
-/// union: while they are all opaque, uncut and moved as one, the culler rasterises it in their
-/// place, with no seams between them.
-#[derive(Clone, Debug)]
+/// union: while they are all opaque and moved as one, the culler rasterises it in their place,
+/// with no seams between them (cut where clip planes cut them, [`crate::cull`]). No other organ
+/// of the set lies inside the solid.
+#[derive(Clone, Debug, Default)]
 pub struct Solid {
     pub id: String,
     /// Indices into [`OrganSet::organs`], increasing.

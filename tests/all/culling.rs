@@ -129,7 +129,8 @@ enum Poses {
     Random { skull_opaque: bool },
     /// The set's own layout seen from outside on an orbit, cut by one plane through its middle
     /// (coronal, axial or sagittal, either side kept), with solid cut faces: the eye lies on
-    /// the kept side in about half the poses.
+    /// the kept side in about half the poses; in half the poses the left cerebellum (where the set
+    /// has one) moved into the left hemisphere.
     CutOrbit,
 }
 
@@ -170,8 +171,15 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 (layout, camera, planes, caps, whole)
             }
             Poses::CutOrbit => {
-                let layout = Layout::new(set);
+                let mut layout = Layout::new(set);
                 let home = layout.bounds(set);
+                // In half the poses the left cerebellum moved into the left cerebral hemisphere's
+                // solids: they must not hide it, seen through the cut.
+                if let Some(o) = set.find("cerebellum_l").filter(|_| pose / 2 % 2 == 1) {
+                    let centre = set.organs[o].mesh().bounds().center();
+                    let into = home.center() + home.size() * Vec3::new(-0.2, 0.0, 0.15);
+                    layout.organs[o].transform.translation = into - centre;
+                }
                 let yaw = 360.0 * pose as f32 / count as f32 + rng.range(0.0, 20.0);
                 let camera = Navigator::framing(&home, yaw, rng.range(-40.0, 40.0)).camera(&home);
                 let normal = [Vec3::X, Vec3::Y, Vec3::Z][pose % 3];
@@ -308,4 +316,37 @@ fn a_culler_kept_along_an_orbit_tests_less_and_culls_alike() {
         kept_tests * 20 < fresh_tests * 19,
         "kept from frame to frame, the culler tested {kept_tests} nodes and parts; fresh, {fresh_tests}"
     );
+}
+
+/// Seen through a cut, a solid's stand-in (cut at the plane) hides organs of no solid behind it,
+/// but not one moved into the solid: that organ lies inside, where only the cut face's far side
+/// is drawn, and shows through the cut.
+#[test]
+fn a_cut_solid_hides_what_lies_behind_it_but_not_an_organ_moved_into_it() {
+    let organ = |id: &str, mesh: Mesh| Organ::new(id.into(), id.into(), [0.6; 3], mesh);
+    let mut set = OrganSet {
+        organs: vec![
+            organ("solid", cube(Vec3::ZERO, Vec3::splat(10.0), 4)),
+            organ("behind", cube(Vec3::new(0.0, 0.0, -30.0), Vec3::splat(2.0), 2)),
+            organ("moved", cube(Vec3::new(40.0, 0.0, 0.0), Vec3::splat(1.0), 2)),
+        ],
+        ..Default::default()
+    };
+    let mut solid = organ_set::Solid::default();
+    (solid.id, solid.organs) = ("solid".into(), vec![0]);
+    solid.set_stand_in(Some(organ_set::StandIn::new(cube(Vec3::ZERO, Vec3::splat(6.0), 2))));
+    set.solids.push(solid);
+    let mut layout = Layout::new(&set);
+    // Into the solid, between its stand-in's far side and its own.
+    layout.organs[2].transform.translation = Vec3::new(-40.0, 0.0, -8.0);
+    let camera =
+        Camera { eye: Vec3::new(0.0, 0.0, 40.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 45.0, near: 1.0, far: 100.0 };
+    // The plane removes the solid's near half: the eye looks at the cut face.
+    let planes = [ClipPlane::new(Vec3::Z, 0.0).unwrap()];
+    let clip = Clip { planes: &planes, caps: true, whole: &[], exact: true };
+    let settings = CullSettings { selection: Selection::ProjectedSize, ..Default::default() };
+    let (draw, stats) = Culler::default().cull_clipped(&set, &layout, &camera, 1.0, &settings, clip);
+    assert_eq!(stats.solids, 1, "the solid's stand-in occludes");
+    assert!(draw.ranges[1].is_empty(), "the organ behind the solid is hidden: {:?}", draw.ranges[1]);
+    assert!(!draw.ranges[2].is_empty(), "the organ moved into the solid is drawn");
 }

@@ -414,7 +414,7 @@ impl OccluderMaps {
 
     /// The maps of two sets of patches together: covered where either covers, as deep as the
     /// nearer.
-    fn merge(mut self, other: OccluderMaps) -> OccluderMaps {
+    pub(crate) fn merge(mut self, other: OccluderMaps) -> OccluderMaps {
         for (c, o) in self.covered.iter_mut().zip(&other.covered) {
             *c |= o;
         }
