@@ -250,12 +250,12 @@ fn behind_solids(
 
 /// `shared`, and for each drawn organ that solids of `behind` ([`behind_solids`]) may hide (of
 /// none of them, unmoved relative to the solid, cut by the planes where they cut anything), those
-/// solids' stand-ins cut at the planes as well; and how many of `behind` hide an organ.
+/// solids' stand-ins cut at the planes (`cut_planes`, per organ in its space) as well; and how many of `behind` hide an organ.
 fn with_solids_behind(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &glam::Mat4,
-    clip: Clip,
+    (clip, cut_planes): (Clip, &[Vec<crate::clip::ModelPlane>]),
     behind: Vec<usize>,
     shared: occluders::Occluders,
     (w, h): (usize, usize),
@@ -272,15 +272,9 @@ fn with_solids_behind(
     if behind.is_empty() {
         return (FrameOccluders::shared(shared), 0);
     }
-    let planes = &clip.planes[..clip.planes.len().min(crate::clip::MAX_PLANES)];
     // The raster's phase has run: these are rasterised on this thread.
-    let stand_ins: Vec<occluders::Occluders> = behind
-        .iter()
-        .map(|&s| {
-            let planes = crate::clip::in_model_space(planes, &model(set.solids[s].organs[0]));
-            rasterise_stand_in(set, layout, view_proj, s, &planes, (w, h))
-        })
-        .collect();
+    let stand_ins: Vec<occluders::Occluders> =
+        behind.iter().map(|&s| rasterise_stand_in(set, layout, view_proj, s, cut_planes, (w, h))).collect();
     // Per organ, bit i for behind[i].
     let behind_of: Vec<u64> = (0..set.organs.len())
         .map(|o| behind.iter().enumerate().filter(|&(_, &s)| hides(s, o)).fold(0, |m, (i, _)| m | 1 << i))
@@ -390,7 +384,8 @@ fn cull_in_phases<'a>(
             true => Vec::new(),
             false => behind_solids(set, layout, &view_proj, (&occluding, &sides, &capped), &solids),
         };
-        let (mut occ, behind) = with_solids_behind(set, layout, &view_proj, clip, behind, shared, (w, h));
+        let (mut occ, behind) =
+            with_solids_behind(set, layout, &view_proj, (clip, &cut_planes), behind, shared, (w, h));
         stats.solids = solids.len() + behind;
         if settings.hole_tolerance.is_some() {
             for o in &mut occ.sets {

@@ -15,7 +15,7 @@ use crate::bvh::{Bvh, Part, NONE, PART_TRIANGLES};
 use crate::clip::ModelPlane;
 use crate::layout::Layout;
 use crate::mesh::Mesh;
-use crate::organ_set::{Organ, OrganSet};
+use crate::organ_set::{Organ, OrganSet, Solid};
 use glam::{Mat4, Vec3, Vec3A};
 
 /// A failing part's triangles are tested in groups of this many, each by its footprint first.
@@ -219,15 +219,8 @@ pub(super) fn rasterise_occluders(
     let mut triangles = 0;
     let mut leaves = list.len();
     for solid in solids.iter().filter_map(|&s| set.solids.get(s)) {
-        let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { continue };
-        let mvp = *view_proj * layout.organs[first].transform.matrix();
-        let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
-        leaves += all.len();
-        // Its organs move as one, so the planes cutting any of them are the same in its space.
-        let planes = solid.organs.iter().find_map(|&o| cuts.planes.get(o).filter(|p| !p.is_empty()));
-        let planes = planes.map_or(&[][..], Vec::as_slice);
-        triangles +=
-            rasterise_organ(&mut raster, (&s.mesh, &s.bvh, &all), &mvp, (w, h), STAND_IN_DEPTH_BIAS, planes, false);
+        let (l, t) = add_stand_in(&mut raster, solid, layout, view_proj, cuts.planes, &[false]);
+        (leaves, triangles) = (leaves + l, triangles + t);
     }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
@@ -305,30 +298,45 @@ impl FrameOccluders {
     }
 }
 
-/// The stand-in of solid `solid` alone, cut at `planes` (in its space), as occluders of their own
-/// (rasterised on the calling thread).
+/// The stand-in of solid `solid` alone, cut where `planes` cut its organs (as
+/// [`rasterise_occluders`] takes them), its faces turned away too (through a cut, every point of
+/// it hides what lies behind), as occluders of their own (rasterised on the calling thread).
 pub(super) fn rasterise_stand_in(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &Mat4,
     solid: usize,
-    planes: &[ModelPlane],
+    planes: &[Vec<ModelPlane>],
     (w, h): (usize, usize),
 ) -> Occluders {
     let mut raster = OccluderRaster::new(w, h);
-    let (mut leaves, mut triangles) = (0, 0);
-    let solid = &set.solids[solid];
-    if let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) {
-        let mvp = *view_proj * layout.organs[first].transform.matrix();
-        let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
-        leaves = all.len();
-        // Through the cut, its faces turned away: every point of it hides what lies behind.
-        for away in [false, true] {
-            let leaves = (&s.mesh, &s.bvh, &all[..]);
-            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, planes, away);
-        }
-    }
+    let (leaves, triangles) = add_stand_in(&mut raster, &set.solids[solid], layout, view_proj, planes, &[false, true]);
     Occluders::over(raster.finish_on(&Phase::default()), leaves, triangles)
+}
+
+/// Adds `solid`'s stand-in (all its leaves) to the raster, cut where `planes` (per organ, in its
+/// space) cut any of its organs, with the faces facing the eye and, per `away`, those facing away;
+/// returns its leaves and the triangles added.
+fn add_stand_in(
+    raster: &mut OccluderRaster,
+    solid: &Solid,
+    layout: &Layout,
+    view_proj: &Mat4,
+    planes: &[Vec<ModelPlane>],
+    away: &[bool],
+) -> (usize, usize) {
+    let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { return (0, 0) };
+    let mvp = *view_proj * layout.organs[first].transform.matrix();
+    let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
+    // Its organs move as one, so the planes cutting any of them are the same in its space.
+    let planes = solid.organs.iter().find_map(|&o| planes.get(o).filter(|p| !p.is_empty()));
+    let planes = planes.map_or(&[][..], Vec::as_slice);
+    let size = (raster.width, raster.height);
+    let triangles = away
+        .iter()
+        .map(|&away| rasterise_organ(raster, (&s.mesh, &s.bvh, &all), &mvp, size, STAND_IN_DEPTH_BIAS, planes, away))
+        .sum();
+    (all.len(), triangles)
 }
 
 /// Organs the clip planes cut, as occluders: per organ the planes in its space (empty where none
