@@ -224,6 +224,41 @@ pub fn ray_triangle(origin: Vec3, dir: Vec3, [a, b, c]: [Vec3; 3]) -> Option<f32
 }
 
 #[cfg(test)]
+/// A closed box surface, counter-clockwise from outside, split into `n` x `n` squares a side.
+pub(crate) fn split_box(n: usize, half: Vec3) -> Mesh {
+    let mut m = Mesh::default();
+    for axis in 0..3 {
+        for sign in [-1.0f32, 1.0] {
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let base = m.positions.len() as u32;
+            for j in 0..=n {
+                for i in 0..=n {
+                    let mut p = Vec3::ZERO;
+                    p[axis] = sign * half[axis];
+                    p[u] = half[u] * (2.0 * i as f32 / n as f32 - 1.0);
+                    p[v] = half[v] * (2.0 * j as f32 / n as f32 - 1.0);
+                    m.positions.push(p.to_array());
+                }
+            }
+            let at = |i: usize, j: usize| base + (j * (n + 1) + i) as u32;
+            for j in 0..n {
+                for i in 0..n {
+                    let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+                    // u x v = axis: counter-clockwise seen from +axis.
+                    if sign > 0.0 {
+                        m.indices.extend([a, b, c, a, c, d]);
+                    } else {
+                        m.indices.extend([a, c, b, a, d, c]);
+                    }
+                }
+            }
+        }
+    }
+    m.compute_normals();
+    m
+}
+
+#[cfg(test)]
 mod tests {
     use super::*;
 

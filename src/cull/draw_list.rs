@@ -35,6 +35,9 @@ pub struct CullStats {
     pub drawn: usize,
     pub frustum_culled: usize,
     pub occlusion_culled: usize,
+    /// Of those occlusion culled, made only of faces inside solids intact in the frame
+    /// ([`crate::organ_set::hidden_faces`]).
+    pub inside_culled: usize,
     /// Culled as facing away (by normal cones), apart from occlusion.
     pub back_face_culled: usize,
     /// Culled as removed by the clip planes.
@@ -59,6 +62,7 @@ impl CullStats {
         self.triangles += o.triangles;
         self.frustum_culled += o.frustum_culled;
         self.occlusion_culled += o.occlusion_culled;
+        self.inside_culled += o.inside_culled;
         self.back_face_culled += o.back_face_culled;
         self.clip_culled += o.clip_culled;
         self.nodes_tested += o.nodes_tested;

@@ -15,7 +15,10 @@
 //!    the tests of boxes, footprints, triangles and points by [`occluders`] ([`depth_bound`]: a
 //!    box's depth pixel by pixel);
 //! 4. [`traversal`]: each organ's hierarchy front to back, with the adaptive stop (§3.4), and
-//!    normal cones culling runs that face away (beyond the thesis; counted apart);
+//!    normal cones culling runs that face away (beyond the thesis; counted apart); nodes and parts
+//!    made only of faces inside a solid that is intact this frame
+//!    ([`crate::organ_set::hidden_faces`], [`selection::intact_solids`]) are culled untested
+//!    (beyond the thesis; counted among the occluded and apart);
 //! 5. [`jobs`]: the traversal's subtrees shared between the calling thread and the pool
 //!    ([`share`]).
 //!
@@ -405,6 +408,11 @@ fn cull_in_phases<'a>(
         }
     }
     let testing = occ.is_some();
+    // Faces inside a solid are hidden while it is intact, whatever the occluders.
+    let intact = match testing {
+        true => selection::intact_solids(set, layout, &view_proj, &whole),
+        false => 0,
+    };
     let views: Vec<Option<OrganView>> = set
         .organs
         .iter()
@@ -418,7 +426,8 @@ fn cull_in_phases<'a>(
             let back_faces_culled = organ.closed() && !capped;
             let removing = if clip.exact && !clear[o] { clip.planes } else { &[] };
             let model = state.transform.matrix();
-            drawn.then(|| OrganView::new(&view_proj, &model, camera, witnesses, back_faces_culled, removing))
+            let inside = (&organ.inside, intact);
+            drawn.then(|| OrganView::new(&view_proj, &model, camera, witnesses, back_faces_culled, removing, inside))
         })
         .collect();
     // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their

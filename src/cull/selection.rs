@@ -247,11 +247,82 @@ pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bo
     valid.iter().copied().filter(|&b| !valid.iter().any(|&a| a != b && holds(a, b) && larger(a, b))).collect()
 }
 
+/// The solids (bit `s` for solid `s`, the first 64) whose hidden faces
+/// ([`crate::organ_set::hidden_faces`]) no pixel shows this frame: those with some, whose organs
+/// are all `whole` (drawn, opaque, left as they are by the clip planes), moved as one without
+/// a mirror, and wholly beyond the near plane (so the eye lies outside their box).
+pub fn intact_solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, whole: &[bool]) -> u64 {
+    let mut intact = 0u64;
+    for (s, solid) in set.solids.iter().enumerate().take(64) {
+        let Some(&first) = solid.organs.first() else { continue };
+        if solid.hidden_faces().is_empty() {
+            continue;
+        }
+        let Some(transform) = layout.organs.get(first).map(|o| o.transform.matrix()) else { continue };
+        let mut bounds = crate::mesh::Bounds::EMPTY;
+        let ok = transform.determinant() > 0.0
+            && solid.organs.iter().all(|&o| {
+                let root = set.organs[o].bvh.nodes.first();
+                root.iter().for_each(|r| bounds = bounds.union(r.bounds));
+                whole.get(o).copied().unwrap_or(false)
+                    && root.is_some()
+                    && layout.organs.get(o).is_some_and(|l| l.transform.matrix() == transform)
+            })
+            && wholly_ahead(&(*view_proj * transform), &bounds);
+        if ok {
+            intact |= 1 << s;
+        }
+    }
+    intact
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::organ_set::{Organ, Solid, StandIn};
     use glam::Vec3;
+
+    #[test]
+    fn faces_inside_a_solid_are_hidden_while_it_is_intact_and_ahead() {
+        let organ = |id: &str, x: f32| {
+            let mut m = crate::mesh::Mesh::octahedron();
+            m.positions.iter_mut().for_each(|p| p[0] += x);
+            Organ::new(id.into(), id.into(), [0.5; 3], m)
+        };
+        let mut set =
+            OrganSet { organs: vec![organ("a", 0.0), organ("b", 1.0), organ("c", 2.0)], ..Default::default() };
+        set.solids = vec![
+            Solid { id: "ab".into(), organs: vec![0, 1], ..Default::default() },
+            Solid { id: "bc".into(), organs: vec![1, 2], ..Default::default() },
+        ];
+        // As if each hid its first organ's first face.
+        let first_face = |o: usize| vec![(o, std::iter::once(0..1).collect())];
+        set.set_hidden_faces(vec![first_face(0), first_face(1)]);
+        let layout = Layout::new(&set);
+        let camera = Camera::orbit(&layout.bounds(&set), 30.0, 15.0);
+        let vp = camera.view_projection(1.0);
+        let intact = |layout: &Layout| intact_solids(&set, layout, &vp, &opaque(layout));
+        assert_eq!(intact(&layout), 0b11);
+        let mut faded = layout.clone();
+        faded.organs[2].opacity = 0.5;
+        assert_eq!(intact(&faded), 0b01);
+        let mut moved = layout.clone();
+        moved.organs[0].transform.translation = Vec3::X;
+        assert_eq!(intact(&moved), 0b10);
+        // Moved as one, still; mirrored, not (the renderer would cull their outer faces).
+        let mut together = layout.clone();
+        together.organs.iter_mut().for_each(|o| o.transform.translation = Vec3::Z);
+        assert_eq!(intact(&together), 0b11);
+        let mut mirrored = layout.clone();
+        mirrored.organs.iter_mut().for_each(|o| o.transform.scale = -1.0);
+        assert_eq!(intact(&mirrored), 0);
+        // With the eye inside a solid's box, not that one.
+        let inside = Camera { eye: Vec3::new(-0.5, 0.0, 0.0), target: Vec3::new(1.5, 0.0, 0.0), near: 0.01, ..camera };
+        assert_eq!(intact_solids(&set, &layout, &inside.view_projection(1.0), &opaque(&layout)), 0b10);
+        // A solid without hidden faces is never reported.
+        set.set_hidden_faces(vec![Vec::new(), first_face(1)]);
+        assert_eq!(intact_solids(&set, &layout, &vp, &opaque(&layout)), 0b10);
+    }
 
     #[test]
     fn solids_occlude_while_their_organs_are_opaque_and_move_as_one() {
@@ -264,9 +335,9 @@ mod tests {
         let set = OrganSet {
             organs: vec![organ("a", 0.0), organ("b", 1.0), organ("c", 2.0)],
             solids: vec![
-                Solid { id: "ab".into(), organs: vec![0, 1], stand_in: stand_in() },
-                Solid { id: "abc".into(), organs: vec![0, 1, 2], stand_in: stand_in() },
-                Solid { id: "none".into(), organs: vec![2], stand_in: None },
+                Solid { id: "ab".into(), organs: vec![0, 1], stand_in: stand_in(), ..Default::default() },
+                Solid { id: "abc".into(), organs: vec![0, 1, 2], stand_in: stand_in(), ..Default::default() },
+                Solid { id: "none".into(), organs: vec![2], stand_in: None, ..Default::default() },
             ],
             ..Default::default()
         };

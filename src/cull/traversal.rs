@@ -12,6 +12,7 @@ use super::witness::Witnesses;
 use crate::bvh::{Cone, Slab};
 use crate::camera::Camera;
 use crate::mesh::Bounds;
+use crate::organ_set::hidden_faces::Inside;
 use crate::organ_set::Organ;
 use glam::{Mat4, Vec3};
 use std::ops::Range;
@@ -48,9 +49,12 @@ pub(super) struct OrganView<'a> {
     /// ([`crate::clip::in_model_space`]): where the renderer cuts triangles at the planes, a box
     /// wholly beyond one is culled.
     removing: Vec<crate::clip::ModelPlane>,
+    /// Its nodes and parts made of faces inside solids, and the solids intact this frame (bits).
+    inside: (&'a Inside, u64),
 }
 
 impl<'a> OrganView<'a> {
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         view_proj: &Mat4,
         model: &Mat4,
@@ -58,12 +62,28 @@ impl<'a> OrganView<'a> {
         witnesses: &'a Witnesses,
         back_faces_culled: bool,
         removing: &[crate::clip::ClipPlane],
+        inside: (&'a Inside, u64),
     ) -> OrganView<'a> {
         let mvp = *view_proj * *model;
         let eye = model.inverse().transform_point3(camera.eye);
         let back_faces_culled = back_faces_culled && model.determinant() > 0.0;
         let removing = crate::clip::in_model_space(removing, model);
-        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled, removing }
+        OrganView { mvp, inverse: Unprojection::of(&mvp), eye, witnesses, back_faces_culled, removing, inside }
+    }
+
+    /// Whether node `n` is made only of faces inside solids intact this frame: no pixel shows it.
+    fn inside(&self, n: u32) -> bool {
+        self.inside.1 != 0 && self.inside.0.node(n, self.inside.1)
+    }
+
+    /// Whether part `p` is, as [`OrganView::inside`].
+    fn inside_part(&self, p: usize) -> bool {
+        self.inside.1 != 0 && self.inside.0.part(p, self.inside.1)
+    }
+
+    /// Whether a node or part at or below node `n` may be inside an intact solid.
+    fn inside_below(&self, n: u32) -> bool {
+        self.inside.1 != 0 && self.inside.0.any_below(n)
     }
 
     /// Whether the clip planes remove all of `bounds` (the renderer draws nothing of it).
@@ -141,6 +161,12 @@ pub(super) fn traverse_below(
             stop(true);
             continue;
         }
+        if view.inside(n) {
+            stats.occlusion_culled += node.count as usize;
+            stats.inside_culled += node.count as usize;
+            stop(true);
+            continue;
+        }
         if occ.is_some() && view.faces_away(&node.bounds, &node.cone) {
             stats.back_face_culled += node.count as usize;
             stop(true);
@@ -174,7 +200,11 @@ pub(super) fn traverse_below(
                 && !view.far_bound(&node.bounds, &node.slab, far, w, h).in_front(&o.maps.depth, w, rect);
         }
         let testing = test_children && occ.is_some();
-        if !testing && matches!(seen, ScreenBox::Rect { inside: true, .. }) && !view.cut(&node.bounds) {
+        if !testing
+            && matches!(seen, ScreenBox::Rect { inside: true, .. })
+            && !view.cut(&node.bounds)
+            && !view.inside_below(n)
+        {
             // Wholly inside the frustum and the planes with nothing more to test: all of it, in one
             // range.
             push_merged(list, 3 * node.first..3 * (node.first + node.count));
@@ -190,6 +220,12 @@ pub(super) fn traverse_below(
                     stats.nodes_tested += 1;
                     if view.removed(&part.bounds) {
                         stats.clip_culled += part.count as usize;
+                        view.witnesses.set(p, None);
+                        continue;
+                    }
+                    if view.inside_part(p) {
+                        stats.occlusion_culled += part.count as usize;
+                        stats.inside_culled += part.count as usize;
                         view.witnesses.set(p, None);
                         continue;
                     }
@@ -238,12 +274,18 @@ pub(super) fn traverse_below(
                 }
                 stop(all_culled);
             }
-            (true, _) if view.cut(&node.bounds) => {
-                // A plane passes through it: its parts the planes remove are left out.
-                for part in organ.bvh.part_range(node.leaf).map(|p| &organ.bvh.parts[p]) {
-                    match view.removed(&part.bounds) {
-                        true => stats.clip_culled += part.count as usize,
-                        false => push_merged(list, 3 * part.first..3 * (part.first + part.count)),
+            (true, _) if view.cut(&node.bounds) || view.inside_below(n) => {
+                // A plane passes through it, or some of its parts lie inside an intact solid:
+                // those parts are left out.
+                for p in organ.bvh.part_range(node.leaf) {
+                    let part = &organ.bvh.parts[p];
+                    if view.removed(&part.bounds) {
+                        stats.clip_culled += part.count as usize;
+                    } else if view.inside_part(p) {
+                        stats.occlusion_culled += part.count as usize;
+                        stats.inside_culled += part.count as usize;
+                    } else {
+                        push_merged(list, 3 * part.first..3 * (part.first + part.count));
                     }
                 }
                 stop(true);

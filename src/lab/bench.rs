@@ -32,6 +32,8 @@ pub struct FrameRecord {
     pub back_face_culled: usize,
     /// Triangles culled as removed by the clip planes.
     pub clip_culled: usize,
+    /// Triangles culled as faces inside intact solids (among the occlusion culled).
+    pub inside_culled: usize,
     /// Leaves hidden in an exact visibility pass, and how many of them this mode culled.
     pub exact_hidden_leaves: usize,
     pub culled_hidden_leaves: usize,
@@ -200,6 +202,7 @@ pub fn run(
                 nodes_tested: stats.nodes_tested,
                 back_face_culled: stats.back_face_culled,
                 clip_culled: stats.clip_culled,
+                inside_culled: stats.inside_culled,
                 exact_hidden_leaves: exact.hidden_leaves,
                 culled_hidden_leaves: exact.culled_leaves,
                 exact_hidden_triangles: exact.hidden_triangles,
@@ -264,6 +267,8 @@ pub struct Summary {
     pub back_face_culled_percent: f64,
     /// Share (percent) of the drawn organs' triangles culled as removed by the clip planes.
     pub clip_culled_percent: f64,
+    /// Share (percent) of the drawn organs' triangles culled as faces inside intact solids.
+    pub inside_culled_percent: f64,
     /// Triangles drawn over the triangles of exactly visible leaves, over all frames: 1 is the
     /// bound at leaf granularity.
     pub drawn_over_visible: f64,
@@ -298,6 +303,7 @@ pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
         exact_hidden_triangles_percent: 100.0 * sum(|r| r.exact_hidden_triangles) / triangles,
         back_face_culled_percent: 100.0 * sum(|r| r.back_face_culled) / triangles,
         clip_culled_percent: 100.0 * sum(|r| r.clip_culled) / triangles,
+        inside_culled_percent: 100.0 * sum(|r| r.inside_culled) / triangles,
         drawn_over_visible: sum(|r| r.triangles_drawn) / sum(|r| r.exact_visible_triangles).max(1.0),
     }
 }

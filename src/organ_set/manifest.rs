@@ -41,6 +41,10 @@ pub struct SolidEntry {
     /// The stand-in's mesh (relative path, like an organ's `mesh`), once built.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub occluder: Option<String>,
+    /// The faces inside it, once found (relative path to a JSON file of triangle ranges per organ,
+    /// [`super::hidden_faces`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hidden: Option<String>,
 }
 
 /// Where data came from, under which licence, and whom to credit.

@@ -5,6 +5,7 @@
 //! of every file is one organ, named after the object or file, with distinct colours. A broken organ
 //! does not stop the rest: it is reported in [`Loaded::errors`] and left out.
 
+pub mod hidden_faces;
 pub mod import;
 pub mod label_table;
 pub mod manifest;
@@ -45,6 +46,8 @@ pub struct Organ {
     pub(crate) stand_in: Option<StandIn>,
     /// [`Mesh::is_closed_outward`]: drawn with its back faces culled.
     closed: bool,
+    /// Its hierarchy's nodes and parts made only of faces inside solids ([`OrganSet::index_hidden_faces`]).
+    pub(crate) inside: hidden_faces::Inside,
 }
 
 /// An occluder stand-in: its mesh (in the order of its own hierarchy's leaves) and hierarchy.
@@ -84,6 +87,7 @@ impl Organ {
             mesh,
             bvh,
             stand_in: None,
+            inside: hidden_faces::Inside::default(),
         }
     }
 
@@ -120,6 +124,7 @@ impl Organ {
         self.closed = mesh.is_closed_outward();
         self.mesh = mesh;
         self.stand_in = None;
+        self.inside = hidden_faces::Inside::default();
     }
 }
 
@@ -142,6 +147,8 @@ pub struct Solid {
     /// Indices into [`OrganSet::organs`], increasing.
     pub organs: Vec<usize>,
     pub(crate) stand_in: Option<StandIn>,
+    /// The faces of its organs it hides and no smaller solid does ([`hidden_faces`]).
+    pub(crate) hidden: Vec<hidden_faces::OrganFaces>,
 }
 
 impl Solid {
@@ -152,6 +159,11 @@ impl Solid {
     /// Gives it a stand-in (or none); the caller vouches that it lies inside the organs' union.
     pub fn set_stand_in(&mut self, stand_in: Option<StandIn>) {
         self.stand_in = stand_in;
+    }
+
+    /// The faces of its organs it hides and no smaller solid does: per organ, runs of triangles.
+    pub fn hidden_faces(&self) -> &[hidden_faces::OrganFaces] {
+        &self.hidden
     }
 }
 
@@ -226,6 +238,7 @@ impl OrganSet {
                     id: s.id.clone(),
                     organs: s.organs.iter().map(|&o| self.organs[o].id.clone()).collect(),
                     occluder: s.stand_in.as_ref().map(|_| format!("meshes/{}.solid.vbo", s.id)),
+                    hidden: (!s.hidden.is_empty()).then(|| format!("meshes/{}.hidden.json", s.id)),
                 })
                 .collect(),
         }
@@ -284,8 +297,28 @@ impl OrganSet {
                 let path = meshes.join(format!("{}.solid.vbo", s.id));
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&s.id, &stand_in.mesh)], w))?;
             }
+            if !s.hidden.is_empty() {
+                hidden_faces::write(&meshes.join(format!("{}.hidden.json", s.id)), self, &s.hidden)?;
+            }
         }
         Ok(())
+    }
+
+    /// Gives the solids the faces they hide (per solid, as [`hidden_faces::find`] gives them) and
+    /// indexes them in the organs' hierarchies, for the culler. The caller vouches that they were
+    /// found for these meshes.
+    pub fn set_hidden_faces(&mut self, faces: Vec<Vec<hidden_faces::OrganFaces>>) {
+        for (solid, faces) in self.solids.iter_mut().zip(faces) {
+            solid.hidden = faces;
+        }
+        self.index_hidden_faces();
+    }
+
+    /// Indexes the solids' hidden faces in each organ's hierarchy ([`hidden_faces::Inside`]).
+    fn index_hidden_faces(&mut self) {
+        for (o, organ) in self.organs.iter_mut().enumerate() {
+            organ.inside = hidden_faces::Inside::of(o, &organ.bvh, &self.solids);
+        }
     }
 }
 
@@ -366,6 +399,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
         }
     }
     loaded.set.solids = load_solids(&manifest.solids, &loaded.set.organs, dir, &mut loaded.warnings);
+    loaded.set.index_hidden_faces();
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
     loaded.set.sources = manifest.sources;
@@ -390,21 +424,32 @@ fn load_solids(
         } else if ids.is_none() || entry.organs.is_empty() {
             Some("names no organ, or one the set does not have".to_string())
         } else {
-            entry
-                .occluder
-                .as_deref()
-                .and_then(|p| manifest::mesh_path_ok(p).err().map(|e| format!("occluder {p}: {e}")))
+            let path_problem = |field: &str, p: &Option<String>| {
+                p.as_deref().and_then(|p| manifest::mesh_path_ok(p).err().map(|e| format!("{field} {p}: {e}")))
+            };
+            path_problem("occluder", &entry.occluder).or_else(|| path_problem("hidden", &entry.hidden))
         };
         if let Some(problem) = problem {
             warnings.push(format!("solid \"{}\" ignored: {problem}", entry.id));
             continue;
         }
-        let mut organs = ids.unwrap_or_default();
-        organs.sort_unstable();
-        organs.dedup();
+        let mut members = ids.unwrap_or_default();
+        members.sort_unstable();
+        members.dedup();
         let owner = format!("solid \"{}\"", entry.id);
         let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(dir, p, &owner, warnings));
-        solids.push(Solid { id: entry.id.clone(), organs, stand_in });
+        // Broken or stale, they cost only speed.
+        let hidden = match &entry.hidden {
+            Some(p) => crate::input::inside(dir, p)
+                .map_err(|e| e.to_string())
+                .and_then(|path| hidden_faces::read(&path, organs, &members))
+                .unwrap_or_else(|why| {
+                    warnings.push(format!("{owner}: its hidden faces are not used: {why}"));
+                    Vec::new()
+                }),
+            None => Vec::new(),
+        };
+        solids.push(Solid { id: entry.id.clone(), organs: members, stand_in, hidden });
     }
     solids
 }

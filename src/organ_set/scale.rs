@@ -128,6 +128,9 @@ pub fn scale_set(set: &OrganSet, n: usize, progress: super::import::Progress) ->
             o.stand_in = Some(stand_in);
         }
     }
+    // The faces inside the solids are numbered in the old meshes: `vbrain stand-ins` finds them
+    // again for the new ones.
+    out.solids.iter_mut().for_each(|s| s.hidden.clear());
     progress(total, total, "done");
     out
 }

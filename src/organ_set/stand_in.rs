@@ -249,45 +249,11 @@ fn separated(a: &[Vec3; 3], b: &[Vec3; 3], margin: f32) -> bool {
 mod tests {
     use super::*;
 
-    /// A closed box surface, counter-clockwise from outside, split into `n` x `n` squares a side.
-    fn cube(n: usize, half: Vec3) -> Mesh {
-        let mut m = Mesh::default();
-        for axis in 0..3 {
-            for sign in [-1.0f32, 1.0] {
-                let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
-                let base = m.positions.len() as u32;
-                for j in 0..=n {
-                    for i in 0..=n {
-                        let mut p = Vec3::ZERO;
-                        p[axis] = sign * half[axis];
-                        p[u] = half[u] * (2.0 * i as f32 / n as f32 - 1.0);
-                        p[v] = half[v] * (2.0 * j as f32 / n as f32 - 1.0);
-                        m.positions.push(p.to_array());
-                    }
-                }
-                let at = |i: usize, j: usize| base + (j * (n + 1) + i) as u32;
-                for j in 0..n {
-                    for i in 0..n {
-                        let (a, b, c, d) = (at(i, j), at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
-                        // u x v = axis: counter-clockwise seen from +axis.
-                        if sign > 0.0 {
-                            m.indices.extend([a, b, c, a, c, d]);
-                        } else {
-                            m.indices.extend([a, c, b, a, d, c]);
-                        }
-                    }
-                }
-            }
-        }
-        m.compute_normals();
-        m
-    }
-
     #[test]
     fn the_union_of_two_boxes_sharing_a_face_is_their_outside() {
         // Two 2 x 2 x 2 boxes side by side along x share the face x = 0 (each split 2 x 2).
         let shifted = |dx: f32| {
-            let mut m = cube(2, Vec3::ONE);
+            let mut m = crate::mesh::split_box(2, Vec3::ONE);
             m.positions.iter_mut().for_each(|p| p[0] += dx);
             m
         };
@@ -308,7 +274,7 @@ mod tests {
     #[test]
     fn cube_stand_in_is_inside_and_smaller() {
         let half = Vec3::new(10.0, 8.0, 6.0);
-        let mut mesh = cube(12, half);
+        let mut mesh = crate::mesh::split_box(12, half);
         let bvh = Bvh::build(&mut mesh);
         assert!(mesh.signed_volume() > 0.0);
         let built = build_inner(&mesh, &bvh, InnerOptions { triangles: 48, offset: 1.0 }).unwrap();
@@ -326,8 +292,8 @@ mod tests {
     fn shell_stand_in_stays_inside_the_wall() {
         // A hollow box: outer surface outward, inner surface facing the cavity (wound inward).
         let (outer, inner) = (Vec3::splat(10.0), Vec3::splat(8.0));
-        let mut mesh = cube(10, outer);
-        let mut hole = cube(8, inner);
+        let mut mesh = crate::mesh::split_box(10, outer);
+        let mut hole = crate::mesh::split_box(8, inner);
         hole.indices.chunks_exact_mut(3).for_each(|t| t.swap(1, 2));
         mesh.append(&hole);
         mesh.compute_normals();
@@ -348,7 +314,7 @@ mod tests {
     #[test]
     fn a_triangle_crossing_the_surface_is_left_out() {
         let half = Vec3::splat(5.0);
-        let mut mesh = cube(4, half);
+        let mut mesh = crate::mesh::split_box(4, half);
         let bvh = Bvh::build(&mut mesh);
         let s = Surface { mesh: &mesh, bvh: &bvh, margin: 1e-3 };
         let inside = [Vec3::new(-1., -1., 0.), Vec3::new(1., -1., 0.), Vec3::new(0., 1., 0.)];
@@ -364,7 +330,7 @@ mod tests {
 
     #[test]
     fn open_surfaces_are_refused() {
-        let mut mesh = cube(2, Vec3::ONE);
+        let mut mesh = crate::mesh::split_box(2, Vec3::ONE);
         mesh.indices.truncate(mesh.indices.len() - 3);
         let bvh = Bvh::build(&mut mesh);
         let err = build_inner(&mesh, &bvh, InnerOptions { triangles: 8, offset: 0.1 }).unwrap_err();

@@ -132,6 +132,10 @@ enum Poses {
     /// the kept side in about half the poses; in half the poses the left cerebellum (where the set
     /// has one) moved into the left hemisphere.
     CutOrbit,
+    /// The set's own layout, uncut, from random cameras (outside and inside it): its solids
+    /// intact, the faces inside them culled untested, in the first half of the poses; in the
+    /// second, one organ of each solid in turn faded or moved, so that they show.
+    Intact,
 }
 
 /// What [`identical_images`] found besides: the share of triangles occlusion culling removed in
@@ -141,6 +145,8 @@ struct Outcome {
     share: f64,
     cut_solids: usize,
     exact: bool,
+    /// Triangles culled as faces inside intact solids, over all poses.
+    inside: usize,
 }
 
 /// Renders every pose with culling off and on and checks the images are identical (but for
@@ -152,7 +158,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
     let target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(XorShift(seed));
     let (mut culled, mut total, mut cracks, mut removed) = (0usize, 0usize, 0usize, 0usize);
-    let mut cut_solids = 0;
+    let (mut cut_solids, mut inside) = (0, 0);
     let mut culler = Culler::new(database);
     for pose in 0..count {
         let (layout, camera, planes, caps, whole) = match poses {
@@ -187,6 +193,19 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 let plane = if pose % 2 == 0 { plane } else { plane.flipped() };
                 (layout, camera, vec![plane], true, Vec::new())
             }
+            Poses::Intact => {
+                let mut layout = Layout::new(set);
+                let camera = random_camera(set, &layout, &mut rng);
+                if pose >= count / 2 && !set.solids.is_empty() {
+                    let solid = &set.solids[pose % set.solids.len()];
+                    let o = solid.organs[pose % solid.organs.len()];
+                    match pose % 2 {
+                        0 => layout.organs[o].opacity = 0.5,
+                        _ => layout.organs[o].transform.translation += Vec3::new(0.0, 0.0, 0.5),
+                    }
+                }
+                (layout, camera, Vec::new(), false, Vec::new())
+            }
         };
         let clip = Clip { planes: &planes, caps, whole: &whole, exact: renderer.cuts_geometry() };
         let settings = CullSettings {
@@ -203,6 +222,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 _ => Culler::default().cull(set, &layout, &camera, target.aspect(), &settings),
             };
             removed += stats.clip_culled;
+            inside += stats.inside_culled;
             cut_solids += usize::from(!planes.is_empty() && stats.solids > 0);
             if mode == CullMode::Occlusion && planes.is_empty() {
                 culled += stats.occlusion_culled;
@@ -249,8 +269,9 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
         }
     }
     // Where the renderer cuts triangles at the planes, what they remove was culled in the cut poses.
-    assert!(!renderer.cuts_geometry() || removed > 0, "nothing the planes remove was culled");
-    Outcome { share: culled as f64 / total.max(1) as f64, cut_solids, exact: renderer.cuts_geometry() }
+    let cut = !matches!(poses, Poses::Intact);
+    assert!(!cut || !renderer.cuts_geometry() || removed > 0, "nothing the planes remove was culled");
+    Outcome { share: culled as f64 / total.max(1) as f64, cut_solids, exact: renderer.cuts_geometry(), inside }
 }
 
 #[test]
@@ -262,8 +283,11 @@ fn default_brain_culling_changes_no_pixel() {
     assert!(share > 0.2, "occlusion culling removed only {:.1} % of triangles", share * 100.0);
     identical_images(set, database.clone(), 40, 0xbeef, Poses::Random { skull_opaque: false });
     // Cut solids occlude with their stand-ins cut at the plane while the eye is on the kept side.
-    let cut = identical_images(set, database, 24, 0xc07, Poses::CutOrbit);
+    let cut = identical_images(set, database.clone(), 24, 0xc07, Poses::CutOrbit);
     assert!(!cut.exact || cut.cut_solids >= 6, "stand-ins occluded in {} cut poses", cut.cut_solids);
+    // The faces inside its solids are culled while they are intact, and show when not.
+    let intact = identical_images(set, database, 32, 0x1d5, Poses::Intact);
+    assert!(intact.inside > 0, "no face inside a solid was culled");
 }
 
 #[test]

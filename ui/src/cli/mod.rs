@@ -66,7 +66,8 @@ pub enum Command {
     /// Write a denser copy of a set (each triangle subdivided), for benchmarks
     Scale(ScaleArgs),
     /// Build occluder stand-ins: for each closed organ, a coarse mesh verified to lie inside it,
-    /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo)
+    /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo); and
+    /// for each solid, the faces inside it (meshes/SOLID.hidden.json)
     StandIns(StandInsArgs),
     /// Export a scene, set or lesson as glTF 2.0 (.glb) for Blender, slides and web viewers (the
     /// organs it shows, with names, colours, opacities, transforms, groups and info, cut by its
@@ -464,6 +465,10 @@ pub struct StandInsArgs {
     /// folded surface simplifies with fewer triangles left out there), 0.01..=50
     #[arg(long, default_value_t = 4.0, value_parser = values::f32_in(0.01, 50.0))]
     pub solid_offset: f32,
+    /// Solids (by id) whose faces inside are not kept, so culling draws them; the default brain
+    /// leaves out `brain` (see its README)
+    #[arg(long, num_args = 1..)]
+    pub no_faces_inside: Vec<String>,
     /// Output folder (default: the set's own folder)
     #[arg(long)]
     pub out: Option<PathBuf>,

@@ -1,6 +1,8 @@
 //! `vbrain stand-ins`: occluder stand-ins for a set's closed organs. Each is a coarse mesh inside
 //! its organ (offset inward, simplified, each triangle verified inside) that occlusion culling
-//! rasterises in the organ's place; kept only with at most half the organ's triangles.
+//! rasterises in the organ's place; kept only with at most half the organ's triangles. And for
+//! each solid, a stand-in inside its organs' union and the faces inside it
+//! ([`vbrain::organ_set::hidden_faces`]), which culling leaves out while the solid is intact.
 
 use super::common::{open_set, progress_bar, writable_folder};
 use super::StandInsArgs;
@@ -29,6 +31,9 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
         bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);
     }
     let mut set = open_set(path)?;
+    if let Some(id) = args.no_faces_inside.iter().find(|id| !set.solids.iter().any(|s| &s.id == *id)) {
+        bail!("--no-faces-inside {id}: the set has no solid of that id");
+    }
     let bar = progress_bar(set.organs.len() as u64);
     // Per organ tried: id, triangles, and what became of its stand-in.
     let mut rows: Vec<(String, usize, Outcome)> = Vec::new();
@@ -72,6 +77,20 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
         };
         rows.push((format!("solid {}", set.solids[solid].id), triangles, outcome));
     }
+    // Each solid: the faces of its organs no ray from outside reaches while it is intact.
+    let mut hidden = organ_set::hidden_faces::find(&set, |s| bar.set_message(format!("faces inside {}", s.id)));
+    for (solid, faces) in set.solids.iter().zip(&mut hidden) {
+        if args.no_faces_inside.contains(&solid.id) {
+            faces.clear();
+        }
+    }
+    let inside: Vec<(String, usize)> = set
+        .solids
+        .iter()
+        .zip(&hidden)
+        .map(|(s, faces)| (s.id.clone(), faces.iter().flat_map(|(_, r)| r).map(|r| r.len()).sum()))
+        .collect();
+    set.set_hidden_faces(hidden);
     bar.finish_and_clear();
     let out = match out {
         Some(out) => {
@@ -93,7 +112,8 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
                 Outcome::Skipped(why) => json!({"id": id, "triangles": triangles, "skipped": why}),
             })
             .collect();
-        println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs}))?);
+        let hidden: Vec<_> = inside.iter().map(|(id, n)| json!({"solid": id, "hidden_faces": n})).collect();
+        println!("{}", serde_json::to_string_pretty(&json!({"out": out, "organs": organs, "hidden_faces": hidden}))?);
     } else {
         for (id, triangles, outcome) in &rows {
             match outcome {
@@ -102,6 +122,9 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
                 }
                 Outcome::Skipped(why) => println!("{id:<24} {triangles:>8} triangles: none ({why})"),
             }
+        }
+        for (id, n) in &inside {
+            println!("solid {id:<18} {n:>8} faces inside it (hidden while it is intact)");
         }
         println!("stand-ins: wrote {}", out.display());
     }

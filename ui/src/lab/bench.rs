@@ -101,11 +101,11 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
 }
 
 fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
+    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,inside_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
     for r in records {
         writeln!(
             w,
-            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{},{},{}",
+            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
             r.mode.name(),
             r.frame,
             r.cull_ms,
@@ -122,6 +122,7 @@ fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Re
             r.nodes_tested,
             r.back_face_culled,
             r.clip_culled,
+            r.inside_culled,
             r.exact_hidden_leaves,
             r.culled_hidden_leaves,
             r.exact_hidden_triangles

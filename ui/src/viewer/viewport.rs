@@ -533,11 +533,15 @@ fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, sta
     let mut lines = Vec::new();
     if settings.cull.mode != vbrain::cull::CullMode::None {
         lines.push(format!(
-            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion, {} facing away{} triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
+            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion{}, {} facing away{} triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
             settings.cull.mode.name(),
             cull.culled_percent(),
             cull.frustum_culled,
             cull.occlusion_culled,
+            match cull.inside_culled {
+                0 => String::new(),
+                n => format!(" of which {n} inside solids"),
+            },
             cull.back_face_culled,
             match cull.clip_culled {
                 0 => String::new(),
