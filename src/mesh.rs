@@ -76,6 +76,11 @@ impl Bounds {
 }
 
 impl Mesh {
+    /// The corners of triangle `t`.
+    pub fn triangle(&self, t: usize) -> [Vec3; 3] {
+        [0, 1, 2].map(|k| Vec3::from(self.positions[self.indices[3 * t + k] as usize]))
+    }
+
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -204,6 +209,15 @@ pub fn weld(positions: &[[f32; 3]]) -> (Vec<u32>, Vec<[f32; 3]>) {
         })
         .collect();
     (remap, welded)
+}
+
+/// Slab test: where the ray `origin + t dir` (t >= 0, `inv` = 1 / dir) enters the box `b`, if it
+/// meets it (0 from inside).
+pub fn ray_box_entry(origin: Vec3, inv: Vec3, b: &Bounds) -> Option<f32> {
+    let (lo, hi) = ((Vec3::from(b.min) - origin) * inv, (Vec3::from(b.max) - origin) * inv);
+    let (near, far) = (lo.min(hi).max_element(), lo.max(hi).min_element());
+    // NaN (a zero direction component on the slab's plane) compares false: treated as meeting.
+    (!(near > far || far < 0.0)).then_some(near.max(0.0))
 }
 
 /// Möller-Trumbore: the distance along the ray `origin + t dir` (any sign of t) at which it

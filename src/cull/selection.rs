@@ -205,24 +205,12 @@ pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bo
     let valid: Vec<usize> = (0..set.solids.len())
         .filter(|&s| {
             let solid = &set.solids[s];
-            let Some(&first) = solid.organs.first() else { return false };
-            let transform = layout.organs.get(first).map(|o| o.transform.matrix());
-            let mut bounds = crate::mesh::Bounds::EMPTY;
-            let valid = solid.stand_in.is_some()
-                && solid.organs.iter().all(|&o| {
-                    let ok = occluding.get(o).copied().unwrap_or(false)
-                        && Some(layout.organs[o].transform.matrix()) == transform
-                        && !set.organs[o].bvh.nodes.is_empty();
-                    if ok {
-                        bounds = bounds.union(set.organs[o].bvh.nodes[0].bounds);
-                    }
-                    ok
-                })
-                && transform.is_some_and(|t| wholly_ahead(&(*view_proj * t), &bounds));
-            if let Some(t) = transform.filter(|_| valid) {
+            let placed =
+                solid.stand_in.is_some().then(|| placed_as_one(set, layout, view_proj, s, occluding)).flatten();
+            if let Some((t, bounds)) = placed {
                 all = all.union(bounds.transformed(&t));
             }
-            valid
+            placed.is_some()
         })
         .collect();
     let in_a_solid = |o: usize| set.solids.iter().any(|s| s.organs.binary_search(&o).is_ok());
@@ -252,28 +240,36 @@ pub fn solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, occluding: &[bo
 /// are all `whole` (drawn, opaque, left as they are by the clip planes), moved as one without
 /// a mirror, and wholly beyond the near plane (so the eye lies outside their box).
 pub fn intact_solids(set: &OrganSet, layout: &Layout, view_proj: &Mat4, whole: &[bool]) -> u64 {
-    let mut intact = 0u64;
-    for (s, solid) in set.solids.iter().enumerate().take(64) {
-        let Some(&first) = solid.organs.first() else { continue };
-        if solid.hidden_faces().is_empty() {
-            continue;
+    (0..set.solids.len().min(64))
+        .filter(|&s| {
+            !set.solids[s].hidden_faces().is_empty()
+                && placed_as_one(set, layout, view_proj, s, whole).is_some_and(|(t, _)| t.determinant() > 0.0)
+        })
+        .fold(0, |bits, s| bits | 1 << s)
+}
+
+/// Solid `s`'s model matrix and box (organ space), where its organs (at least one) are all
+/// `flagged`, have hierarchies, share one model matrix, and lie wholly beyond the near plane.
+fn placed_as_one(
+    set: &OrganSet,
+    layout: &Layout,
+    view_proj: &Mat4,
+    s: usize,
+    flagged: &[bool],
+) -> Option<(Mat4, crate::mesh::Bounds)> {
+    let organs = &set.solids[s].organs;
+    let transform = layout.organs.get(*organs.first()?)?.transform.matrix();
+    let mut bounds = crate::mesh::Bounds::EMPTY;
+    for &o in organs {
+        let root = set.organs[o].bvh.nodes.first()?;
+        let ok = flagged.get(o).copied().unwrap_or(false)
+            && layout.organs.get(o).is_some_and(|l| l.transform.matrix() == transform);
+        if !ok {
+            return None;
         }
-        let Some(transform) = layout.organs.get(first).map(|o| o.transform.matrix()) else { continue };
-        let mut bounds = crate::mesh::Bounds::EMPTY;
-        let ok = transform.determinant() > 0.0
-            && solid.organs.iter().all(|&o| {
-                let root = set.organs[o].bvh.nodes.first();
-                root.iter().for_each(|r| bounds = bounds.union(r.bounds));
-                whole.get(o).copied().unwrap_or(false)
-                    && root.is_some()
-                    && layout.organs.get(o).is_some_and(|l| l.transform.matrix() == transform)
-            })
-            && wholly_ahead(&(*view_proj * transform), &bounds);
-        if ok {
-            intact |= 1 << s;
-        }
+        bounds = bounds.union(root.bounds);
     }
-    intact
+    wholly_ahead(&(*view_proj * transform), &bounds).then_some((transform, bounds))
 }
 
 #[cfg(test)]
@@ -282,13 +278,15 @@ mod tests {
     use crate::organ_set::{Organ, Solid, StandIn};
     use glam::Vec3;
 
+    /// A unit octahedron moved `x` along x.
+    fn organ(id: &str, x: f32) -> Organ {
+        let mut m = crate::mesh::Mesh::octahedron();
+        m.positions.iter_mut().for_each(|p| p[0] += x);
+        Organ::new(id.into(), id.into(), [0.5; 3], m)
+    }
+
     #[test]
     fn faces_inside_a_solid_are_hidden_while_it_is_intact_and_ahead() {
-        let organ = |id: &str, x: f32| {
-            let mut m = crate::mesh::Mesh::octahedron();
-            m.positions.iter_mut().for_each(|p| p[0] += x);
-            Organ::new(id.into(), id.into(), [0.5; 3], m)
-        };
         let mut set =
             OrganSet { organs: vec![organ("a", 0.0), organ("b", 1.0), organ("c", 2.0)], ..Default::default() };
         set.solids = vec![
@@ -326,11 +324,6 @@ mod tests {
 
     #[test]
     fn solids_occlude_while_their_organs_are_opaque_and_move_as_one() {
-        let organ = |id: &str, x: f32| {
-            let mut m = crate::mesh::Mesh::octahedron();
-            m.positions.iter_mut().for_each(|p| p[0] += x);
-            Organ::new(id.into(), id.into(), [0.5; 3], m)
-        };
         let stand_in = || Some(StandIn::new(crate::mesh::Mesh::octahedron()));
         let set = OrganSet {
             organs: vec![organ("a", 0.0), organ("b", 1.0), organ("c", 2.0)],

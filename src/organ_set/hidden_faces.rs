@@ -23,7 +23,7 @@
 
 use super::{OrganSet, Solid};
 use crate::bvh::Bvh;
-use crate::mesh::{ray_triangle, Bounds, Mesh};
+use crate::mesh::{ray_box_entry, ray_triangle, Mesh};
 use glam::Vec3;
 use rayon::prelude::*;
 use std::ops::Range;
@@ -89,7 +89,7 @@ fn hidden_in(set: &OrganSet, solid: &Solid, directions: &[Vec3], taken: &[Vec<bo
             let organ = &set.organs[o];
             (0..organ.mesh.triangle_count())
                 .into_par_iter()
-                .map(|t| taken[o][t] || face_hidden(&surface, triangle(&organ.mesh, t), organ.closed(), directions))
+                .map(|t| taken[o][t] || face_hidden(&surface, organ.mesh.triangle(t), organ.closed(), directions))
                 .collect()
         })
         .collect();
@@ -128,10 +128,6 @@ fn hidden_in(set: &OrganSet, solid: &Solid, directions: &[Vec3], taken: &[Vec<bo
     hidden
 }
 
-fn triangle(mesh: &Mesh, t: usize) -> [Vec3; 3] {
-    [0, 1, 2].map(|k| Vec3::from(mesh.positions[mesh.indices[3 * t + k] as usize]))
-}
-
 /// A solid's organs as the rays meet them: one mesh with a hierarchy, in which an organ that is
 /// not closed (the renderer draws its back faces) has each triangle twice, wound both ways.
 struct Surface {
@@ -160,13 +156,13 @@ impl Surface {
     fn stops(&self, origin: Vec3, dir: Vec3) -> bool {
         let inv = dir.recip();
         let mut stack: Vec<&crate::bvh::Node> = Vec::with_capacity(64);
-        stack.extend(self.bvh.nodes.first().filter(|r| entry(origin, inv, &r.bounds).is_some()));
+        stack.extend(self.bvh.nodes.first().filter(|r| ray_box_entry(origin, inv, &r.bounds).is_some()));
         // Nearer boxes first: a hidden face's rays mostly end near it.
         while let Some(node) = stack.pop() {
             if !node.is_leaf() {
                 let [a, b] = node.children.map(|c| {
                     let child = &self.bvh.nodes[c as usize];
-                    (entry(origin, inv, &child.bounds), child)
+                    (ray_box_entry(origin, inv, &child.bounds), child)
                 });
                 let (near, far) = if a.0 <= b.0 || b.0.is_none() { (a, b) } else { (b, a) };
                 for (at, child) in [far, near] {
@@ -177,7 +173,7 @@ impl Surface {
                 continue;
             }
             for t in node.first..node.first + node.count {
-                let tri = triangle(&self.mesh, t as usize);
+                let tri = self.mesh.triangle(t as usize);
                 if (tri[1] - tri[0]).cross(tri[2] - tri[0]).dot(dir) > 0.0
                     && ray_triangle(origin, dir, tri).is_some_and(|d| d > NEAREST_HIT_MM)
                 {
@@ -209,15 +205,6 @@ fn face_hidden(surface: &Surface, tri: [Vec3; 3], closed: bool, directions: &[Ve
         let turn = glam::Quat::from_axis_angle(Vec3::new(0.36, 0.48, 0.8), 2.4 * k as f32);
         directions.iter().map(|&d| turn * d).filter(|d| !closed || d.dot(normal) > 0.0).all(|d| surface.stops(p, d))
     })
-}
-
-/// Slab test: where the ray `origin + t dir` (t >= 0, `inv` = 1 / dir) enters the box, if it
-/// meets it.
-fn entry(origin: Vec3, inv: Vec3, b: &Bounds) -> Option<f32> {
-    let (lo, hi) = ((Vec3::from(b.min) - origin) * inv, (Vec3::from(b.max) - origin) * inv);
-    let (near, far) = (lo.min(hi).max_element(), lo.max(hi).min_element());
-    // NaN (a zero direction component on the slab's plane) compares false: treated as meeting.
-    (!(near > far || far < 0.0)).then_some(near.max(0.0))
 }
 
 /// `n` unit directions spread evenly over the sphere.
@@ -418,7 +405,7 @@ mod tests {
         let mut out = vec![Vec::new(); set.organs.len()];
         for (o, runs) in found {
             for t in runs.iter().flat_map(|r| r.clone()) {
-                out[*o].push(triangle(&set.organs[*o].mesh, t as usize).iter().sum::<Vec3>() / 3.0);
+                out[*o].push(set.organs[*o].mesh.triangle(t as usize).iter().sum::<Vec3>() / 3.0);
             }
         }
         out

@@ -154,7 +154,7 @@ struct Surface<'a> {
 
 impl Surface<'_> {
     fn triangle(&self, t: u32) -> [Vec3; 3] {
-        [0, 1, 2].map(|k| Vec3::from(self.mesh.positions[self.mesh.indices[3 * t as usize + k] as usize]))
+        self.mesh.triangle(t as usize)
     }
 
     /// Calls `visit` with each triangle whose leaf's box passes `near`.
@@ -212,11 +212,7 @@ impl Surface<'_> {
 
 /// Slab test: does the ray (t >= 0) meet the box?
 fn ray_meets_box(origin: Vec3, dir: Vec3, b: &Bounds) -> bool {
-    let inv = dir.recip();
-    let (lo, hi) = ((Vec3::from(b.min) - origin) * inv, (Vec3::from(b.max) - origin) * inv);
-    let (near, far) = (lo.min(hi).max_element(), lo.max(hi).min_element());
-    // NaN (a zero direction component on the slab's plane) compares false: treated as meeting.
-    !(near > far || far < 0.0)
+    crate::mesh::ray_box_entry(origin, dir.recip(), b).is_some()
 }
 
 /// Separating-axis test of two triangles: is there an axis (a face normal or a cross product of
