@@ -175,10 +175,18 @@ impl Bvh {
     /// first use (dropping unused ones). Splits at the median split position along the longest
     /// axis of their bounds.
     pub fn build(mesh: &mut Mesh) -> Bvh {
+        Bvh::build_apart(mesh, &[]).0
+    }
+
+    /// As [`Bvh::build`], but the root splits the triangles marked in `apart` (by their numbers in
+    /// `mesh` as given; empty for none) from the rest, so no node or part below it mixes the two
+    /// (a shell's own root split is then not made). Also gives, per triangle of the reordered
+    /// mesh, its number before.
+    pub fn build_apart(mesh: &mut Mesh, apart: &[bool]) -> (Bvh, Vec<u32>) {
         let tri_count = mesh.triangle_count();
         let mut bvh = Bvh::default();
         if tri_count == 0 {
-            return bvh;
+            return (bvh, Vec::new());
         }
         let tri = |t: u32| {
             let i = 3 * t as usize;
@@ -226,8 +234,15 @@ impl Bvh {
             });
             mid
         };
-        // A shell's root splits its outer surface from its inner one (see `shell_split`).
-        let shell = shell_split(mesh, &mut order);
+        // The root splits the marked triangles from the rest, or a shell's outer surface from its
+        // inner one (see `shell_split`).
+        let marked = apart.iter().filter(|&&m| m).count();
+        let root_split = if apart.len() == tri_count && marked > 0 && marked < tri_count {
+            order.sort_by_key(|&t| !apart[t as usize]);
+            Some(marked)
+        } else {
+            shell_split(mesh, &mut order)
+        };
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {
             let (first, count) = (bvh.nodes[n as usize].first as usize, bvh.nodes[n as usize].count as usize);
@@ -239,7 +254,7 @@ impl Bvh {
             if count <= LEAF_TRIANGLES {
                 continue;
             }
-            let mid = match (n, shell) {
+            let mid = match (n, root_split) {
                 (0, Some(mid)) => mid,
                 _ => split(slice),
             };
@@ -294,7 +309,7 @@ impl Bvh {
         crate::surface::compact(mesh);
         bvh.neighbours = neighbours(mesh);
         bvh.index_part_vertices(mesh);
-        bvh
+        (bvh, order)
     }
 
     /// Fills in each part's vertices and each triangle's corners among them.

@@ -1,4 +1,5 @@
-//! Faces inside a solid (organ space, millimetres; triangle numbers in the organs' leaf order).
+//! Faces inside a solid (organ space, millimetres; triangle numbers in the organs' leaf order; in
+//! files, in the order a load first builds the hierarchy in from the mesh file).
 //!
 //! The organs of a [`Solid`] meet face to face: the white matter's surface is the cortex's inner
 //! one, wound the other way. While the solid is intact (its organs all drawn, opaque, cut by no
@@ -221,7 +222,7 @@ fn fibonacci_sphere(n: usize) -> Vec<Vec3> {
 }
 
 /// Ascending numbers as runs.
-fn runs(numbers: impl Iterator<Item = u32>) -> Vec<Range<u32>> {
+pub(super) fn runs(numbers: impl Iterator<Item = u32>) -> Vec<Range<u32>> {
     let mut out: Vec<Range<u32>> = Vec::new();
     for n in numbers {
         match out.last_mut() {
@@ -252,16 +253,28 @@ struct FileOrgan {
     hidden: Vec<[u32; 2]>,
 }
 
-/// Writes the hidden faces of a solid of `set` to `path`, atomically.
-pub fn write(path: &std::path::Path, set: &OrganSet, faces: &[OrganFaces]) -> crate::error::Result<()> {
+/// Writes the hidden faces of a solid of `set` to `path`, atomically, each triangle `t` of organ
+/// `o` numbered `number(o, t)`: its number in the order a load of the set's mesh files first
+/// builds the hierarchy in.
+pub fn write(
+    path: &std::path::Path,
+    set: &OrganSet,
+    faces: &[OrganFaces],
+    number: impl Fn(usize, u32) -> u32,
+) -> crate::error::Result<()> {
     let file = File {
         version: VERSION,
         organs: faces
             .iter()
-            .map(|(o, runs)| FileOrgan {
-                id: set.organs[*o].id.clone(),
-                triangles: set.organs[*o].mesh.triangle_count(),
-                hidden: runs.iter().map(|r| [r.start, r.end]).collect(),
+            .map(|(o, runs)| {
+                let organ = &set.organs[*o];
+                let mut first: Vec<u32> = runs.iter().flat_map(|r| r.clone()).map(|t| number(*o, t)).collect();
+                first.sort_unstable();
+                FileOrgan {
+                    id: organ.id.clone(),
+                    triangles: organ.mesh.triangle_count(),
+                    hidden: self::runs(first.into_iter()).iter().map(|r| [r.start, r.end]).collect(),
+                }
             })
             .collect(),
     };
@@ -462,6 +475,44 @@ mod tests {
         }
         assert!(!organ.inside.node(0, 1), "the root holds visible faces");
         assert!(organ.inside.any_below(0) == organ.bvh.parts.iter().enumerate().any(|(p, _)| organ.inside.part(p, 1)));
+        // The hierarchy was built again with the hidden faces apart: its root's first child holds
+        // them all, and no part mixes them with visible ones.
+        let first = organ.bvh.nodes[0].children[0];
+        assert!(organ.inside.node(first, 1), "the root's first child is hidden");
+        assert_eq!(organ.bvh.nodes[first as usize].count as usize, hidden.len());
+        for part in &organ.bvh.parts {
+            let n = part.triangles().filter(|t| hidden.contains(t)).count();
+            assert!(n == 0 || n == part.count as usize, "a part mixes hidden and visible faces");
+        }
+    }
+
+    #[test]
+    fn hidden_faces_saved_and_loaded_are_the_same_faces() {
+        let mut set = two_boxes(8, |_| {});
+        let found = find(&set, |_| {});
+        set.set_hidden_faces(found);
+        let centres = |set: &OrganSet| {
+            let mut c: Vec<[u32; 3]> = hidden_centres(set, &set.solids[0].hidden)
+                .concat()
+                .iter()
+                .map(|p| p.to_array().map(f32::to_bits))
+                .collect();
+            c.sort_unstable();
+            c
+        };
+        let expected = centres(&set);
+        assert_eq!(expected.len(), 144);
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("ab");
+        // The whole set (meshes in their new order), then the stand-ins and hidden faces alone
+        // beside meshes as a load first built them.
+        set.save(&out).unwrap();
+        let loaded = crate::organ_set::open(&out).unwrap().set;
+        assert_eq!(centres(&loaded), expected);
+        loaded.save_stand_ins(&out).unwrap();
+        let again = crate::organ_set::open(&out).unwrap();
+        assert!(again.warnings.is_empty(), "{:?}", again.warnings);
+        assert_eq!(centres(&again.set), expected);
     }
 
     #[test]
@@ -471,7 +522,7 @@ mod tests {
         assert!(!found[0].is_empty());
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("ab.hidden.json");
-        write(&path, &set, &found[0]).unwrap();
+        write(&path, &set, &found[0], |_, t| t).unwrap();
         assert_eq!(read(&path, &set.organs, &[0, 1]).unwrap(), found[0]);
         set.organs[1].set_mesh(crate::mesh::split_box(2, Vec3::ONE));
         let why = read(&path, &set.organs, &[0, 1]).unwrap_err();

@@ -48,6 +48,10 @@ pub struct Organ {
     closed: bool,
     /// Its hierarchy's nodes and parts made only of faces inside solids ([`OrganSet::index_hidden_faces`]).
     pub(crate) inside: hidden_faces::Inside,
+    /// Per triangle, its number in the order the hierarchy was first built in from the mesh
+    /// (which hidden-faces files use), once it was built again to keep those faces apart
+    /// ([`OrganSet::set_hidden_faces`]); `None` while the triangles are still in that order.
+    pub(crate) first_order: Option<Vec<u32>>,
 }
 
 /// An occluder stand-in: its mesh (in the order of its own hierarchy's leaves) and hierarchy.
@@ -88,6 +92,7 @@ impl Organ {
             bvh,
             stand_in: None,
             inside: hidden_faces::Inside::default(),
+            first_order: None,
         }
     }
 
@@ -125,6 +130,12 @@ impl Organ {
         self.mesh = mesh;
         self.stand_in = None;
         self.inside = hidden_faces::Inside::default();
+        self.first_order = None;
+    }
+
+    /// Its triangle `t`'s number in the order its hierarchy was first built in.
+    pub(crate) fn first_number(&self, t: u32) -> u32 {
+        self.first_order.as_ref().map_or(t, |f| f[t as usize])
     }
 }
 
@@ -244,8 +255,8 @@ impl OrganSet {
         }
     }
 
-    /// Writes the set as the folder `dir`: `organset.json`, `meshes/<id>.vbo` and the stand-ins,
-    /// staged beside it and moved into place whole ([`crate::atomic::write_folder`]), replacing
+    /// Writes the set as the folder `dir`: `organset.json`, `meshes/<id>.vbo`, the stand-ins and
+    /// the faces hidden inside solids, staged beside it and moved into place whole ([`crate::atomic::write_folder`]), replacing
     /// what `dir` held. Callers ask first where `dir` holds anything
     /// ([`crate::atomic::folder_entries`]).
     pub fn save(&self, dir: &Path) -> Result<()> {
@@ -259,10 +270,34 @@ impl OrganSet {
             crate::atomic::write(&meshes.join(format!("{}.vbo", o.id)), |w| obj::write_vbo(&[(&o.name, &o.mesh)], w))?;
         }
         self.write_stand_ins(dir)?;
+        // The meshes go out in their leaf order, from which a load builds the hierarchies afresh:
+        // the hidden faces are numbered in the order that build gives.
+        let fresh: Vec<Option<Vec<u32>>> = self
+            .organs
+            .iter()
+            .map(|o| {
+                o.first_order.as_ref().map(|_| {
+                    let (_, order) = Bvh::build_apart(&mut o.mesh.clone(), &[]);
+                    let mut number = vec![0; order.len()];
+                    order.iter().enumerate().for_each(|(new, &old)| number[old as usize] = new as u32);
+                    number
+                })
+            })
+            .collect();
+        self.write_hidden_faces(dir, |o, t| fresh[o].as_ref().map_or(t, |n| n[t as usize]))?;
         write_manifest(dir, &self.manifest())
     }
 
-    /// Writes the occluder stand-ins into the set's folder `dir` and names them in its
+    /// Writes each solid's hidden faces into `dir/meshes`, numbered by `number` (organ, triangle).
+    fn write_hidden_faces(&self, dir: &Path, number: impl Fn(usize, u32) -> u32 + Copy) -> Result<()> {
+        for s in self.solids.iter().filter(|s| !s.hidden.is_empty()) {
+            hidden_faces::write(&dir.join("meshes").join(format!("{}.hidden.json", s.id)), self, &s.hidden, number)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the occluder stand-ins and the faces hidden inside solids into the set's folder `dir`
+    /// and names them in its
     /// `organset.json`, leaving everything else there as it is: the organs' meshes (their triangle
     /// order, which `occluders.json` names, stays) and every other field of the manifest (the
     /// meshes' paths among them). The manifest is read first; one that does not read is an error,
@@ -273,6 +308,8 @@ impl OrganSet {
         let mut manifest: Manifest =
             serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
         self.write_stand_ins(dir)?;
+        // The meshes stay as they are: numbered as their hierarchies were first built.
+        self.write_hidden_faces(dir, |o, t| self.organs[o].first_number(t))?;
         for entry in &mut manifest.organs {
             if let Some(o) = self.organs.iter().find(|o| o.id == entry.id) {
                 entry.occluder = o.stand_in.as_ref().map(|_| format!("meshes/{}.occluder.vbo", o.id));
@@ -297,9 +334,6 @@ impl OrganSet {
                 let path = meshes.join(format!("{}.solid.vbo", s.id));
                 crate::atomic::write(&path, |w| obj::write_vbo(&[(&s.id, &stand_in.mesh)], w))?;
             }
-            if !s.hidden.is_empty() {
-                hidden_faces::write(&meshes.join(format!("{}.hidden.json", s.id)), self, &s.hidden)?;
-            }
         }
         Ok(())
     }
@@ -311,7 +345,45 @@ impl OrganSet {
         for (solid, faces) in self.solids.iter_mut().zip(faces) {
             solid.hidden = faces;
         }
+        self.keep_hidden_faces_apart();
         self.index_hidden_faces();
+    }
+
+    /// Builds again the hierarchy of each organ with faces hidden inside solids, the hidden faces
+    /// split from the rest at its root, so that no node or part mixes the two: a leaf of the
+    /// cortex's inner surface is then culled while its solid is intact, where one holding a few
+    /// faces of the outer surface too would be drawn. The solids' hidden faces are renumbered to
+    /// the new order.
+    fn keep_hidden_faces_apart(&mut self) {
+        use rayon::prelude::*;
+        let solids = &self.solids;
+        // Per organ with hidden faces: the new order (new number -> old).
+        let orders: Vec<Option<Vec<u32>>> = self
+            .organs
+            .par_iter_mut()
+            .enumerate()
+            .map(|(o, organ)| {
+                let mut apart = vec![false; organ.mesh.triangle_count()];
+                for (_, runs) in solids.iter().flat_map(|s| &s.hidden).filter(|f| f.0 == o) {
+                    runs.iter().flat_map(|r| r.clone()).for_each(|t| apart[t as usize] = true);
+                }
+                if !apart.contains(&true) {
+                    return None;
+                }
+                let (bvh, order) = Bvh::build_apart(&mut organ.mesh, &apart);
+                organ.bvh = bvh;
+                organ.first_order = Some(order.iter().map(|&t| organ.first_number(t)).collect());
+                Some(order)
+            })
+            .collect();
+        for solid in &mut self.solids {
+            for (o, runs) in &mut solid.hidden {
+                let Some(order) = &orders[*o] else { continue };
+                let mut hidden = vec![false; order.len()];
+                runs.iter().flat_map(|r| r.clone()).for_each(|t| hidden[t as usize] = true);
+                *runs = hidden_faces::runs((0..order.len() as u32).filter(|&t| hidden[order[t as usize] as usize]));
+            }
+        }
     }
 
     /// Indexes the solids' hidden faces in each organ's hierarchy ([`hidden_faces::Inside`]).
@@ -399,6 +471,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
         }
     }
     loaded.set.solids = load_solids(&manifest.solids, &loaded.set.organs, dir, &mut loaded.warnings);
+    loaded.set.keep_hidden_faces_apart();
     loaded.set.index_hidden_faces();
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
