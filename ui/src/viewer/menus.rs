@@ -208,7 +208,8 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
     }
     ui.separator();
     ui.label("Screen-door masks");
-    let moving = "At most: fewer while moving frames take over a tenth of a second";
+    let moving = "At most: fewer while moving frames take over a tenth of a second, and below one pass \
+                  (4), one weighted blended pass";
     for (label, value, tip) in [
         ("sub-samples, still", &mut t.subsamples, "What a still image converges to"),
         ("sub-samples, moving", &mut t.interactive_subsamples, moving),

@@ -1,35 +1,75 @@
-//! How many screen-door sub-samples a frame gets while the camera or an organ moves: the setting at
-//! most, halved while moving frames take longer than [`BUDGET`] and doubled back while they take
-//! under a third of it, so that a drag stays responsive on a heavy scene or a slow machine. Times
-//! are the wall clock between two moving frames of the viewer.
+//! What a frame draws faded organs with while the camera or an organ moves: screen-door with the
+//! setting's sub-samples at most, halved while moving frames take longer than [`BUDGET`] and
+//! doubled back while they take under a third of it; below one pass (4 sub-samples), weighted
+//! blended transparency, one pass over the faded organs whatever their number (on the benchmark's
+//! views, as close to exact as 8 sub-samples and not much dearer than the opaque frame), so that a
+//! drag stays responsive on a heavy scene or a slow machine. When the motion stops, the still image
+//! converges to the full sub-samples as before. Times are the wall clock between two moving frames
+//! of the viewer.
 
 use std::time::Duration;
-use vbrain::transparency::clamp_subsamples;
+use vbrain::transparency::{clamp_subsamples, TransparencyMode, TransparencySettings};
 
 /// What a moving frame may take: ten frames a second.
 pub const BUDGET: Duration = Duration::from_millis(100);
 
+/// How a moving frame draws faded organs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Moving {
+    /// Screen-door with this many sub-samples.
+    Subsamples(usize),
+    /// Weighted blended transparency.
+    Blended,
+}
+
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MotionQuality {
-    /// Sub-samples for moving frames, where they had to come down from the setting.
-    count: Option<usize>,
+    /// Where moving frames had to come down from the setting.
+    down: Option<Moving>,
 }
 
 impl MotionQuality {
-    /// Sub-samples for the next moving frame, with `setting` the most.
-    pub fn subsamples(&self, setting: usize) -> usize {
-        clamp_subsamples(self.count.unwrap_or(setting).min(setting))
+    /// How the next moving frame draws, with `setting` sub-samples the most.
+    pub fn moving(&self, setting: usize) -> Moving {
+        let setting = clamp_subsamples(setting);
+        match self.down {
+            Some(Moving::Subsamples(n)) => Moving::Subsamples(clamp_subsamples(n.min(setting))),
+            Some(Moving::Blended) => Moving::Blended,
+            None => Moving::Subsamples(setting),
+        }
     }
 
-    /// After a moving frame drawn with `used` sub-samples came `took` after the one before.
-    pub fn observe(&mut self, setting: usize, used: usize, took: Duration) {
-        let next = match took {
-            t if t > BUDGET => used / 2,
-            t if t < BUDGET / 3 => used * 2,
-            _ => used,
+    /// The transparency settings of a frame: `settings` as they are while still, or with a
+    /// screen-door mode, as the next moving frame draws.
+    pub fn frame(&self, settings: TransparencySettings, moving: bool) -> TransparencySettings {
+        let mut t = settings;
+        if settings.mode.mask_method().is_none() {
+            return t;
+        }
+        match (moving, self.moving(settings.interactive_subsamples)) {
+            (true, Moving::Blended) => t.mode = TransparencyMode::WeightedBlended,
+            // Still, the first frame draws the moving count; more follow, one pass a frame.
+            (_, Moving::Subsamples(n)) => t.interactive_subsamples = n,
+            (false, Moving::Blended) => t.interactive_subsamples = clamp_subsamples(1),
+        }
+        t
+    }
+
+    /// After a moving frame drawn as `used` came `took` after the one before.
+    pub fn observe(&mut self, setting: usize, used: Moving, took: Duration) {
+        let setting = clamp_subsamples(setting);
+        let one_pass = clamp_subsamples(1);
+        let next = match (used, took) {
+            (Moving::Subsamples(n), t) if t > BUDGET && n <= one_pass => Moving::Blended,
+            (Moving::Subsamples(n), t) if t > BUDGET => Moving::Subsamples(clamp_subsamples(n / 2)),
+            (Moving::Subsamples(n), t) if t < BUDGET / 3 => Moving::Subsamples(clamp_subsamples(2 * n)),
+            (Moving::Blended, t) if t < BUDGET / 3 => Moving::Subsamples(one_pass),
+            (used, _) => used,
         };
-        let next = clamp_subsamples(next.min(setting));
-        self.count = (next < clamp_subsamples(setting)).then_some(next);
+        self.down = match next {
+            Moving::Subsamples(n) if n >= setting => None,
+            next => Some(next),
+        };
     }
 }
 
@@ -38,23 +78,42 @@ mod tests {
     use super::*;
 
     #[test]
-    fn slow_moving_frames_take_fewer_sub_samples_and_quick_ones_more() {
+    fn slow_moving_frames_take_fewer_sub_samples_then_blend_and_quick_ones_come_back() {
         let mut q = MotionQuality::default();
-        assert_eq!(q.subsamples(16), 16);
-        q.observe(16, 16, Duration::from_millis(300));
-        assert_eq!(q.subsamples(16), 8);
-        q.observe(16, 8, Duration::from_millis(200));
-        assert_eq!(q.subsamples(16), 4);
-        q.observe(16, 4, Duration::from_millis(500));
-        assert_eq!(q.subsamples(16), 4, "never under one pass");
-        q.observe(16, 4, Duration::from_millis(60));
-        assert_eq!(q.subsamples(16), 4, "within the budget: kept");
-        q.observe(16, 4, Duration::from_millis(20));
-        assert_eq!(q.subsamples(16), 8);
-        q.observe(16, 8, Duration::from_millis(10));
+        let slow = Duration::from_millis(300);
+        assert_eq!(q.moving(16), Moving::Subsamples(16));
+        q.observe(16, Moving::Subsamples(16), slow);
+        assert_eq!(q.moving(16), Moving::Subsamples(8));
+        q.observe(16, Moving::Subsamples(8), Duration::from_millis(200));
+        assert_eq!(q.moving(16), Moving::Subsamples(4));
+        q.observe(16, Moving::Subsamples(4), Duration::from_millis(60));
+        assert_eq!(q.moving(16), Moving::Subsamples(4), "within the budget: kept");
+        q.observe(16, Moving::Subsamples(4), Duration::from_millis(500));
+        assert_eq!(q.moving(16), Moving::Blended, "under one pass: blended");
+        q.observe(16, Moving::Blended, slow);
+        assert_eq!(q.moving(16), Moving::Blended, "nothing cheaper");
+        q.observe(16, Moving::Blended, Duration::from_millis(20));
+        assert_eq!(q.moving(16), Moving::Subsamples(4));
+        q.observe(16, Moving::Subsamples(4), Duration::from_millis(20));
+        assert_eq!(q.moving(16), Moving::Subsamples(8));
+        q.observe(16, Moving::Subsamples(8), Duration::from_millis(10));
         assert_eq!(q, MotionQuality::default(), "back at the setting");
-        q.observe(16, 16, Duration::from_millis(10));
-        assert_eq!(q.subsamples(16), 16, "never over the setting");
-        assert_eq!(q.subsamples(4), 4);
+        q.observe(16, Moving::Subsamples(16), Duration::from_millis(10));
+        assert_eq!(q.moving(16), Moving::Subsamples(16), "never over the setting");
+        assert_eq!(q.moving(4), Moving::Subsamples(4));
+    }
+
+    #[test]
+    fn only_moving_screen_door_frames_blend() {
+        let q = MotionQuality { down: Some(Moving::Blended) };
+        let sd = TransparencySettings::default();
+        assert!(sd.mode.mask_method().is_some());
+        assert_eq!(q.frame(sd, true).mode, TransparencyMode::WeightedBlended);
+        let still = q.frame(sd, false);
+        assert_eq!((still.mode, still.interactive_subsamples), (sd.mode, 4), "still: screen-door from one pass");
+        let peel = TransparencySettings { mode: TransparencyMode::Peel, ..sd };
+        assert_eq!(q.frame(peel, true), peel, "other modes as set");
+        let q = MotionQuality { down: Some(Moving::Subsamples(8)) };
+        assert_eq!(q.frame(sd, true).interactive_subsamples, 8);
     }
 }

@@ -56,7 +56,7 @@ pub struct Viewport {
     culler: Culler,
     /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
     moving: bool,
-    /// How many, and when the last moving frame was drawn.
+    /// How moving frames draw faded organs, and when the last one was drawn.
     motion: (super::motion::MotionQuality, Option<Instant>),
     target: Option<(Target, egui::TextureId)>,
     /// The rectangle the viewport last occupied (points).
@@ -442,8 +442,8 @@ impl Viewport {
         let clip = vbrain::cull::Clip::of(section, scene.renderer().cuts_geometry());
         let (draw, cull) =
             self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
-        let mut transparency = settings.transparency;
-        transparency.interactive_subsamples = self.motion.0.subsamples(settings.transparency.interactive_subsamples);
+        // Moving and slow: fewer sub-samples, down to one blended pass.
+        let transparency = self.motion.0.frame(settings.transparency, self.moving);
         let frame = FrameInput {
             draw: Some(&draw),
             background: settings.background_linear(false),
@@ -458,6 +458,7 @@ impl Viewport {
             whole: &section.whole,
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
+        let faded = frame.has_transparent();
         let stats = if settings.cull_debug {
             scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame)
         } else {
@@ -470,7 +471,7 @@ impl Viewport {
         let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
-            overlay(ui, rect, settings, &cull, &stats, frame.has_transparent());
+            overlay(ui, rect, (settings, &transparency), &cull, &stats, faded);
         }
         if input.labels != crate::annotate::Labels::None {
             self.paint_labels(ui, rect, input, &input.labels);
@@ -489,12 +490,11 @@ impl Viewport {
         self.cull = cull;
         let now = Instant::now();
         let (quality, last) = &mut self.motion;
-        if let (true, Some(last)) = (self.moving, *last) {
-            quality.observe(
-                settings.transparency.interactive_subsamples,
-                transparency.interactive_subsamples,
-                now - last,
-            );
+        // Only frames whose faded organs screen-door draws tell how it fares.
+        let screendoor = faded && settings.transparency.mode.mask_method().is_some();
+        if let (true, true, Some(last)) = (self.moving, screendoor, *last) {
+            let setting = settings.transparency.interactive_subsamples;
+            quality.observe(setting, quality.moving(setting), now - last);
         }
         *last = self.moving.then_some(now);
         self.frame_times.push_back(now);
@@ -529,7 +529,15 @@ impl Viewport {
 }
 
 /// The statistics overlay (top left): culling and transparency figures of the frame.
-fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, stats: &RenderStats, faded: bool) {
+/// The statistics overlay; `transparency` as this frame drew (see [`super::motion`]).
+fn overlay(
+    ui: &egui::Ui,
+    rect: Rect,
+    (settings, transparency): (&Settings, &vbrain::transparency::TransparencySettings),
+    cull: &CullStats,
+    stats: &RenderStats,
+    faded: bool,
+) {
     let mut lines = Vec::new();
     if settings.cull.mode != vbrain::cull::CullMode::None {
         lines.push(format!(
@@ -559,9 +567,12 @@ fn overlay(ui: &egui::Ui, rect: Rect, settings: &Settings, cull: &CullStats, sta
         ));
     }
     if faded {
-        let t = &settings.transparency;
+        let t = transparency;
         let passes = if stats.passes == 1 { "pass" } else { "passes" };
         let mut line = format!("transparency: {}, {} {passes} this frame", t.mode.name(), stats.passes);
+        if t.mode != settings.transparency.mode {
+            line += &format!(" (moving; {} when still)", settings.transparency.mode.name());
+        }
         if t.mode.mask_method().is_some() {
             let (done, total) = (stats.subsamples_done, stats.subsamples_total);
             let state = if done < total { "refining" } else { "converged" };
