@@ -210,7 +210,7 @@ def ball(r):
 def solids(entries):
     """Organs that fill one solid together, for occlusion culling (`vbrain stand-ins` builds a
     stand-in inside each union): the brain, each cerebral hemisphere, and each hemisphere's
-    inside (everything under its cortex)."""
+    inside (everything under its cortex); the cerebellum, and each of its halves."""
     brain = [e["id"] for e in entries if e["group"] != "Head"]
     out = [{"id": "brain", "organs": brain}]
     for side in ("l", "r"):
@@ -218,6 +218,10 @@ def solids(entries):
         cortex = {e["id"] for e in entries if e["group"].startswith("Cerebrum/") and e["group"].count("/") == 2}
         out.append({"id": f"cerebrum_{side}", "organs": cerebrum})
         out.append({"id": f"deep_{side}", "organs": [i for i in cerebrum if i not in cortex]})
+    halves = [[f"cerebellum_{side}", f"cerebellum_white_matter_{side}"] for side in ("l", "r")]
+    out.append({"id": "cerebellum", "organs": halves[0] + halves[1]})
+    for side, half in zip(("l", "r"), halves):
+        out.append({"id": f"cerebellum_{side}", "organs": half})
     return out
 
 

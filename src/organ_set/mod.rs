@@ -256,9 +256,9 @@ impl OrganSet {
     }
 
     /// Writes the set as the folder `dir`: `organset.json`, `meshes/<id>.vbo`, the stand-ins and
-    /// the faces hidden inside solids, staged beside it and moved into place whole ([`crate::atomic::write_folder`]), replacing
-    /// what `dir` held. Callers ask first where `dir` holds anything
-    /// ([`crate::atomic::folder_entries`]).
+    /// the faces hidden inside solids, staged beside it and moved into place whole
+    /// ([`crate::atomic::write_folder`]), replacing what `dir` held. Callers ask first where `dir`
+    /// holds anything ([`crate::atomic::folder_entries`]).
     pub fn save(&self, dir: &Path) -> Result<()> {
         crate::atomic::write_folder(dir, |staging| self.write_into(staging))
     }
@@ -297,11 +297,10 @@ impl OrganSet {
     }
 
     /// Writes the occluder stand-ins and the faces hidden inside solids into the set's folder `dir`
-    /// and names them in its
-    /// `organset.json`, leaving everything else there as it is: the organs' meshes (their triangle
-    /// order, which `occluders.json` names, stays) and every other field of the manifest (the
-    /// meshes' paths among them). The manifest is read first; one that does not read is an error,
-    /// and nothing is written.
+    /// and names them in its `organset.json`, leaving everything else there as it is: the organs'
+    /// meshes (their triangle order, which `occluders.json` names, stays) and every other field of
+    /// the manifest (the meshes' paths among them). The manifest is read first; one that does not
+    /// read is an error, and nothing is written.
     pub fn save_stand_ins(&self, dir: &Path) -> Result<()> {
         let path = dir.join(MANIFEST_FILE);
         let text = crate::input::read(&path, crate::input::Kind::Manifest)?;

@@ -1,7 +1,7 @@
 //! `vbrain stand-ins`: occluder stand-ins for a set's closed organs. Each is a coarse mesh inside
 //! its organ (offset inward, simplified, each triangle verified inside) that occlusion culling
 //! rasterises in the organ's place; kept only with at most half the organ's triangles. And for
-//! each solid, a stand-in inside its organs' union and the faces inside it
+//! each solid, a stand-in inside its organs' union (kept on the same terms) and the faces inside it
 //! ([`vbrain::organ_set::hidden_faces`]), which culling leaves out while the solid is intact.
 
 use super::common::{open_set, progress_bar, writable_folder};
@@ -68,6 +68,10 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
         let bvh = vbrain::bvh::Bvh::build(&mut mesh);
         let options = stand_in::InnerOptions { triangles: args.solid_triangles, offset: args.solid_offset };
         let outcome = match stand_in::build_inner(&mesh, &bvh, options) {
+            // Its organs' own leaves occlude as well for the raster work (the cerebellum's halves).
+            Ok(built) if 2 * built.stand_in.mesh().triangle_count() > triangles => {
+                Outcome::Skipped(format!("{} triangles, not under half", built.stand_in.mesh().triangle_count()))
+            }
             Ok(built) => {
                 let n = built.stand_in.mesh().triangle_count();
                 set.solids[solid].set_stand_in(Some(built.stand_in));
