@@ -17,7 +17,9 @@
 //! less than rounding, so which of them a sample there shows is for the depth test to decide, as it
 //! does without culling; and a face next to a gap the rays found is the likeliest to see through
 //! it where they did not look. Rays are samples: the culler's identity test compares images with
-//! and without culling.
+//! and without culling. A face that crosses the solid's outer surface (the boundary of its organs'
+//! union) away from the corners they share pokes out, and is visible whatever its rays found:
+//! smoothed neighbouring organs may fold through each other where three or more meet.
 //!
 //! Each face goes to the smallest solid that hides it: a larger solid holding that one is intact
 //! only while it is.
@@ -83,6 +85,7 @@ pub fn find(set: &OrganSet, mut progress: impl FnMut(&Solid)) -> Vec<Vec<OrganFa
 /// `taken` by a smaller solid are not tested again (hidden there, hidden here).
 fn hidden_in(set: &OrganSet, solid: &Solid, directions: &[Vec3], taken: &[Vec<bool>]) -> Vec<Vec<bool>> {
     let surface = Surface::of(set, solid);
+    let boundary = Boundary::of(set, solid);
     let mut hidden: Vec<Vec<bool>> = solid
         .organs
         .iter()
@@ -90,7 +93,10 @@ fn hidden_in(set: &OrganSet, solid: &Solid, directions: &[Vec3], taken: &[Vec<bo
             let organ = &set.organs[o];
             (0..organ.mesh.triangle_count())
                 .into_par_iter()
-                .map(|t| taken[o][t] || face_hidden(&surface, organ.mesh.triangle(t), organ.closed(), directions))
+                .map(|t| {
+                    let tri = organ.mesh.triangle(t);
+                    taken[o][t] || (face_hidden(&surface, tri, organ.closed(), directions) && !boundary.crossed_by(tri))
+                })
                 .collect()
         })
         .collect();
@@ -184,6 +190,60 @@ impl Surface {
         }
         false
     }
+}
+
+/// A solid's outer surface: the boundary of its organs' union, with a hierarchy.
+struct Boundary {
+    mesh: Mesh,
+    bvh: Bvh,
+}
+
+/// How near (millimetres) two corners must lie to count as shared, and how far inside an edge a
+/// crossing must lie to count.
+const SHARED_CORNER_MM: f32 = 1e-4;
+
+impl Boundary {
+    fn of(set: &OrganSet, solid: &Solid) -> Boundary {
+        let members: Vec<&Mesh> = solid.organs.iter().map(|&o| &set.organs[o].mesh).collect();
+        let mut mesh = super::stand_in::union_surface(&members);
+        let bvh = Bvh::build(&mut mesh);
+        Boundary { mesh, bvh }
+    }
+
+    /// Whether the face `tri` crosses the outer surface away from the corners they share: part of
+    /// it then pokes out (smoothed neighbouring organs may fold through each other where three or
+    /// more meet), where the eye sees it however the rays from its sample points fared.
+    fn crossed_by(&self, tri: [Vec3; 3]) -> bool {
+        let (lo, hi) = (tri[0].min(tri[1]).min(tri[2]), tri[0].max(tri[1]).max(tri[2]));
+        let overlaps = |b: &crate::mesh::Bounds| {
+            (0..3).all(|i| b.min[i] <= hi[i] + SHARED_CORNER_MM && lo[i] - SHARED_CORNER_MM <= b.max[i])
+        };
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        stack.extend(self.bvh.nodes.first().filter(|r| overlaps(&r.bounds)).map(|_| 0));
+        while let Some(n) = stack.pop() {
+            let node = &self.bvh.nodes[n as usize];
+            if !node.is_leaf() {
+                stack.extend(node.children.iter().copied().filter(|&c| overlaps(&self.bvh.nodes[c as usize].bounds)));
+                continue;
+            }
+            for t in node.first..node.first + node.count {
+                let other = self.mesh.triangle(t as usize);
+                let shared = tri.iter().any(|a| other.iter().any(|b| a.distance(*b) < SHARED_CORNER_MM));
+                if !shared && (edges_cross(tri, other) || edges_cross(other, tri)) {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
+
+/// Whether an edge of triangle `a` passes through triangle `b`, strictly between its ends.
+fn edges_cross(a: [Vec3; 3], b: [Vec3; 3]) -> bool {
+    (0..3).any(|k| {
+        let (p, q) = (a[k], a[(k + 1) % 3]);
+        ray_triangle(p, q - p, b).is_some_and(|t| t > 1e-4 && t < 1.0 - 1e-4)
+    })
 }
 
 /// Whether every sampled ray from the face `tri` towards its front (either side where its organ
@@ -513,6 +573,23 @@ mod tests {
         let again = crate::organ_set::open(&out).unwrap();
         assert!(again.warnings.is_empty(), "{:?}", again.warnings);
         assert_eq!(centres(&again.set), expected);
+    }
+
+    #[test]
+    fn a_face_poking_through_the_outer_surface_crosses_it() {
+        let mut mesh = crate::mesh::split_box(2, Vec3::ONE);
+        let bvh = Bvh::build(&mut mesh);
+        let boundary = Boundary { mesh, bvh };
+        let inside = [Vec3::new(-0.5, -0.5, 0.0), Vec3::new(0.5, -0.5, 0.0), Vec3::new(0.0, 0.5, 0.0)];
+        assert!(!boundary.crossed_by(inside));
+        // One corner a little beyond the top (y = 1).
+        let poking = [inside[0], inside[1], Vec3::new(0.0, 1.01, 0.0)];
+        assert!(boundary.crossed_by(poking));
+        // Meeting the surface at a corner it shares, and lying in the surface itself, is no crossing.
+        let touching = [inside[0], inside[1], Vec3::new(0.0, 1.0, 0.0)];
+        assert!(!boundary.crossed_by(touching));
+        let on = boundary.mesh.triangle(0);
+        assert!(!boundary.crossed_by(on));
     }
 
     #[test]
