@@ -198,8 +198,7 @@ struct Boundary {
     bvh: Bvh,
 }
 
-/// How near (millimetres) two corners must lie to count as shared, and how far inside an edge a
-/// crossing must lie to count.
+/// How near (millimetres) two corners must lie to count as shared.
 const SHARED_CORNER_MM: f32 = 1e-4;
 
 impl Boundary {
@@ -238,7 +237,8 @@ impl Boundary {
     }
 }
 
-/// Whether an edge of triangle `a` passes through triangle `b`, strictly between its ends.
+/// Whether an edge of triangle `a` passes through triangle `b`, strictly between its ends (by a
+/// ten-thousandth of its length).
 fn edges_cross(a: [Vec3; 3], b: [Vec3; 3]) -> bool {
     (0..3).any(|k| {
         let (p, q) = (a[k], a[(k + 1) % 3]);
