@@ -528,8 +528,8 @@ impl Viewport {
     }
 }
 
-/// The statistics overlay (top left): culling and transparency figures of the frame.
-/// The statistics overlay; `transparency` as this frame drew (see [`super::motion`]).
+/// The statistics overlay (top left): culling and transparency figures of the frame, with
+/// `transparency` as this frame drew (see [`super::motion`]).
 fn overlay(
     ui: &egui::Ui,
     rect: Rect,
