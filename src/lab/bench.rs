@@ -11,6 +11,7 @@ use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use crate::render::{FrameInput, GpuContext, Renderer, Target};
+use crate::transparency::TransparencySettings;
 use std::time::Instant;
 
 /// One frame of one mode.
@@ -118,6 +119,8 @@ pub struct Run<'a> {
     /// The culling modes compared, each over the same frames.
     pub modes: &'a [CullMode],
     pub settings: CullSettings,
+    /// How faded organs are drawn in the timed frames.
+    pub transparency: TransparencySettings,
     pub route: Route,
     /// The set's pre-computed occluders, for the modes' cullers.
     pub database: Option<&'a Database>,
@@ -133,7 +136,7 @@ pub fn run(
     run: &Run,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<Vec<FrameRecord>> {
-    let Run { size, frames, modes, ref settings, route, database, section } = *run;
+    let Run { size, frames, modes, ref settings, transparency, route, database, section } = *run;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size[0], size[1])?;
     let home = layout.bounds(set);
@@ -174,7 +177,8 @@ pub fn run(
             let camera = route.camera(&home, i, frames);
             let clip = crate::cull::Clip::of(section, renderer.cuts_geometry());
             let (draw, stats) = culler.cull_clipped(set, layout, &camera, target.aspect(), &settings, clip);
-            let input = cut_by(FrameInput { draw: Some(&draw), ..FrameInput::new(set, &camera, layout) }, section);
+            let input = FrameInput { draw: Some(&draw), transparency, ..FrameInput::new(set, &camera, layout) };
+            let input = cut_by(input, section);
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
             wait()?;
             Ok((draw, stats))

@@ -5,6 +5,7 @@ use super::BenchArgs;
 use crate::lab::bench::{self, BenchOptions};
 use anyhow::Result;
 use vbrain::cull::CullSettings;
+use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &BenchArgs) -> Result<bool> {
     let set = open_set(&args.path)?;
@@ -17,6 +18,12 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         selection: args.selection,
         ..Default::default()
     };
+    let base = TransparencySettings::default();
+    let transparency = TransparencySettings {
+        mode: args.transparency.unwrap_or(base.mode),
+        subsamples: args.subsamples.unwrap_or(base.subsamples),
+        ..base
+    };
     let opts = BenchOptions {
         frames: args.frames,
         size: (args.size.width, args.size.height),
@@ -25,6 +32,7 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         json: args.json,
         out: &args.out,
         settings,
+        transparency,
         database: database(&args.path, &set),
         section: vbrain::clip::Section { planes: args.clip.clone(), ..Default::default() },
     };

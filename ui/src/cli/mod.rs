@@ -302,6 +302,13 @@ pub struct BenchArgs {
     /// Most occluder leaves per frame (the thesis's city runs: 64), 1..=1048576
     #[arg(long, value_parser = count(1, 1 << 20))]
     pub occluders: Option<usize>,
+    /// Transparency: how faded organs are drawn [default: screendoor]
+    #[arg(long, value_parser = values::transparency_mode())]
+    pub transparency: Option<TransparencyMode>,
+    /// Screen-door sub-samples per pixel of every frame: 4, 8, 16, 32 or 64 (4 per pass)
+    /// [default: 64]
+    #[arg(long, value_parser = values::subsamples)]
+    pub subsamples: Option<usize>,
     /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
     pub clip: Vec<vbrain::clip::ClipPlane>,

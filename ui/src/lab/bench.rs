@@ -17,6 +17,8 @@ pub struct BenchOptions<'a> {
     pub json: bool,
     pub out: &'a Path,
     pub settings: CullSettings,
+    /// How faded organs are drawn in every frame.
+    pub transparency: vbrain::transparency::TransparencySettings,
     /// The set's pre-computed occluders.
     pub database: Option<vbrain::cull::database::Database>,
     /// Clip planes cutting every frame.
@@ -43,6 +45,7 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
             frames: opts.frames,
             modes,
             settings: opts.settings,
+            transparency: opts.transparency,
             route: opts.route,
             database: opts.database.as_ref(),
             section: &opts.section,
@@ -66,6 +69,8 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         out.insert("frames".into(), json!(opts.frames));
         out.insert("route".into(), json!(opts.route.name()));
         out.insert("size".into(), json!([opts.size.0, opts.size.1]));
+        out.insert("transparency".into(), json!(opts.transparency.mode.name()));
+        out.insert("subsamples".into(), json!(opts.transparency.subsamples));
         out.insert("adapter".into(), json!(gpu.adapter_description()));
         out.insert("csv".into(), json!(csv));
         out.insert("plot".into(), json!(plot));

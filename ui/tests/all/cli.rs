@@ -421,6 +421,29 @@ fn masks_experiment_reproduces_table_2_and_writes_its_files() {
 }
 
 #[test]
+fn bench_draws_faded_organs_as_told_and_counts_what_it_culls() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path().to_str().unwrap();
+    let bench = |more: &[&str]| {
+        let args = ["--frames", "2", "--size", "48x48", "--cull", "none,occlusion", "--out", d, "--json"];
+        json(&vbrain(&[&["bench", &brain()][..], &args, more].concat()))
+    };
+    let v = bench(&["--subsamples", "4"]);
+    assert_eq!((v["transparency"].as_str(), v["subsamples"].as_u64()), (Some("screendoor"), Some(4)));
+    assert!(v["occlusion"]["exact_hidden_triangles_percent"].as_f64().unwrap() > 10.0);
+    assert_eq!(v["none"]["hidden_leaves_culled_percent"].as_f64(), Some(0.0));
+    assert!(v["occlusion"]["hidden_leaves_culled_percent"].as_f64().unwrap() > 0.0);
+    assert!(dir.path().join("bench.csv").is_file());
+    // Every organ faded: nothing is hidden from the exact pass's point of view.
+    let v = bench(&["--opacity", "all=0.5", "--transparency", "weighted-blended"]);
+    assert_eq!(v["transparency"], "weighted-blended");
+    assert_eq!(v["occlusion"]["exact_hidden_triangles_percent"].as_f64(), Some(0.0));
+    assert!(v["none"]["median_frame_ms"].as_f64().unwrap() > 0.0);
+    let bad = vbrain(&["bench", &brain(), "--subsamples", "5", "--out", d]);
+    assert!(!bad.status.success());
+}
+
+#[test]
 fn bench_transparency_compares_every_mode_with_exact() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path().to_str().unwrap();
