@@ -20,8 +20,8 @@ run() {
     "$VBRAIN" bench organs/brain --frames "$FRAMES" --size 512x512 --cull none,occlusion --json --out "$TMP/$name" "$@" \
         >"$TMP/$name.json"
     mkdir -p "$OUT"
-    # The JSON names the files it wrote; name them where they land.
-    sed -e "s|$TMP/$name/bench.csv|$name.csv|" -e "s|$TMP/$name/bench.png|$name.png|" "$TMP/$name.json" >"$OUT/$name.json"
+    # The JSON names the files it wrote: the CSV where it lands; the plot is not kept.
+    sed -e "s|$TMP/$name/bench.csv|$name.csv|" -e '/"plot": /d' "$TMP/$name.json" >"$OUT/$name.json"
     cp "$TMP/$name/bench.csv" "$OUT/$name.csv"
     echo "$name: $(grep -o '"hidden_leaves_culled_percent": [0-9.]*' "$OUT/$name.json" | tail -1)"
 }
