@@ -77,11 +77,13 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
         println!("{}", serde_json::to_string_pretty(&serde_json::Value::Object(out))?);
     } else {
         println!(
-            "{} frames at {}x{}, {} triangles in drawn organs, on {}",
+            "{} frames at {}x{}, {} triangles in drawn organs, faded ones as {} ({} sub-samples), on {}",
             opts.frames,
             opts.size.0,
             opts.size.1,
             drawn_triangles,
+            opts.transparency.mode.name(),
+            opts.transparency.subsamples,
             gpu.adapter_description()
         );
         println!(
