@@ -115,7 +115,6 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
     Ok(true)
 }
 
-/// What became of one organ's stand-in.
 /// A stand-in built for `triangles` triangles (an organ's, or a solid's organs'), handed to `keep`
 /// only with at most half of them: a larger one saves the occluder raster too little work (the
 /// cerebellum's halves: 2,343 triangles for 2,624).
@@ -137,6 +136,7 @@ fn keep_coarse(
     }
 }
 
+/// What became of one organ's or solid's stand-in.
 enum Outcome {
     /// Kept: its triangles, and the simplified triangles that failed verification (left out).
     Built { triangles: usize, left_out: usize },

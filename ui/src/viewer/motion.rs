@@ -3,10 +3,9 @@
 //! doubled back while they take under a third of it; below one pass (4 sub-samples), weighted
 //! blended transparency, one pass over the faded organs whatever their number (on the benchmark's
 //! whole brain at 50 %, as close to exact as one screen-door pass and barely dearer than the
-//! opaque frame), so that a
-//! drag stays responsive on a heavy scene or a slow machine. When the motion stops, the still image
-//! converges to the full sub-samples as before. Times are the wall clock between two moving frames
-//! of the viewer.
+//! opaque frame), so that a drag stays responsive on a heavy scene or a slow machine. When the
+//! motion stops, the still image converges to the full sub-samples. Times are the wall clock
+//! between two moving frames of the viewer.
 
 use std::time::Duration;
 use vbrain::transparency::{clamp_subsamples, TransparencyMode, TransparencySettings};
