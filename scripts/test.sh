@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# vbrain's test command (README.md): formatting, lints, and the whole test suite.
+# vbrain's test command (README.md): formatting, lints, the whole test suite, and the packages.
 # GPU tests need a Vulkan (or other wgpu) adapter; on a machine with none, this installs Mesa's
 # software Vulkan driver (lavapipe) when it can (root on Debian/Ubuntu), else says what to install.
 set -euo pipefail
@@ -50,3 +50,6 @@ fi
 cargo fmt --all --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
 cargo test --workspace --locked
+# The packages, built and tested as a user installs them (the .deb, the archive, the Windows zip).
+scripts/package.sh
+scripts/test-packages.sh

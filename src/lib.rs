@@ -26,6 +26,7 @@ pub mod camera;
 pub mod clip;
 pub mod cull;
 pub mod cut_mesh;
+pub mod data_dir;
 pub mod edit;
 pub mod error;
 pub mod gltf;

@@ -13,7 +13,10 @@
 
 use crate::camera::Camera;
 use crate::clip::Section;
+use crate::labels::Which;
 use crate::layout::Layout;
+use crate::lesson::Lesson;
+use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;
 use glam::{Mat4, Vec3};
 use serde_json::{json, Value};
@@ -36,7 +39,7 @@ const THREE: [(&str, &str, &str); 5] = [
     ),
 ];
 /// three.js's licence, written beside the vendored files.
-const THREE_LICENCE: &str = include_str!("../web/vendor/three/LICENSE");
+pub const THREE_LICENCE: &str = include_str!("../web/vendor/three/LICENSE");
 /// The relative imports of the vendored files, and the bare names they become.
 const RENAMED_IMPORTS: [(&str, &str); 2] = [
     ("\"./three.core.min.js\"", "\"three/core\""),
@@ -71,6 +74,53 @@ pub struct Page<'a> {
     pub views: Vec<View>,
     /// A lesson (steps with next and previous) rather than one view.
     pub lesson: bool,
+}
+
+impl<'a> Page<'a> {
+    /// A lesson's page: every organ in the model, uncut; each step shows, fades, colours, places
+    /// and cuts them (without cut faces) in the page, with its labels and highlights.
+    pub fn lesson(set: &'a OrganSet, lesson: &Lesson) -> Page<'a> {
+        let views = lesson
+            .steps
+            .iter()
+            .map(|step| {
+                let v = step.view(set);
+                let which = v.labels.clone().unwrap_or_default();
+                View {
+                    title: step.title.clone(),
+                    caption: step.caption.clone(),
+                    labels: labelled(set, &v.layout, &which, None),
+                    camera: camera(set, &v.layout, &v.navigator),
+                    layout: v.layout,
+                    highlight: v.highlight,
+                    selection: None,
+                    section: v.section,
+                }
+            })
+            .collect();
+        let mut model = Layout::new(set);
+        for o in &mut model.organs {
+            (o.visible, o.opacity) = (true, 1.0);
+        }
+        Page { set, title: lesson.title.clone(), layout: model, section: Section::default(), views, lesson: true }
+    }
+}
+
+/// The organs `which` labels among those `layout` draws, `selection` being the selected organ.
+pub fn labelled(set: &OrganSet, layout: &Layout, which: &Which, selection: Option<usize>) -> Vec<usize> {
+    let wanted: Vec<usize> = match which {
+        Which::None => Vec::new(),
+        Which::All => (0..set.organs.len()).collect(),
+        Which::Selected => selection.into_iter().collect(),
+        Which::Chosen(names) => Which::chosen(names, set).0,
+    };
+    wanted.into_iter().filter(|&o| layout.organs.get(o).is_some_and(|s| s.is_drawn())).collect()
+}
+
+/// The camera a page shows `layout` from `nav` with (depth range over the layout and the set's
+/// default layout, as `vbrain render` frames them).
+pub fn camera(set: &OrganSet, layout: &Layout, nav: &Navigator) -> Camera {
+    nav.camera(&layout.bounds(set).union(Layout::new(set).bounds(set)))
 }
 
 /// The files of the page: (path relative to its folder, bytes).

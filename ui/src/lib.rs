@@ -12,6 +12,9 @@ pub mod viewer;
 
 pub use viewer::{App, AppOptions};
 
+/// The version and the commit it was built from, as `vbrain --version` and Help > About show them.
+pub const VERSION: &str = concat!(env!("CARGO_PKG_VERSION"), " (commit ", env!("VBRAIN_COMMIT"), ")");
+
 /// Background of the viewport and of `vbrain render` (linear RGBA).
 pub const BACKGROUND: [f32; 4] = [0.012, 0.014, 0.02, 1.0];
 

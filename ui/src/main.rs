@@ -15,6 +15,7 @@ fn main() -> std::process::ExitCode {
             }
         },
         Some(command) => {
+            quiet_device_select();
             // Headless output piped into `head` and the like ends quietly, as other Unix tools do,
             // instead of failing on the closed pipe.
             #[cfg(unix)]
@@ -24,5 +25,16 @@ fn main() -> std::process::ExitCode {
             }
             cli::run(command)
         }
+    }
+}
+
+/// Mesa's Vulkan device-select layer asks the Wayland compositor which GPU to prefer; with no
+/// `XDG_RUNTIME_DIR` there is none to ask, and the layer only prints "XDG_RUNTIME_DIR is invalid".
+/// Headless commands need no display, so there they turn the layer off (its documented switch,
+/// `NODEVICE_SELECT`) unless the user set it. Called before any other thread starts.
+fn quiet_device_select() {
+    let runtime_dir = std::env::var_os("XDG_RUNTIME_DIR").filter(|d| std::path::Path::new(d).is_dir());
+    if runtime_dir.is_none() && std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
 }

@@ -6,7 +6,8 @@ use anyhow::Result;
 use serde_json::json;
 
 pub fn run(args: &InfoArgs) -> Result<bool> {
-    let (set, ok) = open_reporting(&args.path)?;
+    let path = vbrain::data_dir::set_or_default(args.path.as_deref())?;
+    let (set, ok) = open_reporting(&path)?;
     let bounds = set.bounds();
     if args.json {
         let organs: Vec<_> = set
@@ -20,10 +21,11 @@ pub fn run(args: &InfoArgs) -> Result<bool> {
                 })
             })
             .collect();
-        let out = json!({ "title": set.title, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
+        let out = json!({ "title": set.title, "path": path, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
         println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
+        println!("from {}", path.display());
         println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
         for o in &set.organs {
             println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh().triangle_count(), o.name);

@@ -31,7 +31,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let path: PathBuf = match (&args.path, &scene) {
         (Some(p), _) => p.clone(),
         (None, Some((p, s))) => s.set_path(p),
-        (None, None) => bail!("give an organ set or --scene FILE"),
+        (None, None) => vbrain::data_dir::default_set()?,
     };
     let set = open_set(&path)?;
     let mut layout = Layout::new(&set);

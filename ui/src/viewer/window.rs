@@ -22,8 +22,23 @@ pub fn native_options() -> eframe::NativeOptions {
             .with_title("vbrain")
             .with_inner_size([1280.0, 820.0])
             .with_min_inner_size(MIN_WINDOW)
-            .with_drag_and_drop(true),
+            .with_drag_and_drop(true)
+            .with_app_id("io.github.vbrain.vbrain")
+            .with_icon(Arc::new(icon())),
         ..Default::default()
+    }
+}
+
+/// The window's icon: the launcher's icon (packaging/icons), 256 pixels square.
+pub fn icon() -> egui::IconData {
+    const PNG: &[u8] = include_bytes!("../../../packaging/icons/vbrain-256.png");
+    match image::load_from_memory_with_format(PNG, image::ImageFormat::Png) {
+        Ok(img) => {
+            let img = img.into_rgba8();
+            egui::IconData { width: img.width(), height: img.height(), rgba: img.into_raw() }
+        }
+        // The PNG is part of the build; a test decodes it.
+        Err(_) => egui::IconData::default(),
     }
 }
 
@@ -49,7 +64,12 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
         Box::new(move |cc| {
             Ok(Box::new(App::new(
                 cc,
-                AppOptions { path, recovery: recovery_path(), quiz_history: quiz_history_path() },
+                AppOptions {
+                    path,
+                    recovery: recovery_path(),
+                    quiz_history: quiz_history_path(),
+                    data: vbrain::data_dir::Environment::current(),
+                },
             )))
         }),
     )
@@ -59,6 +79,16 @@ pub fn run(path: Option<PathBuf>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_window_has_the_launchers_icon() {
+        let icon = icon();
+        assert_eq!((icon.width, icon.height), (256, 256));
+        assert_eq!(icon.rgba.len(), 256 * 256 * 4);
+        // Opaque in the middle, transparent in the corners (the rounded square).
+        assert_eq!(icon.rgba[(128 * 256 + 128) * 4 + 3], 255);
+        assert_eq!(icon.rgba[3], 0);
+    }
 
     #[test]
     fn the_window_has_a_smallest_size() {
