@@ -23,6 +23,31 @@ impl Navigator {
         Navigator { target: c.target, distance: (c.eye - c.target).length(), azimuth, elevation }
     }
 
+    /// A figure's view of `bounds` from these angles: the target at the box's centre and the eye as
+    /// near as lets the box's eight corners, in perspective, fill at most `fill` of the half-width
+    /// and half-height of an image of `aspect` (width / height) with one of them touching. Less than
+    /// 1 leaves a margin (and room for labels beside a figure, with a smaller width share).
+    pub fn fitting(bounds: &Bounds, azimuth: f32, elevation: f32, aspect: f32, fill: [f32; 2]) -> Navigator {
+        let framed = Navigator::framing(bounds, azimuth, elevation);
+        if bounds.is_empty() {
+            return framed;
+        }
+        let (forward, right, up) = framed.basis();
+        let (half, center) = (bounds.size() * 0.5, bounds.center());
+        let tan = (FOV_Y.to_radians() * 0.5).tan();
+        let (across, high) = (tan * aspect.max(1e-3) * fill[0].max(1e-3), tan * fill[1].max(1e-3));
+        let mut distance: f32 = 0.0;
+        for k in 0..8 {
+            let sign = |bit: usize| if k & bit == 0 { -1.0 } else { 1.0 };
+            let corner = Vec3::new(sign(1) * half.x, sign(2) * half.y, sign(4) * half.z);
+            // A corner at depth d + c.forward from the eye shows at c.right / (depth tan) across.
+            let behind = corner.dot(forward);
+            distance = distance.max(corner.dot(right).abs() / across - behind);
+            distance = distance.max(corner.dot(up).abs() / high - behind);
+        }
+        Navigator { target: center, distance: distance.max(1e-3), ..framed }
+    }
+
     /// The camera, with near and far planes fitted to `scene` (world bounds of what is drawn).
     pub fn camera(&self, scene: &Bounds) -> Camera {
         let radius = scene.size().length().max(1.0);
@@ -112,6 +137,23 @@ mod tests {
         let n = Navigator::framing(&b, 30.0, 10.0);
         let c = Camera::orbit(&b, 30.0, 10.0);
         assert!(n.eye().abs_diff_eq(c.eye, 1e-3));
+    }
+
+    #[test]
+    fn fitting_fills_the_share_asked_with_a_corner_touching() {
+        let b = Bounds { min: [-70.0, -105.0, -50.0], max: [72.0, 70.0, 80.0] };
+        for (az, el, aspect, fill) in [(-90.0, 10.0, 4.0 / 3.0, [0.6, 0.85]), (30.0, 25.0, 0.7, [0.9, 0.9])] {
+            let n = Navigator::fitting(&b, az, el, aspect, fill);
+            let mut most = [0.0f32; 2];
+            for k in 0..8 {
+                let pick = |bit: usize, axis: usize| if k & bit == 0 { b.min[axis] } else { b.max[axis] };
+                let p = project(&n, Vec3::new(pick(1, 0), pick(2, 1), pick(4, 2)), aspect);
+                most = [most[0].max(p.x.abs()), most[1].max(p.y.abs())];
+            }
+            assert!(most[0] <= fill[0] + 1e-4 && most[1] <= fill[1] + 1e-4, "{most:?} beyond {fill:?}");
+            assert!((most[0] - fill[0]).abs() < 1e-3 || (most[1] - fill[1]).abs() < 1e-3, "{most:?} short of {fill:?}");
+            assert!(n.target.abs_diff_eq(b.center(), 1e-4));
+        }
     }
 
     #[test]

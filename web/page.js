@@ -345,18 +345,68 @@ function showView(v) {
   select(v.selection && organs.has(v.selection) ? v.selection : null);
 }
 
-/** A caption's text, its **bold** runs as <strong>; never parsed as HTML. */
+/**
+ * A caption's Markdown, the subset the viewer draws: paragraphs (between blank lines), lines
+ * starting "- " as a list, **bold** and *italic* runs. Built from elements and text nodes, never
+ * parsed as HTML.
+ */
 function setCaption(element, text) {
   element.replaceChildren();
-  text.split('**').forEach((run, k) => {
-    if (k % 2 === 1) {
-      const strong = document.createElement('strong');
-      strong.textContent = run;
-      element.appendChild(strong);
-    } else {
-      element.appendChild(document.createTextNode(run));
+  for (const paragraph of text.split(/\n\s*\n/)) {
+    let list = null;
+    let para = null;
+    for (const line of paragraph.split('\n')) {
+      if (!line.trim()) continue;
+      const item = line.match(/^- (.*)$/);
+      if (item) {
+        if (!list) {
+          list = element.appendChild(document.createElement('ul'));
+          para = null;
+        }
+        appendRuns(list.appendChild(document.createElement('li')), item[1]);
+      } else {
+        list = null;
+        if (para) para.appendChild(document.createTextNode(' '));
+        else para = element.appendChild(document.createElement('p'));
+        appendRuns(para, line);
+      }
     }
-  });
+  }
+}
+
+/** A line's runs, split at "**" (bold on or off) and "*" (italic on or off), as the viewer does. */
+function appendRuns(element, line) {
+  let bold = false;
+  let italic = false;
+  let run = '';
+  const flush = () => {
+    if (!run) return;
+    let node = document.createTextNode(run);
+    if (italic) node = wrap('em', node);
+    if (bold) node = wrap('strong', node);
+    element.appendChild(node);
+    run = '';
+  };
+  for (let i = 0; i < line.length; i++) {
+    if (line[i] !== '*') {
+      run += line[i];
+      continue;
+    }
+    flush();
+    if (line[i + 1] === '*') {
+      bold = !bold;
+      i++;
+    } else {
+      italic = !italic;
+    }
+  }
+  flush();
+}
+
+function wrap(tag, node) {
+  const element = document.createElement(tag);
+  element.appendChild(node);
+  return element;
 }
 
 let step = 0;

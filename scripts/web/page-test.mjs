@@ -59,6 +59,11 @@ try {
   if (await page.locator('#lesson').isVisible()) {
     const caption = () => page.locator('#caption').textContent();
     out.captions = [await caption()];
+    out.caption_markup = await page.evaluate(() => {
+      const c = document.getElementById('caption');
+      const count = (tag) => c.querySelectorAll(tag).length;
+      return { p: count('p'), li: count('li'), strong: count('strong'), em: count('em') };
+    });
     await page.getByRole('button', { name: 'Next >' }).click();
     out.captions.push(await caption());
     out.pixels_step_2 = await pixels();

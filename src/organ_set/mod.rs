@@ -215,6 +215,23 @@ impl OrganSet {
         }
     }
 
+    /// Every group path of the set's organs and each of its ancestors ("Cerebrum",
+    /// "Cerebrum/Left hemisphere", ...), sorted, so a parent comes right before its children.
+    pub fn group_paths(&self) -> Vec<String> {
+        let mut paths = std::collections::BTreeSet::new();
+        for organ in &self.organs {
+            let mut path = String::new();
+            for part in organ.group.split('/').filter(|p| !p.is_empty()) {
+                if !path.is_empty() {
+                    path.push('/');
+                }
+                path.push_str(part);
+                paths.insert(path.clone());
+            }
+        }
+        paths.into_iter().collect()
+    }
+
     /// The manifest that describes this set with meshes at `meshes/<id>.vbo` (and occluder
     /// stand-ins at `meshes/<id>.occluder.vbo`).
     pub fn manifest(&self) -> Manifest {

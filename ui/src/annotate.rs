@@ -51,24 +51,47 @@ pub struct Laid {
 /// Padding inside a label's plate, in text heights.
 pub const PAD: f32 = 0.3;
 
+/// With every organ seen labelled, the most of the organs' pixels that label plates may cover in
+/// all: labels go to the organs largest on screen (the largest always) until their plates would
+/// pass this share. Organs chosen one by one are all labelled.
+pub const LABEL_SHARE: f32 = 0.25;
+
 /// Lays out the labels of `which` organs over an ID buffer `size` pixels (organ index + 1 per
-/// pixel): text [`text_px`] of its height, each name `text_width(organ)` pixels wide; anchors of
-/// the `previous` frame's labels are kept where they still fit (see [`anchors_near`]).
+/// pixel): text `px` pixels high ([`text_px`] of the height for a figure), each name
+/// `text_width(organ)` pixels wide; anchors of the `previous` frame's labels are kept where they
+/// still fit (see [`anchors_near`]). With [`Labels::All`], the organs largest on screen are
+/// labelled first, until the plates would cover [`LABEL_SHARE`] of the organs' pixels, so a small
+/// view gets fewer labels.
 pub fn lay_out(
     ids: &[u32],
     size: [u32; 2],
     which: &Labels,
     previous: &[Laid],
+    px: f32,
     text_width: impl Fn(usize) -> f32,
 ) -> Vec<Laid> {
     let (w, h) = (size[0] as usize, size[1] as usize);
     let previous: Vec<Anchor> =
         previous.iter().map(|l| Anchor { organ: l.placed.organ, at: l.placed.anchor, pixels: 0 }).collect();
-    let found: Vec<_> =
+    let mut found: Vec<_> =
         anchors_near(ids, w, h, &previous).into_iter().filter(|a| which.wants(a.organ) && a.pixels >= 4).collect();
     let Some(sil) = vbrain::labels::silhouette(ids, w).filter(|_| !found.is_empty()) else { return Vec::new() };
-    let px = text_px(size[1]);
-    let sizes: Vec<[f32; 2]> = found.iter().map(|a| [text_width(a.organ) + 2.0 * PAD * px, px * 1.25]).collect();
+    let size_of = |organ: usize| [text_width(organ) + 2.0 * PAD * px, px * 1.25];
+    if *which == Labels::All {
+        let mut budget = ids.iter().filter(|&&id| id > 0).count() as f32 * LABEL_SHARE;
+        found.sort_by_key(|a| std::cmp::Reverse(a.pixels));
+        let mut first = true;
+        found.retain(|a| {
+            let [width, height] = size_of(a.organ);
+            let keep = first || width * height <= budget;
+            if keep {
+                budget -= width * height;
+            }
+            first = false;
+            keep
+        });
+    }
+    let sizes: Vec<[f32; 2]> = found.iter().map(|a| size_of(a.organ)).collect();
     place(&found, &sizes, sil, [w as f32, h as f32], px * 0.35)
         .into_iter()
         .map(|p| {
@@ -145,12 +168,109 @@ fn line(image: &mut RgbaImage, a: [f32; 2], b: [f32; 2], width: f32, colour: [u8
     }
 }
 
-/// Draws labels of `which` organs, named by `name`, onto `image`, from the ID buffer `ids` of the
-/// same size (organ index + 1 per pixel). Returns the labels placed.
-pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(usize) -> String) -> Vec<Placed> {
+/// Draws `s` with its baseline starting at `at`, `px` high, in `colour`; a character no font has
+/// is a box.
+fn text(image: &mut RgbaImage, fonts: &[FontRef], s: &str, at: [f32; 2], px: f32, colour: [u8; 3]) {
+    let (glyphs, _) = shape(fonts, s, px);
+    for (f, id, x) in glyphs {
+        let origin = ab_glyph::point(at[0] + x, at[1]);
+        let glyph = id.with_scale_and_position(PxScale::from(px), origin);
+        match fonts.get(f).and_then(|font| font.outline_glyph(glyph)) {
+            Some(outline) => {
+                let b = outline.px_bounds();
+                outline
+                    .draw(|gx, gy, c| blend(image, b.min.x as i64 + gx as i64, b.min.y as i64 + gy as i64, colour, c));
+            }
+            None if id.0 == 0 => {
+                let (x0, y0) = (origin.x + px * 0.1, at[1] - px * 0.7);
+                let rect = [[x0, y0], [x0 + px * 0.4, y0], [x0 + px * 0.4, at[1]], [x0, at[1]]];
+                for e in 0..4 {
+                    line(image, rect[e], rect[(e + 1) % 4], px / 20.0, colour, 1.0);
+                }
+            }
+            None => {}
+        }
+    }
+}
+
+/// A caption's text as lines `width` pixels wide at `px`: the title's lines (`true`), then the
+/// caption's, its Markdown (`**bold**`, `*italics*`, `- ` items, blank lines between paragraphs)
+/// turned into plain text.
+pub fn caption_lines(title: &str, caption: &str, width: f32, px: f32) -> Vec<(String, bool)> {
     let fonts = fonts();
+    let title_px = px * 1.3;
+    let wrap = |paragraph: &str, px: f32| -> Vec<String> {
+        let mut lines = vec![String::new()];
+        for word in paragraph.split_whitespace() {
+            let last = lines.len() - 1;
+            let joined = if lines[last].is_empty() { word.to_string() } else { format!("{} {word}", lines[last]) };
+            if shape(&fonts, &joined, px).1 <= width || lines[last].is_empty() {
+                lines[last] = joined;
+            } else {
+                lines.push(word.to_string());
+            }
+        }
+        lines
+    };
+    let mut out: Vec<(String, bool)> = wrap(title, title_px).into_iter().map(|l| (l, true)).collect();
+    for paragraph in caption.replace("**", "").replace('*', "").split("\n\n") {
+        out.push((String::new(), false));
+        for item in paragraph.lines() {
+            let item = match item.trim_start().strip_prefix("- ") {
+                Some(rest) => format!("\u{2022} {rest}"),
+                None => item.to_string(),
+            };
+            out.extend(wrap(&item, px).into_iter().map(|l| (l, false)));
+        }
+    }
+    out
+}
+
+/// The height in pixels of the band [`caption`] draws for `lines` at `px`.
+pub fn caption_height(lines: &[(String, bool)], px: f32) -> u32 {
+    let rows: f32 = lines.iter().map(|(_, title)| if *title { 1.3 } else { 1.0 }).sum();
+    (rows * px * 1.35 + px * 1.5).ceil() as u32
+}
+
+/// `figure` with a band of `lines` ([`caption_lines`]) below it, `px` high, light on dark.
+pub fn caption(figure: &RgbaImage, lines: &[(String, bool)], px: f32) -> RgbaImage {
+    let band = caption_height(lines, px);
+    let mut out = RgbaImage::from_pixel(figure.width(), figure.height() + band, image::Rgba([14, 16, 22, 255]));
+    image::imageops::replace(&mut out, figure, 0, 0);
+    let fonts = fonts();
+    let mut y = figure.height() as f32 + px * 0.75;
+    for (line, title) in lines {
+        let size = if *title { px * 1.3 } else { px };
+        y += size * 1.35;
+        text(
+            &mut out,
+            &fonts,
+            line,
+            [px, y - size * 0.35],
+            size,
+            if *title { [255, 255, 255] } else { [225, 225, 220] },
+        );
+    }
+    out
+}
+
+/// Draws labels of `which` organs, named by `name`, onto `image`, from the ID buffer `ids` of the
+/// same size (organ index + 1 per pixel), text [`text_px`] high. Returns the labels placed.
+pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(usize) -> String) -> Vec<Placed> {
     let px = text_px(image.height());
-    let laid = lay_out(ids, [image.width(), image.height()], which, &[], |o| shape(&fonts, &name(o), px).1);
+    draw_sized(image, ids, which, name, px)
+}
+
+/// [`draw`] with text `px` pixels high (a worksheet's letters are larger than names).
+pub fn draw_sized(
+    image: &mut RgbaImage,
+    ids: &[u32],
+    which: &Labels,
+    name: impl Fn(usize) -> String,
+    px: f32,
+) -> Vec<Placed> {
+    let fonts = fonts();
+    let laid = lay_out(ids, [image.width(), image.height()], which, &[], px, |o| shape(&fonts, &name(o), px).1);
     let scale = px / 20.0;
     for Laid { placed: p, end } in &laid {
         let (p, end) = (*p, *end);
@@ -163,30 +283,7 @@ pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(us
                 blend(image, x, y, [20, 22, 28], 0.78);
             }
         }
-        let pad = PAD * px;
-        let (glyphs, _) = shape(&fonts, &name(p.organ), px);
-        let baseline = p.rect[1] + px * 0.98;
-        for (f, id, x) in glyphs {
-            let origin = ab_glyph::point(p.rect[0] + pad + x, baseline);
-            let glyph = id.with_scale_and_position(PxScale::from(px), origin);
-            match fonts.get(f).and_then(|font| font.outline_glyph(glyph)) {
-                Some(outline) => {
-                    let b = outline.px_bounds();
-                    outline.draw(|gx, gy, c| {
-                        blend(image, b.min.x as i64 + gx as i64, b.min.y as i64 + gy as i64, [245, 245, 240], c)
-                    });
-                }
-                None if id.0 == 0 => {
-                    // No font has it: a box where it goes.
-                    let (x0, y0) = (origin.x + px * 0.1, baseline - px * 0.7);
-                    let rect = [[x0, y0], [x0 + px * 0.4, y0], [x0 + px * 0.4, baseline], [x0, baseline]];
-                    for e in 0..4 {
-                        line(image, rect[e], rect[(e + 1) % 4], scale, [245, 245, 240], 1.0);
-                    }
-                }
-                None => {}
-            }
-        }
+        text(image, &fonts, &name(p.organ), [p.rect[0] + PAD * px, p.rect[1] + px * 0.98], px, [245, 245, 240]);
     }
     laid.into_iter().map(|l| l.placed).collect()
 }
@@ -195,6 +292,36 @@ pub fn draw(image: &mut RgbaImage, ids: &[u32], which: &Labels, name: impl Fn(us
 mod tests {
     use super::*;
     use image::Rgba;
+
+    #[test]
+    fn labels_cover_at_most_a_quarter_of_the_organs_largest_first() {
+        // 40 organs in a 200 x 160 block of a 400 x 240 view: every name would cover far more.
+        let (w, h) = (400u32, 240u32);
+        let mut ids = vec![0u32; (w * h) as usize];
+        for y in 40..200 {
+            for x in 100..300 {
+                // Organ k + 1 in column band k: wider bands on the left, so sizes differ.
+                let k = ((x - 100) as f32).sqrt() as u32 * 3 + (y - 40) / 60;
+                ids[(y * w + x) as usize] = k + 1;
+            }
+        }
+        let brain = ids.iter().filter(|&&i| i > 0).count() as f32;
+        let px = text_px(h);
+        let laid = lay_out(&ids, [w, h], &Labels::All, &[], px, |_| px * 8.0);
+        let covered: f32 =
+            laid.iter().map(|l| (l.placed.rect[2] - l.placed.rect[0]) * (l.placed.rect[3] - l.placed.rect[1])).sum();
+        assert!(!laid.is_empty() && covered <= brain * LABEL_SHARE + 1.0, "{covered} of {brain}");
+        let pixels = |o: usize| ids.iter().filter(|&&i| i as usize == o + 1).count();
+        let smallest_labelled = laid.iter().map(|l| pixels(l.placed.organ)).min().unwrap_or(0);
+        let organs = ids.iter().copied().max().unwrap_or(0) as usize;
+        let largest_left_out =
+            (0..organs).filter(|&o| !laid.iter().any(|l| l.placed.organ == o)).map(pixels).max().unwrap_or(0);
+        assert!(laid.len() < organs, "every organ labelled in a small view");
+        assert!(
+            smallest_labelled + 50 >= largest_left_out,
+            "{smallest_labelled} labelled, {largest_left_out} left out"
+        );
+    }
 
     #[test]
     fn any_name_draws_and_stays_in_the_image() {
@@ -207,7 +334,7 @@ mod tests {
         }
         let mut image = RgbaImage::from_pixel(w, h, Rgba([255, 255, 255, 255]));
         let names = ["Gyrus précentralis", "中央前回 \u{10FFFF}"];
-        let placed = draw(&mut image, &ids, &Labels::All, |o| names[o].to_string());
+        let placed = draw(&mut image, &ids, &Labels::Chosen(vec![0, 1]), |o| names[o].to_string());
         assert_eq!(placed.len(), 2, "both organs labelled");
         let dark = image.pixels().filter(|p| p[0] < 100).count();
         assert!(dark > 200, "the plates are drawn on a light background too ({dark} dark pixels)");

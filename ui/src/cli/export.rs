@@ -6,18 +6,17 @@
 
 use super::common::{apply_layout_args, open_set, section, writable_folder};
 use super::ExportArgs;
-use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
-use vbrain::camera::{Camera, View as Standard};
+use vbrain::camera::View as Standard;
 use vbrain::clip::Section;
 use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::lesson::Lesson;
 use vbrain::organ_set::OrganSet;
 use vbrain::scene_file::SceneFile;
-use vbrain::web_page::{Page, View};
+use vbrain::web_page::{camera, labelled, Page, View};
 
 pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(out) = &args.gltf {
@@ -31,12 +30,13 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(dir) = &args.web {
         writable_folder(dir, args.force)?;
     }
-    let (source, set_path) = open_source(&args.path)?;
+    let path = vbrain::data_dir::set_or_default(args.path.as_deref())?;
+    let (source, set_path) = open_source(&path)?;
     let set = open_set(&set_path)?;
     let page = match source {
-        Source::Set => scene_page(&set, None, args)?,
-        Source::Scene(scene) => scene_page(&set, Some(&scene), args)?,
-        Source::Lesson(lesson) => lesson_page(&set, &lesson, args)?,
+        Source::Set => scene_page(&set, None, &path, args)?,
+        Source::Scene(scene) => scene_page(&set, Some(&scene), &path, args)?,
+        Source::Lesson(lesson) => lesson_page(&set, &lesson, &path, args)?,
     };
     let mut summary = json!({});
     if let Some(out) = &args.gltf {
@@ -94,24 +94,13 @@ fn open_source(path: &Path) -> Result<(Source, std::path::PathBuf)> {
     Ok((source, set))
 }
 
-/// The camera `vbrain render` frames for `layout`.
-fn camera(set: &OrganSet, layout: &Layout, nav: &vbrain::navigation::Navigator) -> Camera {
-    nav.camera(&layout.bounds(set).union(Layout::new(set).bounds(set)))
-}
-
-/// The organs `which` labels among those `layout` draws.
-fn labelled(set: &OrganSet, layout: &Layout, which: &Which, selection: Option<usize>) -> Vec<usize> {
-    let labels = Labels::of(which, set, selection);
-    (0..set.organs.len()).filter(|&o| labels.wants(o) && layout.organs[o].is_drawn()).collect()
-}
-
 /// A set or a scene (with the options' changes) as one view, its cut in the model.
-fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, args: &ExportArgs) -> Result<Page<'a>> {
+fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, path: &Path, args: &ExportArgs) -> Result<Page<'a>> {
     let (mut layout, mut selection) = (Layout::new(set), None);
     if let Some(s) = scene {
         let applied = s.apply(set);
         for w in &applied.warnings {
-            eprintln!("warning: {}: {w}", args.path.display());
+            eprintln!("warning: {}: {w}", path.display());
         }
         (layout, selection) = (applied.layout, applied.selection);
     }
@@ -140,36 +129,14 @@ fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, args: &ExportArg
 
 /// A lesson: every organ in the model, uncut; each step shows, fades, colours, places and cuts
 /// them (without cut faces) in the page.
-fn lesson_page<'a>(set: &'a OrganSet, lesson: &Lesson, args: &ExportArgs) -> Result<Page<'a>> {
+fn lesson_page<'a>(set: &'a OrganSet, lesson: &Lesson, path: &Path, args: &ExportArgs) -> Result<Page<'a>> {
     let (l, c) = (&args.layout, &args.section);
     let changes = !(l.show.is_empty() && l.hide.is_empty() && l.opacity.is_empty());
     if changes || !c.clip.is_empty() || c.caps.is_some() || !c.whole.is_empty() {
-        bail!("{}: a lesson's steps set the organs and planes; --show, --hide, --opacity, --clip, --caps and --whole are for sets and scenes", args.path.display());
+        bail!("{}: a lesson's steps set the organs and planes; --show, --hide, --opacity, --clip, --caps and --whole are for sets and scenes", path.display());
     }
     for name in lesson.unknown_names(set) {
-        eprintln!("warning: {}: the set has no organ or group \"{name}\"; left out", args.path.display());
+        eprintln!("warning: {}: the set has no organ or group \"{name}\"; left out", path.display());
     }
-    let views = lesson
-        .steps
-        .iter()
-        .map(|step| {
-            let v = step.view(set);
-            let which = v.labels.clone().unwrap_or_default();
-            View {
-                title: step.title.clone(),
-                caption: step.caption.clone(),
-                labels: labelled(set, &v.layout, &which, None),
-                camera: camera(set, &v.layout, &v.navigator),
-                layout: v.layout,
-                highlight: v.highlight,
-                selection: None,
-                section: v.section,
-            }
-        })
-        .collect();
-    let mut model = Layout::new(set);
-    for o in &mut model.organs {
-        (o.visible, o.opacity) = (true, 1.0);
-    }
-    Ok(Page { set, title: lesson.title.clone(), layout: model, section: Section::default(), views, lesson: true })
+    Ok(Page::lesson(set, lesson))
 }

@@ -13,6 +13,7 @@ mod export;
 mod import;
 mod info;
 mod lesson;
+mod manual;
 mod masks;
 mod occluders;
 mod quiz;
@@ -30,7 +31,7 @@ use vbrain::lab::bench::Route;
 use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
 #[derive(Parser)]
-#[command(name = "vbrain", version, about = "Explore the brain as a set of organs: viewer and headless tools")]
+#[command(name = "vbrain", version = crate::VERSION, about = "Explore the brain as a set of organs: viewer and headless tools")]
 pub struct Args {
     /// Organ set folder, .obj/.vbo file or folder of them to open in the viewer (default: organs/brain)
     pub path: Option<PathBuf>,
@@ -73,11 +74,30 @@ pub enum Command {
     /// organs it shows, with names, colours, opacities, transforms, groups and info, cut by its
     /// planes) or as a web page that opens in any browser
     Export(ExportArgs),
+    /// Print a shell completion script (bash, zsh, fish, elvish or powershell) to standard output
+    Completions(CompletionsArgs),
+    /// Write the manual pages (vbrain.1 and one per command) into a folder, for packaging
+    #[command(hide = true)]
+    Manual(ManualArgs),
+}
+
+#[derive(clap::Args)]
+pub struct CompletionsArgs {
+    /// The shell
+    pub shell: clap_complete::Shell,
+}
+
+#[derive(clap::Args)]
+pub struct ManualArgs {
+    /// Output folder (created if missing; existing pages are replaced)
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 #[derive(clap::Args)]
 pub struct InfoArgs {
-    pub path: PathBuf,
+    /// Organ set (folder, manifest, mesh files) [default: the default brain]
+    pub path: Option<PathBuf>,
     #[arg(long)]
     pub json: bool,
 }
@@ -137,8 +157,8 @@ pub enum LessonCommand {
 
 #[derive(clap::Args)]
 pub struct QuizArgs {
-    /// Organ set
-    pub set: PathBuf,
+    /// Organ set [default: the default brain]
+    pub set: Option<PathBuf>,
     /// Only this group's organs (an id or a group path such as "Basal ganglia")
     #[arg(long)]
     pub group: Option<String>,
@@ -164,14 +184,22 @@ pub struct QuizArgs {
 
 #[derive(clap::Args)]
 pub struct LessonRenderArgs {
-    /// Lesson file (.vblesson)
+    /// Lesson file (.vblesson), or the name of one of the default brain's lessons (cortex,
+    /// deep-nuclei, ventricles)
     pub lesson: PathBuf,
     /// Output folder
     #[arg(long)]
     pub out: PathBuf,
-    /// Image size, WxH
+    /// Image size, WxH (with --caption, the caption's band included)
     #[arg(long, default_value = "1024x768", value_parser = values::size)]
     pub size: Size,
+    /// Labels in every picture instead of each step's own: none, selected (the organs a step
+    /// highlights), all (every organ seen) or ids and groups separated by commas
+    #[arg(long)]
+    pub labels: Option<String>,
+    /// Put each step's title and caption in its picture, in a band below the figure
+    #[arg(long)]
+    pub caption: bool,
     #[arg(long)]
     pub json: bool,
 }
@@ -433,7 +461,8 @@ pub struct ScaleArgs {
 #[command(group(clap::ArgGroup::new("output").required(true).multiple(true).args(["gltf", "web"])))]
 pub struct ExportArgs {
     /// A scene (.vbscene), a lesson (.vblesson) or an organ set (folder, manifest, mesh files)
-    pub path: PathBuf,
+    /// [default: the default brain]
+    pub path: Option<PathBuf>,
     /// The binary glTF file to write (a lesson's first step)
     #[arg(long)]
     pub gltf: Option<PathBuf>,
@@ -531,5 +560,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Scale(args) => scale::run(&args),
         Command::StandIns(args) => stand_ins::run(&args),
         Command::Export(args) => export::run(&args),
+        Command::Completions(args) => manual::completions(&args),
+        Command::Manual(args) => manual::pages(&args),
     }
 }

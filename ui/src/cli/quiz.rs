@@ -4,6 +4,10 @@
 //! structure and labels it A, with four names to choose from; a "locate" question labels the
 //! structure and the three structures nearest it that the picture shows A to D, and asks which
 //! letter it is.
+//!
+//! - Each picture frames the whole brain, centred, from the side of the question's structure,
+//!   with room beside it for the letters ([`super::lesson::FILL_LABELLED`]).
+//! - Letters are [`LETTER_SHARE`] of the picture's height, larger than names, legible in class.
 
 use super::common::{database, open_set};
 use super::QuizArgs;
@@ -12,8 +16,12 @@ use anyhow::{anyhow, Result};
 use serde_json::json;
 use vbrain::cull::{CullSettings, Culler};
 use vbrain::layout::Layout;
+use vbrain::navigation::Navigator;
 use vbrain::quiz::{self, Kind, Spec};
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+
+/// A worksheet letter's height as a share of the picture's height.
+pub const LETTER_SHARE: f32 = 0.05;
 
 /// The letter of choice `k`.
 fn letter(k: usize) -> String {
@@ -21,7 +29,8 @@ fn letter(k: usize) -> String {
 }
 
 pub fn run(args: &QuizArgs) -> Result<bool> {
-    let set = open_set(&args.set)?;
+    let path = vbrain::data_dir::set_or_default(args.set.as_deref())?;
+    let set = open_set(&path)?;
     let scope = quiz::scope(&set, args.group.as_deref()).map_err(|e| anyhow!(e))?;
     let spec = Spec { scope, questions: args.questions, mode: args.mode, seed: args.seed };
     let generated = quiz::generate(&set, &spec).map_err(|e| anyhow!(e))?;
@@ -32,7 +41,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, args.size.width, args.size.height)?;
-    let mut culler = Culler::new(database(&args.set, &set));
+    let mut culler = Culler::new(database(&path, &set));
     let base = Layout::new(&set);
     let home = base.bounds(&set);
     let title = match &args.group {
@@ -43,7 +52,9 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     let mut answers_md = format!("# Answers: {title}\n\nSeed {}.\n\n", args.seed);
     let mut listed = Vec::new();
     for (k, q) in generated.questions.iter().enumerate() {
-        let nav = quiz::camera(&set, &base, q.organ);
+        let side = quiz::camera(&set, &base, q.organ);
+        let nav =
+            Navigator::fitting(&home, side.azimuth, side.elevation, target.aspect(), super::lesson::FILL_LABELLED);
         let camera = nav.camera(&home);
         let ids = |layout: &Layout| {
             let frame = FrameInput::new(&set, &camera, layout);
@@ -82,7 +93,8 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                 (Labels::Chosen(q.choices.clone()), Box::new(name))
             }
         };
-        let placed = crate::annotate::draw(&mut image, &seen, &labels, name);
+        let px = (args.size.height as f32 * LETTER_SHARE).max(14.0);
+        let placed = crate::annotate::draw_sized(&mut image, &seen, &labels, name, px);
         let file = format!("q{:02}.png", k + 1);
         vbrain::atomic::write_png(&args.out.join(&file), &image, true)?;
         let answer = &set.organs[q.organ].name;

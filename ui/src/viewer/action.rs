@@ -92,10 +92,12 @@ pub enum Action {
         size: [u32; 2],
     },
     /// Write the scene as a glTF model into the file `path` (as typed: `.glb` added if missing),
-    /// or as a web page into the folder `path`.
+    /// or as a web page into the folder `path`: of the current view, or with `lesson` of the open
+    /// lesson, its steps and captions.
     ExportModel {
         kind: ModelKind,
         path: String,
+        lesson: bool,
     },
     /// Camera to a standard view of the set.
     View(View),
@@ -125,6 +127,7 @@ pub enum Window {
     ExportModel(ModelKind),
     Sections,
     Quiz,
+    About,
 }
 
 /// What a model export writes.

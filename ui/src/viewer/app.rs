@@ -6,16 +6,16 @@
 //! inspector, viewport, windows, notifications; each component's actions are performed before the
 //! next component draws, so every component shows what the ones before it changed.
 
+use super::about::About;
 use super::action::{Action, Window};
 use super::dialogs::Dialogs;
+use super::dock::{self, Dock, Tab};
 use super::document::{self, Document};
 use super::files;
-use super::inspector::{inspector, Marks};
 use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
 use super::panels::OrganPanel;
-use super::paths::default_set_path;
 use super::quiz_panel::QuizPanel;
 use super::scene::Scene;
 use super::sections::Sections;
@@ -23,19 +23,21 @@ use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
 use super::viewport::{self, Viewport};
+use super::welcome;
 use anyhow::Result;
 use eframe::egui;
 use std::path::PathBuf;
 use vbrain::camera::View;
 use vbrain::cull::database::Database;
 use vbrain::edit::{Edit, Organs};
-use vbrain::organ_set::{self, Loaded};
-use vbrain::render::Renderer;
+use vbrain::organ_set::Loaded;
 
+mod docked;
 mod figure;
 mod lessons;
 mod quiz;
 mod scene_files;
+mod sets;
 
 /// How the viewer starts.
 #[derive(Clone, Debug, Default)]
@@ -46,6 +48,8 @@ pub struct AppOptions {
     pub recovery: Option<PathBuf>,
     /// The file of quiz results kept per set ([`quiz_history_path`](super::paths::quiz_history_path); `None` keeps none).
     pub quiz_history: Option<PathBuf>,
+    /// Where the default set is looked up when no path is given ([`vbrain::data_dir`]).
+    pub data: vbrain::data_dir::Environment,
 }
 
 /// A set read off the UI thread, with the paths it came from.
@@ -82,6 +86,12 @@ pub struct App {
     pending_lesson: Option<PathBuf>,
     /// The user chose to close (nothing unsaved, or discarded): let the window close.
     closing: bool,
+    /// No set was given and no default set was found: the places looked, shown in a welcome view.
+    welcome: Option<vbrain::data_dir::NotFound>,
+    /// Help > About.
+    about: About,
+    /// The right-hand dock: inspector, lesson, quiz and sections as tabs.
+    dock: Dock,
 }
 
 impl App {
@@ -110,6 +120,9 @@ impl App {
             quiz_history: options.quiz_history.clone(),
             pending_lesson: None,
             closing: false,
+            welcome: None,
+            about: About::default(),
+            dock: Dock::default(),
             settings,
         };
         app.document.offer_recovery = options.recovery.as_ref().is_some_and(|p| p.is_file());
@@ -118,11 +131,22 @@ impl App {
             Some(p) => p,
             None => match &app.settings.last_set {
                 Some(last) if app.settings.reopen_last && last.exists() => last.clone(),
-                _ => default_set_path(),
+                _ => match vbrain::data_dir::find_in(&options.data) {
+                    Ok(set) => set,
+                    Err(not_found) => {
+                        app.welcome = Some(not_found);
+                        return app;
+                    }
+                },
             },
         };
         app.open(&cc.egui_ctx, vec![path]);
         app
+    }
+
+    /// Where the viewer looked for the default set, when it found none (the welcome view shows it).
+    pub fn welcome(&self) -> Option<&vbrain::data_dir::NotFound> {
+        self.welcome.as_ref()
     }
 
     /// The loaded set, its layout and renderer.
@@ -199,39 +223,6 @@ impl App {
     /// The image the viewport shows now.
     pub fn read_image(&self) -> Option<image::RgbaImage> {
         self.viewport.read_image(self.gpu.as_ref()?)
-    }
-
-    /// Loads a set (one folder or file) or several mesh files, off the UI thread.
-    pub fn open(&mut self, ctx: &egui::Context, paths: Vec<PathBuf>) {
-        if let [one] = paths.as_slice() {
-            if document::is_scene(one) {
-                return self.open_scene(ctx, one);
-            }
-            if one.extension().is_some_and(|e| e == vbrain::lesson::EXTENSION) {
-                return self.open_lesson(ctx, one);
-            }
-        }
-        self.document.pending = None;
-        let title = match paths.as_slice() {
-            [one] => one.display().to_string(),
-            many => format!("{} files", many.len()),
-        };
-        self.loading = Some(Job::spawn(title, ctx, move |progress| {
-            progress.set(0, 1, "reading meshes");
-            let mut loaded = match paths.as_slice() {
-                [one] => organ_set::open(one),
-                many => organ_set::open_files(many, "Mesh files"),
-            }?;
-            let database = match paths.as_slice() {
-                [one] => Database::load_for(one, &loaded.set).unwrap_or_else(|e| {
-                    loaded.warnings.push(format!("{e}; occluders by projected size only"));
-                    None
-                }),
-                _ => None,
-            };
-            progress.set(1, 1, "uploading");
-            Ok((loaded, database, paths))
-        }));
     }
 
     /// The lesson panel (the lesson open and its step).
@@ -357,13 +348,18 @@ impl App {
                 Action::Open(paths) => self.open(ctx, paths),
                 Action::Show(window) => match window {
                     Window::OpenSet => self.dialogs.open_set.open = true,
+                    Window::About => self.about.open = true,
                     Window::OpenMeshes => self.dialogs.open_meshes.open = true,
                     Window::Import => self.dialogs.import.open = true,
                     Window::Export => self.dialogs.export.open = true,
                     Window::ExportModel(kind) => self.dialogs.model(kind).open = true,
-                    Window::Sections => self.sections.open = true,
+                    Window::Sections => {
+                        self.sections.open = true;
+                        self.dock.focus(Tab::Sections);
+                    }
                     Window::Quiz => {
                         self.quiz.open = true;
+                        self.dock.focus(Tab::Quiz);
                         self.load_quiz_history();
                     }
                 },
@@ -373,7 +369,7 @@ impl App {
                     self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
                 }
                 Action::Export { path, size } => self.export(&path, size),
-                Action::ExportModel { kind, path } => self.export_model(kind, &path),
+                Action::ExportModel { kind, path, lesson } => self.export_model(kind, &path, lesson),
                 Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
                 Action::ResetCamera => {
                     if let Some(s) = &self.scene {
@@ -409,77 +405,20 @@ impl App {
         }
     }
 
-    fn poll_jobs(&mut self, ctx: &egui::Context) {
-        if let Some(result) = self.importing.as_ref().and_then(|j| j.poll()) {
-            self.importing = None;
-            match result {
-                Ok(dir) => {
-                    self.notify(format!("imported into {}", dir.display()), false);
-                    // Through perform, so unsaved changes are asked about first.
-                    self.perform(ctx, vec![Action::Open(vec![dir])]);
-                }
-                Err(e) => self.notify(e.to_string(), true),
-            }
-        }
-        let Some(result) = self.loading.as_ref().and_then(|j| j.poll()) else { return };
-        self.loading = None;
-        match result {
-            Ok((loaded, database, paths)) => self.install(ctx, loaded, database, paths),
-            Err(e) => self.notify(e.to_string(), true),
-        }
-    }
-
-    /// Makes a loaded set the scene (the previous one stays if this one has no organs).
-    fn install(&mut self, ctx: &egui::Context, loaded: Loaded, database: Option<Database>, paths: Vec<PathBuf>) {
-        for w in loaded.warnings {
-            self.notify(w, false);
-        }
-        for e in loaded.errors {
-            self.notify(e.to_string(), true);
-        }
-        if loaded.set.organs.is_empty() {
-            self.notify(format!("{}: no organ could be loaded", paths_label(&paths)), true);
-            return;
-        }
-        let Some(rs) = &self.gpu else {
-            self.notify("the viewer needs the wgpu renderer", true);
-            return;
-        };
-        match Renderer::new(&rs.device, &loaded.set) {
-            Ok(renderer) => {
-                if let [one] = paths.as_slice() {
-                    self.settings.remember(one);
-                }
-                let scene = Scene::new(loaded.set, paths, renderer);
-                self.viewport.new_set(&scene.home(), database);
-                self.selected = None;
-                // Organ indices of the last set mean nothing in this one.
-                let planes = self.sections.current.planes.clone();
-                let caps = self.sections.current.caps;
-                self.sections.set_section(&vbrain::clip::Section { planes, caps, whole: Vec::new() });
-                self.chosen_labels.clear();
-                self.document.opened_set(&scene);
-                self.scene = Some(scene);
-                if let Some((path, file)) = self.document.pending.take() {
-                    self.apply_scene(&path, &file);
-                }
-                self.open_pending_lesson(ctx);
-            }
-            Err(e) => self.notify(e.to_string(), true),
-        }
-    }
-
     /// The keyboard shortcuts pressed this frame, as actions.
     fn key_actions(&self, ctx: &egui::Context) -> Vec<Action> {
         let mut out = Vec::new();
         // Esc before an organ's shortcut in the same frame leaves that shortcut no organ.
         let mut selected = self.selected;
+        let menu_open = egui::Popup::is_any_open(ctx);
         for (command, key) in shortcuts::pressed(ctx) {
             let organ = self.scene.as_ref().zip(selected);
             match command {
                 Command::Views => out.extend(View::ALL.get(key).map(|&v| Action::View(v))),
                 Command::ResetCamera => out.push(Action::ResetCamera),
                 Command::ToggleFly => out.push(Action::ToggleFly),
+                // Esc closes an open menu first (egui does); only the next one deselects.
+                Command::Deselect if menu_open => {}
                 Command::Deselect => {
                     selected = None;
                     out.push(Action::Select(None));
@@ -514,7 +453,8 @@ impl App {
         self.perform(ctx, actions);
         let actions = self.dialogs.import.show(ctx, self.importing.is_some());
         self.perform(ctx, actions);
-        self.sections_window(ctx);
+        let set_dir = self.scene.as_ref().and_then(|s| s.source().first()).filter(|p| p.is_dir()).cloned();
+        self.about.show(ctx, set_dir);
         let actions = self.document.save_window.show(ctx);
         self.perform(ctx, actions);
         self.unsaved_changes(ctx);
@@ -527,15 +467,12 @@ impl App {
             let viewport = self.viewport.pixel_size().unwrap_or([1280, 800]);
             let mut actions = self.dialogs.export.show(ctx, &scene.set().title, viewport, &mut self.settings.export);
             let folder = self.settings.export.folder.as_deref();
-            actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder));
-            actions.extend(self.dialogs.web.show(ctx, &scene.set().title, folder));
+            let lesson = self.lesson.lesson.as_ref().map(|l| (l.title.as_str(), l.steps.len()));
+            actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder, None));
+            actions.extend(self.dialogs.web.show(ctx, &scene.set().title, folder, lesson));
             self.perform(ctx, actions);
         }
     }
-}
-
-fn paths_label(paths: &[PathBuf]) -> String {
-    paths.iter().map(|p| p.display().to_string()).collect::<Vec<_>>().join(", ")
 }
 
 impl eframe::App for App {
@@ -575,57 +512,26 @@ impl eframe::App for App {
         };
         Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
         let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
+        let quiz = self.quiz.answering();
         // Side panels never take the 3-D view's place, whatever their contents' widths.
-        let width = ui.max_rect().width();
-        let shown = [self.lesson.is_open(), self.quiz.open, self.settings.show_inspector && self.selected.is_some()];
-        let (left_max, right_max) = side_limits(width, shown.iter().filter(|&&s| s).count());
+        let (left_max, right_max) = dock::side_limits(ui.max_rect().width());
         let actions = Panel::left("organs")
-            .default_size(330.0)
+            .default_size(300.0)
             .max_size(left_max)
             .resizable(true)
-            .show(ui, |ui| panel.show(ui, scene, selected))
+            .show(ui, |ui| panel.show(ui, scene, selected, quiz))
             .inner;
         self.perform(&ctx, actions);
-        if self.lesson.is_open() {
-            let actions = Panel::right("lesson")
-                .default_size(320.0)
-                .max_size(right_max)
-                .resizable(true)
-                .show(ui, |ui| self.lesson.show(ui))
-                .inner;
-            self.perform(&ctx, actions);
-        }
-        if self.quiz.open {
-            let now = ctx.input(|i| i.time);
-            let scene = self.scene.as_ref();
-            let organ = |o: usize| scene.and_then(|s| s.set().organs.get(o));
-            let name = |o: usize| organ(o).map_or(String::new(), |x| x.name.clone());
-            let info = |o: usize| organ(o).map_or(String::new(), |x| x.info.clone());
-            let quiz = &mut self.quiz;
-            let actions = Panel::right("quiz")
-                .default_size(320.0)
-                .max_size(right_max)
-                .resizable(true)
-                .show(ui, |ui| quiz.show(ui, &name, &info, now))
-                .inner;
-            self.perform(&ctx, actions);
-        }
-        if self.settings.show_inspector && self.selected.is_some() {
-            let (scene, selected) = (self.scene.as_ref(), self.selected);
-            let marks = self.selected.map_or(Marks::default(), |sel| Marks {
-                whole: self.sections.whole.contains(&sel),
-                labelled: self.labels().wants(sel),
-            });
-            let actions = Panel::right("inspector")
-                .default_size(300.0)
-                .max_size(right_max)
-                .resizable(true)
-                .show(ui, |ui| match scene.zip(selected) {
-                    Some((scene, sel)) => inspector(ui, scene, sel, marks),
-                    None => Vec::new(),
-                })
-                .inner;
-            self.perform(&ctx, actions);
+        self.dock_panel(ui, right_max);
+        if self.scene.is_none() && !self.is_loading() {
+            if let Some(not_found) = &self.welcome {
+                let actions = CentralPanel::default().show(ui, |ui| welcome::view(ui, not_found)).inner;
+                self.perform(&ctx, actions);
+                self.windows(&ctx);
+                let actions = status::notifications(&ctx, &self.notifications);
+                self.perform(&ctx, actions);
+                return;
+            }
         }
         CentralPanel::no_frame().show(ui, |ui| {
             let (rect, response) = self.viewport.allocate(ui);
@@ -665,18 +571,5 @@ impl eframe::App for App {
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
         self.settings.save(storage);
-    }
-}
-
-/// The widest the organ panel and each right-hand panel may be in a window `width` points wide
-/// with `rights` right-hand panels shown. With at most one, neither is capped below its default
-/// width and together they leave the 3-D view 45 % of the window; with more, the organ panel takes
-/// up to 30 % and each right-hand panel 22 % (at least 200 points each).
-fn side_limits(width: f32, rights: usize) -> (f32, f32) {
-    if rights <= 1 {
-        let right = (width * 0.3).max(320.0);
-        ((width * 0.55 - rights as f32 * right).max(330.0), right)
-    } else {
-        ((width * 0.3).max(200.0), (width * 0.22).max(200.0))
     }
 }

@@ -164,8 +164,8 @@ impl SaveWindow {
         let mut go = None;
         egui::Window::new("Save scene").open(&mut open).collapsible(false).show(ctx, |ui| {
             ui.label("The organs, the camera and the render settings, as a .vbscene file (JSON).");
-            self.field.ui(ui, "File:", Pick::Save, &[("vbrain scene", &[EXTENSION])]);
-            if ui.button("Save").clicked() && !self.field.text.trim().is_empty() {
+            let entered = self.field.ui(ui, "File:", Pick::Save, &[("vbrain scene", &[EXTENSION])]);
+            if (ui.button("Save").clicked() || entered) && !self.field.text.trim().is_empty() {
                 go = Some(super::widgets::with_extension(&self.field.text, EXTENSION));
             }
         });

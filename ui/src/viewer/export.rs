@@ -100,18 +100,27 @@ pub struct ModelWindow {
     pub kind: ModelKind,
     pub open: bool,
     pub path: PathField,
+    /// With a lesson open, a web page of the lesson (its steps) rather than of the view.
+    pub whole_lesson: bool,
     /// The last export's result, shown in the window.
     pub last: Option<String>,
 }
 
 impl ModelWindow {
     pub fn new(kind: ModelKind) -> ModelWindow {
-        ModelWindow { kind, open: false, path: PathField::default(), last: None }
+        ModelWindow { kind, open: false, path: PathField::default(), whole_lesson: true, last: None }
     }
 
     /// The window for a set titled `title`; proposes `<set>-<time>.glb` (or a folder
-    /// `<set>-<time>-page`) in the screenshots' folder.
-    pub fn show(&mut self, ctx: &egui::Context, title: &str, folder: Option<&Path>) -> Vec<Action> {
+    /// `<set>-<time>-page`) in the screenshots' folder. `lesson` is the open lesson's title and
+    /// step count: a web page can be of it.
+    pub fn show(
+        &mut self,
+        ctx: &egui::Context,
+        title: &str,
+        folder: Option<&Path>,
+        lesson: Option<(&str, usize)>,
+    ) -> Vec<Action> {
         if self.open && self.path.text.is_empty() {
             let name = default_file_name(title, std::time::SystemTime::now());
             let name = match self.kind {
@@ -134,7 +143,7 @@ impl ModelWindow {
                         "The organs shown, with their colours, opacities, moves, groups and info texts, cut by \
                          the section planes. Opens in Blender, slide software and web viewers.",
                     );
-                    self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
+                    save |= self.path.ui(ui, "File:", Pick::Save, &[("glTF binary", &["glb"])]);
                 }
                 ModelKind::Web => {
                     ui.label(
@@ -142,17 +151,29 @@ impl ModelWindow {
                          server, and turn the view, show, hide and fade organs, click one to read about it, \
                          and see the labels. The folder must be new or empty.",
                     );
-                    self.path.ui(ui, "Folder:", Pick::Folder, &[]);
+                    if let Some((lesson, steps)) = lesson {
+                        ui.horizontal(|ui| {
+                            ui.label("Page of:");
+                            ui.radio_value(
+                                &mut self.whole_lesson,
+                                true,
+                                format!("the lesson \"{lesson}\" ({steps} steps)"),
+                            );
+                            ui.radio_value(&mut self.whole_lesson, false, "this view");
+                        });
+                    }
+                    save |= self.path.ui(ui, "Folder:", Pick::Folder, &[]);
                 }
             }
-            save = ui.button("Save").clicked();
+            save |= ui.button("Save").clicked();
             if let Some(last) = &self.last {
                 ui.label(last);
             }
         });
         self.open = open;
         if save {
-            vec![Action::ExportModel { kind: self.kind, path: self.path.text.clone() }]
+            let lesson = self.kind == ModelKind::Web && lesson.is_some() && self.whole_lesson;
+            vec![Action::ExportModel { kind: self.kind, path: self.path.text.clone(), lesson }]
         } else {
             Vec::new()
         }
@@ -215,8 +236,8 @@ impl ExportWindow {
                 });
             });
             ui.checkbox(&mut settings.transparent, "Transparent background");
-            self.path.ui(ui, "File:", Pick::Save, &[("PNG image", &["png"])]);
-            save = ui.button("Save").clicked();
+            let entered = self.path.ui(ui, "File:", Pick::Save, &[("PNG image", &["png"])]);
+            save = ui.button("Save").clicked() || entered;
             if let Some(last) = &self.last {
                 ui.label(last);
             }

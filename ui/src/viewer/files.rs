@@ -34,8 +34,8 @@ impl OpenWindow {
         let mut go = None;
         egui::Window::new("Open organ set or scene").open(&mut open).collapsible(false).show(ctx, |ui| {
             ui.label("A folder with organset.json, a folder of .obj/.vbo files, one mesh file, or a .vbscene file.");
-            self.field.ui(ui, "Path:", Pick::Folder, &[]);
-            if ui.button("Open").clicked() {
+            let entered = self.field.ui(ui, "Path:", Pick::Folder, &[]);
+            if ui.button("Open").clicked() || entered {
                 go = self.field.paths().into_iter().next();
             }
             if !recent.is_empty() {
@@ -58,8 +58,8 @@ impl OpenWindow {
         let mut go = None;
         egui::Window::new("Open mesh files").open(&mut open).collapsible(false).show(ctx, |ui| {
             ui.label("One or more .obj/.vbo files (separate paths with ;). Each object becomes an organ.");
-            self.field.ui(ui, "Files:", Pick::Files, &[MESHES]);
-            if ui.button("Open").clicked() {
+            let entered = self.field.ui(ui, "Files:", Pick::Files, &[MESHES]);
+            if ui.button("Open").clicked() || entered {
                 go = Some(self.field.paths());
             }
         });

@@ -293,10 +293,10 @@ impl LessonPanel {
             }
         });
         if let Some(field) = &mut self.save_as {
-            field.ui(ui, "Lesson file:", Pick::Save, &[("vbrain lesson", &[EXTENSION])]);
+            let entered = field.ui(ui, "Lesson file:", Pick::Save, &[("vbrain lesson", &[EXTENSION])]);
             let mut cancel = false;
             ui.horizontal(|ui| {
-                if ui.button("Save").clicked() && !field.text.trim().is_empty() {
+                if (ui.button("Save").clicked() || entered) && !field.text.trim().is_empty() {
                     out.push(Action::SaveLessonTo(super::widgets::with_extension(&field.text, EXTENSION)));
                 }
                 cancel = ui.button("Cancel").clicked();

@@ -37,12 +37,21 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -
         ui.menu_button("View", |ui| view_menu(ui, state, settings, &mut out));
         ui.menu_button("Organs", |ui| organs_menu(ui, state.scene, settings, &mut out));
         ui.menu_button("Lessons", |ui| lessons_menu(ui, state.scene, &mut out));
-        ui.menu_button("Help", shortcuts::help);
+        ui.menu_button("Help", |ui| help_menu(ui, &mut out));
         if let Some(job) = &state.job {
             progress(ui, job);
         }
     });
     out
+}
+
+/// The controls, and About.
+fn help_menu(ui: &mut egui::Ui, out: &mut Vec<Action>) {
+    if ui.button("About vbrain...").clicked() {
+        out.push(Action::Show(Window::About));
+    }
+    ui.separator();
+    shortcuts::help(ui);
 }
 
 /// Undo and Redo, named after what they undo and redo.

@@ -8,15 +8,17 @@
 //! ([`shortcuts`]). Input is in egui points, render targets in physical pixels, the scene in world
 //! millimetres (RAS).
 //!
-//! Modules: [`app`] (state, frame, actions), [`dialogs`] (the file windows), [`menus`], [`panels`] (organ tree), [`inspector`],
+//! Modules: [`about`] (Help > About), [`dock`] (the right-hand panels as tabs), [`app`] (state, frame, actions), [`dialogs`] (the file windows), [`menus`], [`panels`] (organ tree), [`inspector`],
 //! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
 //! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
 //! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window),
-//! [`paths`] (the viewer's files).
+//! [`paths`] (the viewer's files), [`welcome`] (the view when no set is found).
 
+pub mod about;
 pub mod action;
 pub mod app;
 pub mod dialogs;
+pub mod dock;
 pub mod document;
 pub mod export;
 pub mod files;
@@ -34,6 +36,7 @@ pub mod settings;
 pub mod shortcuts;
 pub mod status;
 pub mod viewport;
+pub mod welcome;
 pub mod widgets;
 pub mod window;
 

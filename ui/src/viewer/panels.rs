@@ -1,5 +1,5 @@
 //! The organ panel: the set's group tree with a search filter; per organ and per group: show,
-//! transparency toggle, opacity, colour, isolate. It reads the scene and returns [`Action`]s
+//! transparency toggle, opacity, colour; isolate on right-click of a name. It reads the scene and returns [`Action`]s
 //! (edits, selection); its own state is the filter.
 
 use super::action::Action;
@@ -51,6 +51,14 @@ impl Group {
     fn organs(&self) -> Organs {
         Organs::Group { name: self.path.clone(), organs: self.all() }
     }
+
+    /// The group at `path` in this tree.
+    fn find(&self, path: &str) -> Option<&Group> {
+        if self.path == path {
+            return Some(self);
+        }
+        self.children.iter().find_map(|c| c.find(path))
+    }
 }
 
 /// The most characters of a name a row shows: longer names end in "…".
@@ -94,7 +102,15 @@ pub struct OrganPanel {
 }
 
 impl OrganPanel {
-    pub fn show(&mut self, ui: &mut egui::Ui, scene: Option<&Scene>, selected: Option<usize>) -> Vec<Action> {
+    /// The panel; `quiz` says a quiz is being answered: the rows then show what the quiz shows and
+    /// take no edits (the quiz decides what is shown until it ends).
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        scene: Option<&Scene>,
+        selected: Option<usize>,
+        quiz: bool,
+    ) -> Vec<Action> {
         let mut out = Vec::new();
         let Some(scene) = scene else {
             ui.label("No organ set loaded.");
@@ -120,8 +136,28 @@ impl OrganPanel {
         });
         ui.separator();
         let root = tree(scene, &self.filter);
+        let filtering = !self.filter.trim().is_empty();
+        // A group's row acts on the whole group its name says, whatever the search shows of it.
+        let unfiltered;
+        let whole = if filtering {
+            unfiltered = tree(scene, "");
+            &unfiltered
+        } else {
+            &root
+        };
+        if quiz {
+            ui.label(
+                RichText::new("The quiz shows the organs it asks about; the tree is yours again when it ends.").weak(),
+            );
+        }
         egui::ScrollArea::vertical().auto_shrink([false; 2]).show(ui, |ui| {
-            let mut rows = Rows { scene, selected, filtering: !self.filter.trim().is_empty(), out: &mut out };
+            // Compact rows, so that a name keeps room in a panel of 300 points.
+            ui.spacing_mut().slider_width = 64.0;
+            ui.spacing_mut().interact_size.x = 28.0;
+            if quiz {
+                ui.disable();
+            }
+            let mut rows = Rows { scene, selected, filtering, whole, out: &mut out };
             rows.group_contents(ui, &root);
             if root.organs.is_empty() && root.children.is_empty() {
                 ui.label("No organ matches.");
@@ -138,6 +174,8 @@ struct Rows<'a> {
     /// A search is on: every group of the matches opens (its own open state, apart from the
     /// unfiltered tree's).
     filtering: bool,
+    /// The unfiltered tree, whose groups the group rows act on.
+    whole: &'a Group,
     out: &'a mut Vec<Action>,
 }
 
@@ -160,10 +198,13 @@ impl Rows<'_> {
         }
     }
 
-    /// Group row: name, then show/hide, transparency and isolate for all its organs.
-    fn group_header(&mut self, ui: &mut egui::Ui, group: &Group) {
+    /// Group row: name, then show/hide, transparency and isolate for all its organs (also those a
+    /// search leaves out of the tree).
+    fn group_header(&mut self, ui: &mut egui::Ui, shown: &Group) {
+        let whole = self.whole;
+        let group = whole.find(&shown.path).unwrap_or(shown);
         let scene = self.scene;
-        let layout = scene.layout();
+        let layout = scene.shown();
         let organs = group.all();
         let mut visible = organs.iter().all(|&i| layout.organs[i].visible);
         let r = ui.checkbox(&mut visible, "");
@@ -172,7 +213,20 @@ impl Rows<'_> {
             self.edit(Edit::Visible { organs: group.organs(), visible });
         }
         // Long names are cut short (hover shows them whole); the panel's width is capped too.
-        ui.label(RichText::new(short(&group.name)).strong()).on_hover_text(&group.name);
+        // The name, with *Isolate* on right-click as an organ's name has it (rows stay narrow).
+        let r = ui.add(egui::Label::new(RichText::new(short(&group.name)).strong()).sense(egui::Sense::click()));
+        let mut isolate = false;
+        r.on_hover_text(format!("{} (right-click: isolate)", group.name)).context_menu(|ui| {
+            let r = ui.button("Isolate").on_hover_text("Show only this group");
+            accessible(&r, format!("Isolate group {}", group.name));
+            isolate = r.clicked();
+            if isolate {
+                ui.close();
+            }
+        });
+        if isolate {
+            self.edit(Edit::Isolate { organs: group.organs() });
+        }
         let all_opaque = organs.iter().all(|&i| layout.organs[i].opacity >= 1.0);
         let r = ui.selectable_label(!all_opaque, "T").on_hover_text("Transparency of the whole group");
         accessible(&r, format!("Transparency of group {}", group.name));
@@ -187,17 +241,12 @@ impl Rows<'_> {
         if r.changed() {
             self.edit(Edit::Opacity { organs: group.organs(), opacity });
         }
-        let r = ui.small_button("isolate").on_hover_text("Show only this group");
-        accessible(&r, format!("Isolate group {}", group.name));
-        if r.clicked() {
-            self.edit(Edit::Isolate { organs: group.organs() });
-        }
     }
 
     fn organ_row(&mut self, ui: &mut egui::Ui, i: usize) {
         let scene = self.scene;
         let name = &scene.set().organs[i].name;
-        let state = scene.layout().organs[i];
+        let state = scene.shown().organs[i];
         ui.horizontal(|ui| {
             let mut visible = state.visible;
             let r = ui.checkbox(&mut visible, "").on_hover_text("Show or hide");
@@ -222,8 +271,9 @@ impl Rows<'_> {
             if r.changed() {
                 self.edit(Edit::Opacity { organs: Organs::One(i), opacity });
             }
-            let r = ui.selectable_label(self.selected == Some(i), short(name));
-            let r = if short(name).len() < name.len() { r.on_hover_text(name.as_str()) } else { r };
+            // The name takes what the row leaves and ends in "…" there; hover shows it whole.
+            let r = ui.add(egui::Button::selectable(self.selected == Some(i), short(name)).truncate());
+            let r = r.on_hover_text(name.as_str());
             accessible(&r, format!("Select {name}"));
             if r.clicked() {
                 self.out.push(Action::Select(Some(i)));

@@ -157,12 +157,14 @@ impl QuizPanel {
         self.run.as_ref().is_some_and(|r| !r.finished())
     }
 
-    /// The panel; `name` names organs, `info` gives their texts, `now` the UI's clock.
+    /// The panel; `name` names organs, `info` gives their texts, `groups` are the set's group
+    /// paths to choose from, `now` the UI's clock.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         name: &dyn Fn(usize) -> String,
         info: &dyn Fn(usize) -> String,
+        groups: &[String],
         now: f64,
     ) -> Vec<Action> {
         let mut out = Vec::new();
@@ -173,7 +175,7 @@ impl QuizPanel {
             }
         });
         match &mut self.run {
-            None => setup(ui, &mut self.setup, &self.history, &mut out),
+            None => setup(ui, &mut self.setup, groups, &self.history, &mut out),
             Some(run) if !run.finished() => answering(ui, run, name, now, &mut out),
             Some(run) => review(ui, run, name, info, &mut self.export_path, &mut out),
         }
@@ -181,13 +183,32 @@ impl QuizPanel {
     }
 }
 
-fn setup(ui: &mut egui::Ui, s: &mut Setup, history: &[String], out: &mut Vec<Action>) {
+/// The group choice's text for "every organ shown by default".
+const ALL_SHOWN: &str = "All structures shown";
+
+fn setup(ui: &mut egui::Ui, s: &mut Setup, groups: &[String], history: &[String], out: &mut Vec<Action>) {
     ui.label("Test yourself on the structures of this set.");
     ui.horizontal(|ui| {
         ui.label("Group");
-        let r = ui.add(egui::TextEdit::singleline(&mut s.group).hint_text("all shown organs").desired_width(170.0));
+        let selected = if s.group.is_empty() { ALL_SHOWN } else { s.group.as_str() };
+        let r = egui::ComboBox::from_id_salt("quiz group")
+            .selected_text(selected)
+            .width(200.0)
+            .show_ui(ui, |ui| {
+                ui.selectable_value(&mut s.group, String::new(), ALL_SHOWN);
+                // Nested groups indented under their parents, named by their last part.
+                for path in groups {
+                    let depth = path.matches('/').count();
+                    let name = path.rsplit('/').next().unwrap_or(path);
+                    ui.horizontal(|ui| {
+                        ui.add_space(14.0 * depth as f32);
+                        ui.selectable_value(&mut s.group, path.clone(), name).on_hover_text(path);
+                    });
+                }
+            })
+            .response;
         accessible(&r, "Quiz group");
-        r.on_hover_text("A group such as \"Basal ganglia\" or \"Left hemisphere/Frontal lobe\", or an id");
+        r.on_hover_text("The structures to be asked about: a group of the set, or all shown");
     });
     ui.horizontal(|ui| {
         ui.label("Questions");

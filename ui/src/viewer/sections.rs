@@ -1,10 +1,10 @@
-//! The Sections window: the three anatomical planes (axial, coronal, sagittal) and one oblique
+//! The Sections panel (a tab of the dock): the three anatomical planes (axial, coronal, sagittal) and one oblique
 //! plane, each on or off, at a position in millimetres (world RAS, kept within the set's bounds),
 //! cutting away the superior, anterior or right side or (flipped) the other one; the oblique
 //! plane's normal is set by "Align to view" (it then faces the camera and cuts away what lies
-//! nearer the eye). Buttons step a plane 1 mm or 5 mm at a time; while the window is open each
+//! nearer the eye). Buttons step a plane 1 mm or 5 mm at a time; while the panel is open each
 //! plane has a handle in the viewport to drag it along its normal. Solid cut faces on or off, and
-//! the organs kept whole (set from the inspector). What the window sets is one
+//! the organs kept whole (set from the inspector). What the panel sets is one
 //! [`vbrain::clip::Section`], drawn, picked, exported and saved in scenes and lesson steps.
 
 use eframe::egui;
@@ -174,19 +174,18 @@ impl Sections {
             .collect()
     }
 
-    /// The window over a set with these world bounds (positions are kept within them); `forward`
-    /// is the camera's view direction, for "Align to view"; `name` names organs kept whole.
-    /// Returns whether the section changed.
+    /// The panel (a tab of the dock) over a set with these world bounds (positions are kept within
+    /// them); `forward` is the camera's view direction, for "Align to view"; `name` names organs
+    /// kept whole. Returns whether the section changed.
     pub fn show(
         &mut self,
-        ctx: &egui::Context,
+        ui: &mut egui::Ui,
         bounds: Option<Bounds>,
         forward: Vec3,
         name: impl Fn(usize) -> String,
     ) -> bool {
-        let mut open = self.open;
         let before = (self.planes, self.oblique_normal, self.caps, self.whole.clone());
-        egui::Window::new("Sections").open(&mut open).resizable(false).show(ctx, |ui| {
+        ui.vertical(|ui| {
             let Some(b) = bounds.filter(|b| !b.is_empty()) else {
                 ui.label("Open an organ set to cut it.");
                 return;
@@ -195,7 +194,7 @@ impl Sections {
                 let (lo, hi) = self.range(k, &b);
                 let p = &mut self.planes[k];
                 p.mm = if p.mm.is_finite() { p.mm.clamp(lo, hi) } else { (lo + hi) / 2.0 };
-                ui.horizontal(|ui| {
+                ui.horizontal_wrapped(|ui| {
                     ui.checkbox(&mut p.on, *name)
                         .on_hover_text(format!("Cut the set with the {} plane", name.to_lowercase()));
                     let slider = egui::Slider::new(&mut p.mm, lo..=hi).suffix(" mm").step_by(0.5);
@@ -243,7 +242,6 @@ impl Sections {
                 }
             }
         });
-        self.open = open;
         let changed = before != (self.planes, self.oblique_normal, self.caps, self.whole.clone());
         if changed {
             self.changed();

@@ -125,7 +125,7 @@ impl Default for Settings {
             background: crate::background_srgb(),
             pick_min_opacity: 0.5,
             show_inspector: true,
-            show_stats: true,
+            show_stats: false,
             export: ExportSettings::default(),
             cull: vbrain::cull::CullSettings::default(),
             cull_debug: false,
@@ -221,8 +221,8 @@ mod tests {
         assert_eq!(Settings::load(Some(&store)), Settings::default());
         assert_eq!(Settings::load(None), Settings::default());
         // Unknown or missing fields do not lose the rest.
-        store.set_string(STORAGE_KEY, "(show_stats: false, future_field: 3)".into());
-        assert!(!Settings::load(Some(&store)).show_stats);
+        store.set_string(STORAGE_KEY, "(show_stats: true, future_field: 3)".into());
+        assert!(Settings::load(Some(&store)).show_stats);
     }
 
     #[test]

@@ -73,7 +73,7 @@ pub const MOUSE: [(&str, &str); 7] = [
     ("right or middle drag", "pan"),
     ("wheel", "zoom toward the cursor"),
     ("click", "select the organ under the cursor (clicks pass through organs fainter than 50 %)"),
-    ("double-click", "select and frame that organ"),
+    ("double-click", "select and frame the organ in front, faded or not"),
     ("Ctrl+drag / Shift+drag / Ctrl+Shift+drag", "move / rotate / resize the selected organ"),
     ("Ctrl+wheel", "resize the selected organ"),
 ];
@@ -95,7 +95,7 @@ pub const SHORTCUTS: [Shortcut; 18] = {
             "G",
             "walk-through camera on/off: W/A/S/D move, Q/E down/up, drag looks around",
         ),
-        Shortcut::new(&[Key::Escape], Deselect, "Esc", "deselect"),
+        Shortcut::new(&[Key::Escape], Deselect, "Esc", "close the open menu, else deselect"),
         Shortcut::new(&[Key::F], Frame, "F", "frame the selected organ"),
         Shortcut::new(&[Key::T], ToggleTransparency, "T", "toggle the selected organ's transparency"),
         Shortcut::new(&[Key::H], ToggleVisible, "H", "hide or show the selected organ"),

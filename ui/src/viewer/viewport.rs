@@ -62,11 +62,16 @@ pub struct Viewport {
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
     frame_times: VecDeque<Instant>,
-    /// The labels last painted: their anchors are kept while they stay deep in their organs.
-    labels: std::cell::RefCell<Vec<crate::annotate::Laid>>,
+    /// The labels last painted, with the layout and the labels asked for they were laid out on:
+    /// their anchors are kept while the camera moves and they stay deep in their organs; a new
+    /// layout (an edit, a lesson step) or other labels lay them out afresh.
+    labels: std::cell::RefCell<LaidLabels>,
     /// The plane whose handle is being dragged.
     dragging_plane: Option<usize>,
 }
+
+/// Labels as painted, and the layout and the labels asked for they were laid out on.
+type LaidLabels = (Vec<crate::annotate::Laid>, Option<(vbrain::layout::Layout, crate::annotate::Labels)>);
 
 impl Default for Viewport {
     fn default() -> Self {
@@ -264,8 +269,9 @@ impl Viewport {
             }
         }
         if response.double_clicked() {
+            // Double-click frames what the user sees in front, faded or not.
             if let Some(p) = response.interact_pointer_pos() {
-                if let Some(organ) = self.pick(input, p) {
+                if let Some(organ) = self.pick(input, p, f32::MIN_POSITIVE) {
                     out.push(Action::Select(Some(organ)));
                     if let Some(scene) = input.scene {
                         self.nav.frame(&scene.organ_bounds(organ));
@@ -274,14 +280,15 @@ impl Viewport {
             }
         } else if response.clicked() {
             if let Some(p) = response.interact_pointer_pos() {
-                out.push(Action::Pick(self.pick(input, p)));
+                out.push(Action::Pick(self.pick(input, p, input.settings.pick_min_opacity)));
             }
         }
         out
     }
 
-    /// Draws the organ-ID buffer of the current view into the viewport's target; returns it.
-    fn draw_ids<'a>(&'a self, input: &Input<'a>) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
+    /// Draws the organ-ID buffer of the current view into the viewport's target, organs fainter
+    /// than `min_opacity` left out (clicked through); returns it.
+    fn draw_ids<'a>(&'a self, input: &Input<'a>, min_opacity: f32) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
         let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
         let camera = self.camera(scene);
         let section = input.section;
@@ -291,7 +298,7 @@ impl Viewport {
             whole: &section.whole,
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
-        scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, input.settings.pick_min_opacity);
+        scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, min_opacity);
         Some((target, rs))
     }
 
@@ -317,9 +324,11 @@ impl Viewport {
             let name = scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
             ui.painter().layout_no_wrap(name, font.clone(), egui::Color32::from_rgb(245, 245, 240))
         };
-        let previous = self.labels.take();
-        let laid = crate::annotate::lay_out(&ids, size, labels, &previous, |o| galley(o).size().x * ppp);
-        self.labels.replace(laid.clone());
+        let (previous, laid_on) = self.labels.take();
+        let same = laid_on.as_ref().is_some_and(|(layout, which)| layout == scene.shown() && which == labels);
+        let previous = if same { previous } else { Vec::new() };
+        let laid = crate::annotate::lay_out(&ids, size, labels, &previous, px, |o| galley(o).size().x * ppp);
+        self.labels.replace((laid.clone(), Some((scene.shown().clone(), labels.clone()))));
         let at = |p: [f32; 2]| rect.min + egui::vec2(p[0], p[1]) / ppp;
         let painter = ui.painter_at(rect);
         let s = px / 20.0 / ppp;
@@ -399,9 +408,10 @@ impl Viewport {
         }
     }
 
-    /// Which organ is under a point of the viewport (points), from the ID buffer.
-    pub fn pick(&self, input: &Input, at: Pos2) -> Option<usize> {
-        let (target, rs) = self.draw_ids(input)?;
+    /// Which organ is under a point of the viewport (points), from the ID buffer; organs fainter
+    /// than `min_opacity` are seen through.
+    pub fn pick(&self, input: &Input, at: Pos2, min_opacity: f32) -> Option<usize> {
+        let (target, rs) = self.draw_ids(input, min_opacity)?;
         let rect = self.rect;
         let px = ((at.x - rect.min.x) / rect.width() * target.width as f32) as u32;
         let py = ((at.y - rect.min.y) / rect.height() * target.height as f32) as u32;
@@ -415,7 +425,7 @@ impl Viewport {
     /// physical pixel (row-major), 0 for background. For tests and tools; picking reads single
     /// pixels.
     pub fn read_ids(&self, input: &Input) -> Option<(Vec<u32>, [u32; 2])> {
-        let (target, rs) = self.draw_ids(input)?;
+        let (target, rs) = self.draw_ids(input, input.settings.pick_min_opacity)?;
         Some((target.read_ids(&rs.device, &rs.queue).ok()?, [target.width, target.height]))
     }
 

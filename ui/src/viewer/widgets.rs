@@ -30,7 +30,9 @@ pub struct PathField {
 }
 
 impl PathField {
-    pub fn ui(&mut self, ui: &mut egui::Ui, label: &str, pick: Pick, filters: &[(&str, &[&str])]) {
+    /// The field with its label and *Browse...*; returns whether Enter was pressed in it (the
+    /// window's main button then acts, as a click on it would).
+    pub fn ui(&mut self, ui: &mut egui::Ui, label: &str, pick: Pick, filters: &[(&str, &[&str])]) -> bool {
         if let Some(rx) = &self.pending {
             if let Ok(paths) = rx.try_recv() {
                 self.pending = None;
@@ -39,19 +41,25 @@ impl PathField {
                 }
             }
         }
-        ui.horizontal(|ui| {
-            ui.label(label);
-            let r = ui.add(egui::TextEdit::singleline(&mut self.text).desired_width(380.0));
-            accessible(&r, label.trim_end_matches(':'));
-            let browse = ui.add_enabled(self.pending.is_none(), egui::Button::new("Browse..."));
-            accessible(&browse, format!("Browse {}", label.trim_end_matches(':')));
-            if browse.clicked() {
-                self.browse(ui.ctx(), pick, filters);
-            }
-        });
+        let entered = ui
+            .horizontal_wrapped(|ui| {
+                ui.label(label);
+                let width = (ui.available_width() - 90.0).clamp(120.0, 380.0);
+                let r = ui.add(egui::TextEdit::singleline(&mut self.text).desired_width(width));
+                accessible(&r, label.trim_end_matches(':'));
+                let entered = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                let browse = ui.add_enabled(self.pending.is_none(), egui::Button::new("Browse..."));
+                accessible(&browse, format!("Browse {}", label.trim_end_matches(':')));
+                if browse.clicked() {
+                    self.browse(ui.ctx(), pick, filters);
+                }
+                entered
+            })
+            .inner;
         if self.pending.is_some() {
             ui.label("waiting for the file dialog (or type the path)");
         }
+        entered
     }
 
     fn browse(&mut self, ctx: &egui::Context, pick: Pick, filters: &[(&str, &[&str])]) {

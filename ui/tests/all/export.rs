@@ -151,18 +151,23 @@ fn the_default_brain_and_a_lesson_open_as_web_pages() {
     assert!(hidden * 2 < shown, "hiding the cerebrum removes its pixels: {hidden} of {shown}");
 
     let lesson = dir.path().join("lesson");
-    let ventricles = Path::new(&brain()).join("lessons/ventricles.vblesson");
-    let o = vbrain(&["export", ventricles.to_str().unwrap(), "--web", lesson.to_str().unwrap()]);
+    let cortex = Path::new(&brain()).join("lessons/cortex.vblesson");
+    let o = vbrain(&["export", cortex.to_str().unwrap(), "--web", lesson.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     // A lesson's steps set the organs: options that would change them are refused.
     let unused = dir.path().join("unused");
     let refused =
-        vbrain(&["export", ventricles.to_str().unwrap(), "--web", unused.to_str().unwrap(), "--hide", "thalamus_l"]);
+        vbrain(&["export", cortex.to_str().unwrap(), "--web", unused.to_str().unwrap(), "--hide", "thalamus_l"]);
     assert_eq!(refused.status.code(), Some(1), "{}", stderr(&refused));
     assert!(stderr(&refused).contains("are for sets and scenes") && !unused.exists(), "{}", stderr(&refused));
     let seen = open_page(&lesson);
     let captions: Vec<&str> = seen["captions"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
-    assert!(captions[0].contains("The brain is hollow"), "step 1's caption, its ** marks gone: {}", captions[0]);
+    assert!(captions[0].contains("Seen from the left"), "step 1's caption: {}", captions[0]);
+    assert!(!captions[0].contains('*'), "the caption's marks are gone: {}", captions[0]);
+    // Its Markdown as the viewer draws it: paragraphs, a two-item list, bold and italic runs.
+    let markup = &seen["caption_markup"];
+    assert!(markup["p"].as_u64() >= Some(2) && markup["li"] == 2, "{markup}");
+    assert!(markup["strong"].as_u64() >= Some(4) && markup["em"].as_u64() >= Some(1), "{markup}");
     assert!(captions[1] != captions[0] && captions[2] == captions[0], "Next and Previous: {captions:?}");
     assert!(seen["pixels_step_2"].as_u64().unwrap() > 10_000, "{seen}");
 }

@@ -7,7 +7,9 @@
 
 mod cli;
 mod export;
+mod first_hour;
 mod hardening;
+mod install;
 mod quiz;
 mod shortcuts;
 mod viewer;

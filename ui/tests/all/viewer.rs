@@ -26,7 +26,15 @@ pub fn harness_of(size: egui::Vec2) -> Harness<'static, App> {
 /// The same, keeping its recovery file at `recovery`.
 fn harness_with(size: egui::Vec2, recovery: Option<std::path::PathBuf>) -> Harness<'static, App> {
     let mut h = Harness::builder().with_size(size).wgpu().build_eframe(move |cc| {
-        App::new(cc, AppOptions { path: Some(brain()), recovery: recovery.clone(), quiz_history: None })
+        App::new(
+            cc,
+            AppOptions {
+                path: Some(brain()),
+                recovery: recovery.clone(),
+                quiz_history: None,
+                data: Default::default(),
+            },
+        )
     });
     for _ in 0..600 {
         h.step();
@@ -85,7 +93,7 @@ pub fn click(h: &Harness<'static, App>, at: Pos2) {
 }
 
 /// Types `query` into the organ search.
-fn search(h: &mut Harness<'static, App>, query: &str) {
+pub fn search(h: &mut Harness<'static, App>, query: &str) {
     h.get_by_label("Search organs").focus();
     h.run_steps(1);
     h.get_by_label("Search organs").type_text(query);
@@ -214,7 +222,7 @@ fn hide_fade_select_and_export() {
     let ctx = h.ctx.clone();
     let (glb, page) = (dir.path().join("brain.glb"), dir.path().join("page"));
     for (kind, path) in [(ModelKind::Gltf, &glb), (ModelKind::Web, &page)] {
-        let export = Action::ExportModel { kind, path: path.display().to_string() };
+        let export = Action::ExportModel { kind, path: path.display().to_string(), lesson: false };
         h.state_mut().perform(&ctx, vec![export]);
     }
     h.run_steps(2);
@@ -224,7 +232,10 @@ fn hide_fade_select_and_export() {
     assert!(html[data_at..].contains("\"labels\":[\"precentral_l\"]"), "the selected organ is labelled on the page");
     assert!(html[data_at..].contains("\"selection\":\"precentral_l\""));
     // A folder that now holds files is refused, and left as it was.
-    h.state_mut().perform(&ctx, vec![Action::ExportModel { kind: ModelKind::Web, path: page.display().to_string() }]);
+    h.state_mut().perform(
+        &ctx,
+        vec![Action::ExportModel { kind: ModelKind::Web, path: page.display().to_string(), lesson: false }],
+    );
     h.run_steps(2);
     assert!(messages(&h).iter().any(|m| m.contains("choose a new folder")), "{:?}", messages(&h));
 }
@@ -558,7 +569,7 @@ fn play_a_shipped_lesson_step_by_step() {
 fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     use vbrain_ui::viewer::action::{Action, Window};
     use vbrain_ui::viewer::settings::LabelMode;
-    // Tall enough that the Sections window leaves the plane's handle, mid-view, uncovered.
+    // The plane's handle is mid-view, beside the dock.
     let mut h = harness_of(egui::Vec2::new(760.0, 640.0));
     let dir = tempfile::tempdir().unwrap();
     let gyrus = organ(&h, "superiorfrontal_l");
@@ -577,7 +588,9 @@ fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     let cut = pixels_of(&h, gyrus);
     assert!(cut * 2 < whole, "cut {cut} of {whole} pixels");
     assert!(h.state().document().unsaved(h.state().scene()), "a plane is an unsaved change");
-    // (Through accessibility: the Sections window may cover the inspector in a small window.)
+    // The inspector shares the dock with the sections: bring its tab to the front.
+    h.get_by_label("Inspector tab").click();
+    h.run_steps(2);
     h.get_by_label(&format!("Do not cut {name}")).click_accesskit();
     h.run_steps(3);
     assert_eq!(h.state().sections().current.whole, vec![gyrus]);
@@ -652,7 +665,10 @@ fn long_names_deep_groups_and_many_organs_leave_the_view_in_place() {
     let set = dir.path().to_path_buf();
     let size = egui::Vec2::new(1000.0, 640.0);
     let mut h = Harness::builder().with_size(size).wgpu().build_eframe(move |cc| {
-        App::new(cc, AppOptions { path: Some(set.clone()), recovery: None, quiz_history: None })
+        App::new(
+            cc,
+            AppOptions { path: Some(set.clone()), recovery: None, quiz_history: None, data: Default::default() },
+        )
     });
     for _ in 0..600 {
         h.step();

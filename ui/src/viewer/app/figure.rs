@@ -71,8 +71,8 @@ impl App {
         (self.settings.labels, self.chosen_labels) = (LabelMode::Chosen, chosen);
     }
 
-    /// The Sections window; a change to the section is an unsaved change.
-    pub(super) fn sections_window(&mut self, ctx: &egui::Context) {
+    /// The Sections tab of the dock; a change to the section is an unsaved change.
+    pub(super) fn sections_tab(&mut self, ui: &mut egui::Ui) {
         let home = self.scene.as_ref().map(|s| s.home());
         let forward = self.scene.as_ref().map_or(glam::Vec3::NEG_Y, |s| {
             let c = self.viewport.camera(s);
@@ -80,7 +80,7 @@ impl App {
         });
         let scene = self.scene.as_ref();
         let name = |o: usize| scene.and_then(|s| s.set().organs.get(o)).map_or(String::new(), |x| x.name.clone());
-        if self.sections.show(ctx, home, forward, name) {
+        if self.sections.show(ui, home, forward, name) {
             self.touch_scene();
         }
     }
@@ -99,8 +99,9 @@ impl App {
     }
 
     /// Writes the scene as a glTF model or a web page: the organs drawn, cut by the current
-    /// section; a page also has the camera, the labels, the outlines and the selection.
-    pub(super) fn export_model(&mut self, kind: ModelKind, typed: &str) {
+    /// section; a page also has the camera, the labels, the outlines and the selection. With
+    /// `lesson`, the page is the open lesson's, its steps and captions (as `vbrain export` makes it).
+    pub(super) fn export_model(&mut self, kind: ModelKind, typed: &str, lesson: bool) {
         let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
             let (set, layout, section) = (scene.set(), scene.layout(), &self.sections.current);
             match kind {
@@ -118,6 +119,10 @@ impl App {
                         "{} already holds {held} files or folders; choose a new folder",
                         dir.display()
                     );
+                    if let (true, Some(lesson)) = (lesson, &self.lesson.lesson) {
+                        let bytes = vbrain::web_page::write(&dir, &vbrain::web_page::Page::lesson(set, lesson))?;
+                        return Ok((dir.join("index.html"), bytes));
+                    }
                     let labels = self.labels();
                     let view = vbrain::web_page::View {
                         title: set.title.clone(),
