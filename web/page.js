@@ -56,6 +56,14 @@ function resize() {
 // change draws one plain frame at once and starts again.
 const ACCUMULATED = 32;
 const accumulation = { frame: 0, scheduled: false, drawn: null, sum: null };
+// Hashed alpha's pattern is fixed on the surface; each accumulated frame moves it by a seed, so
+// that the average converges to the opacity instead of keeping one grain.
+const hashSeed = { value: new THREE.Vector3() };
+function seedHash(shader) {
+  shader.uniforms.hashSeed = hashSeed;
+  shader.fragmentShader = 'uniform vec3 hashSeed;\n' +
+    shader.fragmentShader.replace('getAlphaHashThreshold( vPosition )', 'getAlphaHashThreshold( vPosition + hashSeed )');
+}
 const quad = new THREE.Mesh(new THREE.PlaneGeometry(2, 2));
 const quadScene = new THREE.Scene();
 quadScene.add(quad);
@@ -102,9 +110,11 @@ function refine() {
   // Offsets in a quasi-random (R2) sequence within a pixel.
   const jitter = [((k * 0.7548776662) % 1) - 0.5, ((k * 0.5698402909) % 1) - 0.5];
   camera.setViewOffset(size.x, size.y, k === 0 ? 0 : jitter[0], k === 0 ? 0 : jitter[1], size.x, size.y);
+  hashSeed.value.set((k * 0.7548776662) % 1, (k * 0.5698402909) % 1, (k * 0.3819660113) % 1);
   renderer.setRenderTarget(accumulation.drawn);
   renderer.render(scene, camera);
   camera.clearViewOffset();
+  hashSeed.value.set(0, 0, 0);
   average.uniforms.map.value = accumulation.drawn.texture;
   average.uniforms.weight.value = 1 / (k + 1);
   quad.material = average;
@@ -134,6 +144,7 @@ function setOpacity(o, a) {
   m.transparent = false;
   m.depthWrite = true;
   m.alphaHash = a < 1;
+  m.onBeforeCompile = seedHash;
   m.needsUpdate = true;
   o.mesh.visible = o.shown && a > 0;
   if (o.slider) o.slider.value = a;

@@ -112,6 +112,9 @@ impl OrganPanel {
         quiz: bool,
     ) -> Vec<Action> {
         let mut out = Vec::new();
+        // The panel keeps its width whatever the rows show (a search's few rows do not narrow it
+        // and move the 3-D view).
+        ui.set_min_width(ui.available_width());
         let Some(scene) = scene else {
             ui.label("No organ set loaded.");
             return out;
