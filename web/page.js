@@ -12,7 +12,7 @@ $('title').textContent = data.title;
 
 // The renderer keeps its image so that tests and screenshots can read it.
 const view = $('view');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true, stencil: true });
 renderer.setPixelRatio(window.devicePixelRatio);
 renderer.localClippingEnabled = true;
 view.appendChild(renderer.domElement);
@@ -82,7 +82,59 @@ const average = new THREE.ShaderMaterial({
 });
 const show = new THREE.MeshBasicMaterial({ depthTest: false, depthWrite: false });
 
+// Cut faces: where a step's planes cut an organ, its inside shows as a solid face in its colour,
+// as in the viewer (the stencil method): along each pixel's ray the organ's back faces on the kept
+// side add one and its front faces take one away, so the count is odd where the plane lies inside
+// the organ; a plane drawn there in the organ's colour (faded as the organ is) is the cut face.
+const caps = new THREE.Group();
+scene.add(caps);
+let capsWanted = { planes: [], whole: [] };
+let capsDirty = false;
+let capsShown = true;
+
+function buildCaps() {
+  capsDirty = false;
+  for (const c of caps.children) c.material.dispose();
+  caps.clear();
+  if (!capsShown) return;
+  const { planes, whole } = capsWanted;
+  let order = 1;
+  for (const plane of planes) {
+    const others = planes.filter((p) => p !== plane);
+    for (const o of organs.values()) {
+      if (!o.mesh.visible || whole.includes(o.id)) continue;
+      o.mesh.updateMatrixWorld();
+      for (const [side, op] of [[THREE.BackSide, THREE.IncrementWrapStencilOp], [THREE.FrontSide, THREE.DecrementWrapStencilOp]]) {
+        const count = new THREE.MeshBasicMaterial({
+          side, clippingPlanes: [plane], depthWrite: false, depthTest: false, colorWrite: false,
+          stencilWrite: true, stencilFunc: THREE.AlwaysStencilFunc, stencilFail: op, stencilZFail: op, stencilZPass: op,
+        });
+        const mesh = new THREE.Mesh(o.mesh.geometry, count);
+        mesh.matrixAutoUpdate = false;
+        mesh.matrix.copy(o.mesh.matrixWorld);
+        mesh.renderOrder = order;
+        caps.add(mesh);
+      }
+      const face = new THREE.MeshLambertMaterial({
+        color: o.material.color, side: THREE.DoubleSide, clippingPlanes: others,
+        opacity: o.opacity, alphaHash: o.opacity < 1,
+        stencilWrite: true, stencilRef: 0, stencilFunc: THREE.NotEqualStencilFunc,
+        stencilFail: THREE.ReplaceStencilOp, stencilZFail: THREE.ReplaceStencilOp, stencilZPass: THREE.ReplaceStencilOp,
+      });
+      face.onBeforeCompile = seedHash;
+      const cap = new THREE.Mesh(new THREE.PlaneGeometry(2, 2), face);
+      plane.coplanarPoint(cap.position);
+      cap.lookAt(cap.position.clone().sub(plane.normal));
+      cap.renderOrder = order + 0.5;
+      cap.onAfterRender = (r) => r.clearStencil();
+      caps.add(cap);
+      order += 1;
+    }
+  }
+}
+
 function render() {
+  if (capsDirty) buildCaps();
   camera.clearViewOffset();
   renderer.setRenderTarget(null);
   renderer.render(scene, camera);
@@ -103,7 +155,9 @@ function refine() {
     const t = accumulation[key];
     if (!t || t.width !== size.x || t.height !== size.y) {
       t?.dispose();
-      accumulation[key] = new THREE.WebGLRenderTarget(size.x, size.y, { type: THREE.HalfFloatType, samples: 4 });
+      accumulation[key] = new THREE.WebGLRenderTarget(size.x, size.y, {
+        type: THREE.HalfFloatType, samples: 4, stencilBuffer: true,
+      });
     }
   }
   const k = accumulation.frame;
@@ -147,12 +201,14 @@ function setOpacity(o, a) {
   m.onBeforeCompile = seedHash;
   m.needsUpdate = true;
   o.mesh.visible = o.shown && a > 0;
+  capsDirty = true;
   if (o.slider) o.slider.value = a;
 }
 
 function setShown(o, shown) {
   o.shown = shown;
   o.mesh.visible = shown && o.opacity > 0;
+  capsDirty = true;
   if (o.checkbox) o.checkbox.checked = shown;
 }
 
@@ -345,6 +401,8 @@ function showView(v) {
     o.material.clippingPlanes = v.whole.includes(o.id) ? [] : clipPlanes;
     o.material.needsUpdate = true;
   }
+  capsWanted = { planes: clipPlanes, whole: v.whole };
+  capsDirty = true;
   labelled = v.labels;
   camera.position.set(...v.camera.eye);
   camera.up.set(...v.camera.up);
@@ -481,7 +539,9 @@ new GLTFLoader().parse(decodeModel(), '', (gltf) => {
   }
   window.addEventListener('resize', resize);
   resize();
-  window.vbrain = { render, organs: organs.size };
+  // For tests: the cut faces on or off.
+  const setCaps = (on) => { capsShown = on; capsDirty = true; render(); };
+  window.vbrain = { render, organs: organs.size, setCaps, step: (k) => showStep(k) };
   document.body.dataset.ready = '1';
 }, (error) => {
   $('loading').textContent = 'The model could not be read: ' + error;

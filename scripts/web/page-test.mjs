@@ -2,11 +2,12 @@
 // /usr/bin/chromium, or $CHROMIUM) and uses it as a student would; prints what it saw as JSON:
 // load and frame times, pixels that are not background, the name shown after a click on the
 // brain, the organ tree's text, pixels after hiding the group "Cerebrum", and for a lesson the captions after Next and
-// Previous. Usage: node page-test.mjs DIR [SCREENSHOT.png]
+// Previous; with STEP, at that step of a lesson the pixels that its cut faces change (drawn, then
+// not). Usage: node page-test.mjs DIR [SCREENSHOT.png] [STEP]
 import { chromium } from 'playwright-core';
 import path from 'node:path';
 
-const [dir, screenshot] = process.argv.slice(2);
+const [dir, screenshot, step] = process.argv.slice(2);
 const browser = await chromium.launch({
   executablePath: process.env.CHROMIUM || '/usr/bin/chromium',
   args: ['--no-sandbox', '--disable-gpu', '--use-angle=swiftshader', '--enable-unsafe-swiftshader',
@@ -69,6 +70,29 @@ try {
     out.pixels_step_2 = await pixels();
     await page.getByRole('button', { name: '< Previous' }).click();
     out.captions.push(await caption());
+  }
+  if (step) {
+    await page.evaluate((k) => window.vbrain.step(k), Number(step) - 1);
+    if (screenshot) await page.screenshot({ path: screenshot.replace(/\.png$/, `-step${step}.png`) });
+    out.cap_pixels = await page.evaluate(() => {
+      const read = () => {
+        window.vbrain.render();
+        const c = document.querySelector('#view canvas');
+        const copy = document.createElement('canvas');
+        [copy.width, copy.height] = [c.width, c.height];
+        copy.getContext('2d').drawImage(c, 0, 0);
+        return copy.getContext('2d').getImageData(0, 0, copy.width, copy.height).data;
+      };
+      const drawn = read();
+      window.vbrain.setCaps(false);
+      const hollow = read();
+      window.vbrain.setCaps(true);
+      let n = 0;
+      for (let i = 0; i < drawn.length; i += 4) {
+        if (Math.abs(drawn[i] - hollow[i]) + Math.abs(drawn[i + 1] - hollow[i + 1]) + Math.abs(drawn[i + 2] - hollow[i + 2]) > 24) n++;
+      }
+      return n;
+    });
   }
   const cerebrum = page.getByLabel('Show group Cerebrum', { exact: true });
   if (await cerebrum.count()) {

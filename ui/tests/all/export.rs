@@ -28,8 +28,16 @@ fn validate(file: &Path) -> Value {
 
 /// What `scripts/web/page-test.mjs` saw of the page in `dir` (and a screenshot beside it).
 fn open_page(dir: &Path) -> Value {
+    open_page_at(dir, None)
+}
+
+/// [`open_page`], also measuring at a lesson's step what its cut faces draw.
+fn open_page_at(dir: &Path, step: Option<usize>) -> Value {
     let shot = dir.with_extension("png");
-    let seen = node("page-test.mjs", &[dir, &shot]);
+    let step = step.map(|k| std::path::PathBuf::from(k.to_string()));
+    let mut args = vec![dir, shot.as_path()];
+    args.extend(step.as_deref());
+    let seen = node("page-test.mjs", &args);
     assert_eq!(seen["errors"], serde_json::json!([]), "{seen}");
     seen
 }
@@ -195,4 +203,18 @@ fn names_html_would_read_stay_text_and_a_folder_with_files_is_refused() {
     assert!(stderr(&o).contains("--force"), "{}", stderr(&o));
     let o = vbrain(&["export", set.to_str().unwrap(), "--web", page.to_str().unwrap(), "--force"]);
     assert!(o.status.success(), "{}", stderr(&o));
+}
+
+/// A lesson step's section shows solid cut faces in the page, as in the viewer.
+#[test]
+fn a_lesson_steps_section_has_cut_faces_in_the_page() {
+    let dir = tempfile::tempdir().unwrap();
+    let page = dir.path().join("deep-nuclei");
+    let lesson = Path::new(&brain()).join("lessons/deep-nuclei.vblesson");
+    let o = vbrain(&["export", lesson.to_str().unwrap(), "--web", page.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    // Step 3 is a coronal section through the basal ganglia.
+    let seen = open_page_at(&page, Some(3));
+    let changed = seen["cap_pixels"].as_u64().unwrap();
+    assert!(changed > 5_000, "the cut faces change only {changed} pixels: {seen}");
 }
