@@ -100,7 +100,12 @@ impl Document {
         }
         let file = capture(&path)?;
         self.recovered = Some((now, changes));
-        file.save(&path).err().map(|e| format!("could not write the recovery file: {e}"))
+        // The settings' folder is made by eframe only when it first saves them: on a first run the
+        // recovery file may come first.
+        let dir = path.parent().unwrap_or(Path::new("."));
+        let made = std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()));
+        let saved = made.and_then(|()| file.save(&path).map_err(|e| e.to_string()));
+        saved.err().map(|e| format!("could not write the recovery file: {e}"))
     }
 
     /// Removes the recovery file (after a save, a discard or a clean exit).

@@ -476,7 +476,8 @@ fn unsaved_changes_are_asked_about_and_recovered() {
     use vbrain::edit::{Edit, Organs};
     use vbrain_ui::viewer::action::Action;
     let dir = tempfile::tempdir().unwrap();
-    let recovery = dir.path().join("recovery.vbscene");
+    // In a folder not made yet, as the settings' folder is on a first run.
+    let recovery = dir.path().join("first-run/vbrain/recovery.vbscene");
     let size = egui::Vec2::new(640.0, 400.0);
     let mut h = harness_with(size, Some(recovery.clone()));
     let gyrus = organ(&h, "precentral_l");
