@@ -41,7 +41,7 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     let mut culler = Culler::new(database(&set_path, &set));
     let home = Layout::new(&set).bounds(&set);
     let mut markdown = format!("# {}\n", lesson.title);
-    let mut files = Vec::new();
+    let (mut files, mut labelled) = (Vec::new(), Vec::new());
     let px = crate::annotate::text_px(args.size.height);
     for (k, step) in lesson.steps.iter().enumerate() {
         let view = step.view(&set);
@@ -87,7 +87,10 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
         if labels != Labels::None {
             renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
             let ids = target.read_ids(&gpu.device, &gpu.queue)?;
-            crate::annotate::draw_sized(&mut image, &ids, &labels, |o| set.organs[o].name.clone(), px);
+            let placed = crate::annotate::draw_sized(&mut image, &ids, &labels, |o| set.organs[o].name.clone(), px);
+            labelled.push(placed.len());
+        } else {
+            labelled.push(0);
         }
         if args.caption {
             image = crate::annotate::caption(&image, &lines, px);
@@ -107,7 +110,12 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     let md = args.out.join("lesson.md");
     vbrain::atomic::write(&md, |w| w.write_all(markdown.as_bytes())).map_err(|e| anyhow!(e))?;
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&json!({"steps": files.len(), "files": files, "markdown": md}))?);
+        println!(
+            "{}",
+            serde_json::to_string_pretty(
+                &json!({"steps": files.len(), "files": files, "labels": labelled, "markdown": md})
+            )?
+        );
     } else {
         println!("{}: {} steps rendered into {}", lesson.title, files.len(), args.out.display());
     }

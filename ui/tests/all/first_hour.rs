@@ -211,3 +211,74 @@ fn every_panel_open_at_a_laptops_size_leaves_half_the_window_to_the_view() {
         }
     }
 }
+
+/// The box of a picture's pixels that are not its background (the top-left pixel's colour).
+fn figure_box(img: &image::RgbaImage) -> [u32; 4] {
+    let bg = *img.get_pixel(0, 0);
+    let differs = |p: &image::Rgba<u8>| (0..3).map(|k| p[k].abs_diff(bg[k]) as u32).sum::<u32>() > 30;
+    let (mut x0, mut y0, mut x1, mut y1) = (u32::MAX, u32::MAX, 0, 0);
+    for (x, y, p) in img.enumerate_pixels() {
+        if differs(p) {
+            (x0, y0, x1, y1) = (x0.min(x), y0.min(y), x1.max(x), y1.max(y));
+        }
+    }
+    [x0, y0, x1, y1]
+}
+
+#[test]
+fn worksheet_pictures_frame_the_whole_brain_centred() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("ws");
+    let o = super::cli::vbrain(&[
+        "quiz",
+        &super::cli::brain(),
+        "--out",
+        out.to_str().unwrap(),
+        "--questions",
+        "2",
+        "--mode",
+        "name",
+        "--size",
+        "400x300",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(out.join("q01.png")).unwrap().to_rgba8();
+    // The brain alone: the label plate sits beside it, so measure rows of the brain's height.
+    let [x0, y0, x1, y1] = figure_box(&img);
+    assert!(y0 >= 12 && y1 <= 300 - 12, "the brain touches the top or bottom: {y0}..{y1}");
+    assert!(x0 >= 4 && x1 <= 400 - 4, "cut at a side: {x0}..{x1}");
+    let middle = (y0 + y1) as f32 / 2.0;
+    assert!((middle - 150.0).abs() < 30.0, "off-centre vertically: {y0}..{y1}");
+    assert!((y1 - y0) as f32 > 300.0 * 0.5, "a small brain: {y0}..{y1}");
+}
+
+#[test]
+fn lesson_pictures_take_labels_and_a_caption() {
+    let dir = tempfile::tempdir().unwrap();
+    let (plain, captioned) = (dir.path().join("plain"), dir.path().join("captioned"));
+    let render = |out: &std::path::Path, extra: &[&str]| -> serde_json::Value {
+        let mut args = vec!["lesson", "render", "", "--out", out.to_str().unwrap(), "--size", "480x360", "--json"];
+        let lesson = super::viewer::brain().join("lessons/cortex.vblesson");
+        let lesson = lesson.display().to_string();
+        args[2] = &lesson;
+        args.extend(extra);
+        let o = super::cli::vbrain(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let unlabelled = render(&plain, &[]);
+    let labelled = render(&captioned, &["--caption", "--labels", "all"]);
+    let a = image::open(plain.join("01.png")).unwrap().to_rgba8();
+    let b = image::open(captioned.join("01.png")).unwrap().to_rgba8();
+    assert_eq!(b.dimensions(), (480, 360), "the caption's band is within --size");
+    // The band: light text on a dark ground below the figure, where the plain picture has none.
+    let light = |img: &image::RgbaImage, rows: std::ops::Range<u32>| {
+        rows.flat_map(|y| (0..img.width()).map(move |x| (x, y))).filter(|&(x, y)| img.get_pixel(x, y)[0] > 150).count()
+    };
+    assert!(light(&b, 260..360) > 200, "no caption text in the band: {}", light(&b, 260..360));
+    assert_eq!(light(&a, 340..360), 0, "the plain picture has text at its foot");
+    // Labels: the shipped step 1 has none; with --labels all every step has some.
+    assert_eq!(unlabelled["labels"][0], 0, "{unlabelled}");
+    let counts = labelled["labels"].as_array().unwrap();
+    assert!(counts.len() == 7 && counts.iter().all(|n| n.as_u64() > Some(0)), "{labelled}");
+}
