@@ -140,6 +140,18 @@ fn the_cortex_is_the_34_gyri_per_hemisphere_grouped_by_lobe() {
         }
     }
     assert_eq!(cortex, 68);
+    // The set's own cortex, found from its groups, is the table's: no gyrus missing, none extra.
+    let in_lobes: std::collections::BTreeSet<&str> = set
+        .organs
+        .iter()
+        .filter(|o| GYRI.iter().any(|(lobe, _)| o.group.ends_with(&format!("hemisphere/{lobe}"))))
+        .map(|o| o.id.as_str())
+        .collect();
+    let table: std::collections::BTreeSet<String> = GYRI
+        .iter()
+        .flat_map(|(_, regions)| regions.iter().flat_map(|r| [format!("{r}_l"), format!("{r}_r")]))
+        .collect();
+    assert_eq!(in_lobes, table.iter().map(String::as_str).collect(), "the set's lobes hold other organs");
     let o = &set.organs[set.find("parsopercularis_l").unwrap()];
     assert_eq!(o.name, "Left pars opercularis of the inferior frontal gyrus");
     assert!(o.synonyms.iter().any(|s| s.contains("Broca")), "{:?}", o.synonyms);

@@ -94,8 +94,13 @@ fn the_fuzzed_templates_parse_with_sane_numbers() {
     assert_eq!((scene.render.transparency.subsamples, scene.render.transparency.region_px), (8, 4));
     Lesson::parse(&lesson_text(&target, "0.8", &angles, "1.5"), Path::new("l.vblesson")).unwrap();
     let far = v(&["1e39", "0", "0"]);
-    assert!(SceneFile::parse(&scene_text(&far, "300", &angles, "1", 64, 32), Path::new("s")).is_err());
-    assert!(Lesson::parse(&lesson_text(&target, "0.8", &angles, "1e30"), Path::new("l")).is_err());
+    // Each refused for its own reason, named in the error.
+    let far =
+        SceneFile::parse(&scene_text(&far, "300", &angles, "1", 64, 32), Path::new("s")).err().map(|e| e.to_string());
+    assert!(far.as_deref().is_some_and(|e| e.contains("camera target") && e.contains("1 km")), "{far:?}");
+    let huge =
+        Lesson::parse(&lesson_text(&target, "0.8", &angles, "1e30"), Path::new("l")).err().map(|e| e.to_string());
+    assert!(huge.as_deref().is_some_and(|e| e.contains("placement of \"a\"") && e.contains("scale")), "{huge:?}");
 }
 
 proptest! {

@@ -516,7 +516,7 @@ impl eframe::App for App {
         // Side panels never take the 3-D view's place, whatever their contents' widths.
         let (left_max, right_max) = dock::side_limits(ui.max_rect().width());
         let actions = Panel::left("organs")
-            .default_size(300.0)
+            .default_size(dock::ORGAN_PANEL_WIDTH)
             .max_size(left_max)
             .resizable(true)
             .show(ui, |ui| panel.show(ui, scene, selected, quiz))

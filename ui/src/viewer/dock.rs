@@ -112,11 +112,16 @@ impl Dock {
     }
 }
 
+/// The organ panel's width at first (points).
+pub const ORGAN_PANEL_WIDTH: f32 = 300.0;
+/// The dock's width at first, and the narrowest it can be dragged (points).
+pub const DOCK_WIDTH: [f32; 2] = [280.0, 200.0];
+
 /// The widest the organ panel and the dock may be in a window `width` points wide: together at
 /// most half of it from 1280 points up, so the 3-D view keeps at least the other half; in a
 /// smaller window each may still take its default width (300 and 280 points).
 pub fn side_limits(width: f32) -> (f32, f32) {
-    ((width * 0.26).max(300.0), (width * 0.24).max(280.0))
+    ((width * 0.26).max(ORGAN_PANEL_WIDTH), (width * 0.24).max(DOCK_WIDTH[0]))
 }
 
 #[cfg(test)]

@@ -96,6 +96,10 @@ mod tests {
         assert_eq!(options.viewport.min_inner_size, Some(egui::Vec2::from(MIN_WINDOW)));
         let default = options.viewport.inner_size.unwrap_or_default();
         assert!(default.x >= MIN_WINDOW[0] && default.y >= MIN_WINDOW[1]);
+        // The smallest window still holds the organ panel, the dock at its narrowest and a 3-D
+        // view of 120 points between them.
+        let panels = super::super::dock::ORGAN_PANEL_WIDTH + super::super::dock::DOCK_WIDTH[1];
+        assert!(MIN_WINDOW[0] >= panels + 120.0, "{MIN_WINDOW:?} leaves no view beside {panels} points of panels");
     }
 
     #[test]

@@ -462,7 +462,11 @@ fn bench_transparency_compares_every_mode_with_exact() {
             "peel",
             "dual-peel",
         ] {
-            assert!((0.0..255.0).contains(&error(mode)), "{mode}: {}", error(mode));
+            // Bounds a broken mode breaks: per-sample modes stay within a few levels of the exact
+            // reference (3.6 at most seen at this size), blending within 20 (14.0 seen); none is
+            // the reference itself (the opaque image's MSAA alone differs by more than 1).
+            let most = if mode.starts_with("screendoor") || mode.ends_with("peel") { 5.0 } else { 20.0 };
+            assert!(error(mode) > 0.1 && error(mode) < most, "{mode}: {} (at most {most})", error(mode));
             // GPU time where the adapter has timestamp queries (lavapipe does), else null.
             let gpu_ms = &view["modes"][mode]["gpu_ms"];
             assert!(gpu_ms.is_null() || gpu_ms.as_f64().is_some_and(|ms| ms > 0.0), "{mode}: gpu_ms {gpu_ms}");

@@ -4,7 +4,7 @@
 //! the app, so it reaches its state.
 
 use super::App;
-use crate::viewer::dock::{Request, Tab};
+use crate::viewer::dock::{Request, Tab, DOCK_WIDTH};
 use crate::viewer::inspector::{inspector, Marks};
 use eframe::egui::{self, Panel};
 
@@ -29,7 +29,11 @@ impl App {
             Panel::right("dock collapsed").exact_size(30.0).resizable(false).show(ui, |ui| self.dock.strip(ui));
             return;
         }
-        let panel = Panel::right("dock").default_size(280.0).min_size(200.0).max_size(max_width).resizable(true);
+        let panel = Panel::right("dock")
+            .default_size(DOCK_WIDTH[0])
+            .min_size(DOCK_WIDTH[1])
+            .max_size(max_width)
+            .resizable(true);
         let actions = panel
             .show(ui, |ui| {
                 let request = self.dock.tab_bar(ui, &[Tab::Sections]);
