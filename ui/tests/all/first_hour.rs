@@ -95,13 +95,7 @@ fn double_click_selects_the_faded_organ_in_front_and_a_click_passes_through() {
                 vbrain_ui::AppOptions { path, recovery: None, quiz_history: None, data: Default::default() },
             )
         });
-    for _ in 0..600 {
-        h.step();
-        if h.state().scene().is_some() {
-            break;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
+    super::viewer::wait_for_set(&mut h);
     let broca = organ(&h, "parsopercularis_l");
     let ctx = h.ctx.clone();
     // Something selected first, so the inspector's dock is open and the view keeps its place.

@@ -36,6 +36,12 @@ fn harness_with(size: egui::Vec2, recovery: Option<std::path::PathBuf>) -> Harne
             },
         )
     });
+    wait_for_set(&mut h);
+    h
+}
+
+/// Steps `h` until its set has loaded (at most 600 steps), then three more.
+pub fn wait_for_set(h: &mut Harness<'static, App>) {
     for _ in 0..600 {
         h.step();
         if h.state().scene().is_some() {
@@ -43,9 +49,8 @@ fn harness_with(size: egui::Vec2, recovery: Option<std::path::PathBuf>) -> Harne
         }
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
-    assert!(h.state().scene().is_some(), "the default brain did not load: {:?}", messages(&h));
+    assert!(h.state().scene().is_some(), "the default brain did not load: {:?}", messages(h));
     h.run_steps(3);
-    h
 }
 
 /// The viewport's image once refinement has put every screen-door sub-sample in (a still view
