@@ -55,7 +55,17 @@ function resize() {
 // pixel are averaged (hashed alpha differs from frame to frame), up to ACCUMULATED frames. Any
 // change draws one plain frame at once and starts again.
 const ACCUMULATED = 32;
-const accumulation = { frame: 0, scheduled: false, drawn: null, sum: null };
+const accumulation = { frame: 0, scheduled: false, drawn: null, sum: null, waiting: [] };
+/** Resolves once the view has stopped refining (at once when it is not refining). */
+function settled() {
+  return new Promise((resolve) => {
+    if (accumulation.scheduled) accumulation.waiting.push(resolve);
+    else resolve();
+  });
+}
+function refined() {
+  for (const resolve of accumulation.waiting.splice(0)) resolve();
+}
 // Hashed alpha's pattern is fixed on the surface; each accumulated frame moves it by a seed, so
 // that the average converges to the opacity instead of keeping one grain.
 const hashSeed = { value: new THREE.Vector3() };
@@ -144,6 +154,8 @@ function render() {
   if (faded && !accumulation.scheduled) {
     accumulation.scheduled = true;
     requestAnimationFrame(refine);
+  } else if (!faded) {
+    refined();
   }
 }
 
@@ -187,6 +199,8 @@ function refine() {
   if (accumulation.frame < ACCUMULATED && !accumulation.scheduled) {
     accumulation.scheduled = true;
     requestAnimationFrame(refine);
+  } else if (!accumulation.scheduled) {
+    refined();
   }
 }
 
@@ -541,7 +555,7 @@ new GLTFLoader().parse(decodeModel(), '', (gltf) => {
   resize();
   // For tests: the cut faces on or off.
   const setCaps = (on) => { capsShown = on; capsDirty = true; render(); };
-  window.vbrain = { render, organs: organs.size, setCaps, step: (k) => showStep(k) };
+  window.vbrain = { render, settled, organs: organs.size, setCaps, step: (k) => showStep(k) };
   document.body.dataset.ready = '1';
 }, (error) => {
   $('loading').textContent = 'The model could not be read: ' + error;

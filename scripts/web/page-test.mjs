@@ -23,6 +23,9 @@ try {
   await page.goto('file://' + path.resolve(dir, 'index.html'));
   await page.waitForSelector('body[data-ready="1"]', { timeout: 120000 });
   out.load_ms = Date.now() - started;
+  // Faded organs refine the still view over many frames; a software GPU under load can take
+  // longer than an action's timeout for them, so each action waits for the view to settle.
+  const settle = () => page.evaluate(() => window.vbrain.settled());
   // Pixels of the 3-D view that differ from the background.
   const pixels = () => page.evaluate(() => {
     window.vbrain.render();
@@ -52,6 +55,7 @@ try {
   out.organs = await page.evaluate(() => window.vbrain.organs);
   out.title = await page.title();
   out.tree_text = await page.locator('#tree').textContent();
+  await settle();
   const box = await page.locator('#view canvas').boundingBox();
   await page.mouse.click(box.x + box.width * 0.38, box.y + box.height * 0.45);
   out.clicked_name = await page.locator('#selected-name').textContent();
@@ -65,9 +69,11 @@ try {
       const count = (tag) => c.querySelectorAll(tag).length;
       return { p: count('p'), li: count('li'), strong: count('strong'), em: count('em') };
     });
+    await settle();
     await page.getByRole('button', { name: 'Next >' }).click();
     out.captions.push(await caption());
     out.pixels_step_2 = await pixels();
+    await settle();
     await page.getByRole('button', { name: '< Previous' }).click();
     out.captions.push(await caption());
   }
@@ -96,6 +102,7 @@ try {
   }
   const cerebrum = page.getByLabel('Show group Cerebrum', { exact: true });
   if (await cerebrum.count()) {
+    await settle();
     await cerebrum.uncheck();
     out.pixels_without_cerebrum = await pixels();
   }
