@@ -126,6 +126,28 @@ struct Screendoor {
 @group(2) @binding(1) var<storage, read> region_config: array<u32>;
 @group(2) @binding(2) var<storage, read> masks: array<vec2<u32>>;
 
+// A well-mixed hash of a pixel's position (pixel_hash in src/transparency/region_keys.rs).
+fn pixel_hash(p: vec2<u32>) -> u32 {
+    var h = (p.x * 0x8da6b343u) ^ (p.y * 0xd8163841u);
+    h ^= h >> 16u;
+    h *= 0x7feb352du;
+    h ^= h >> 15u;
+    h *= 0x846ca68bu;
+    return h ^ (h >> 16u);
+}
+
+// The region whose masks pixel px takes: the one under it moved by a hash of its position, at most
+// half a region each way, so that neighbouring configurations blend instead of meeting at straight
+// edges (region_of in src/transparency/region_keys.rs).
+fn region_of(px: vec2<u32>) -> vec2<u32> {
+    let reach = i32(screendoor.region_px / 2u);
+    let h = pixel_hash(px);
+    let span = u32(2 * reach + 1);
+    let moved = max(vec2<i32>(px) + vec2<i32>(vec2<u32>(h & 0xffffu, h >> 16u) % span) - reach, vec2<i32>(0));
+    let cell = vec2<u32>(moved) / max(screendoor.region_px, 1u);
+    return min(cell, vec2<u32>(screendoor.cols, screendoor.rows) - 1u);
+}
+
 struct Masked {
     @location(0) colour: vec4<f32>,
     @builtin(sample_mask) mask: u32,
@@ -135,9 +157,8 @@ struct Masked {
 fn fs_screendoor(in: VsOut, @builtin(front_facing) front: bool) -> Masked {
     clip(in);
     let px = vec2<u32>(max(vec2<i32>(in.clip.xy) - screendoor.offset, vec2<i32>(0)));
-    let col = min(px.x / screendoor.region_px, screendoor.cols - 1u);
-    let row = min(px.y / screendoor.region_px, screendoor.rows - 1u);
-    let config = region_config[row * screendoor.cols + col];
+    let region = region_of(px);
+    let config = region_config[region.y * screendoor.cols + region.x];
     let m = masks[config * screendoor.organs + in.organ];
     let word = select(m.x, m.y, screendoor.pass_index >= 8u);
     let bits = (word >> ((screendoor.pass_index % 8u) * 4u)) & 15u;

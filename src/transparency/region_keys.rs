@@ -2,6 +2,9 @@
 //! first two steps of [`super::regions`]). Spaces: organ meshes in organ space, moved into world
 //! space by the layout and projected by the camera; regions are squares of `region_px` screen
 //! pixels (x right, y down), numbered row-major; depth is NDC z (larger is farther).
+//! - A pixel takes the masks of the region under it moved by up to [`reach`] in each axis
+//!   ([`region_of`]), so that neighbouring regions' configurations blend over a region's width
+//!   instead of meeting at straight edges that show as tiles; leaf rectangles grow by as much.
 
 use crate::camera::Camera;
 use crate::layout::Layout;
@@ -16,6 +19,35 @@ pub(super) struct Grid {
     pub region_px: u32,
     pub cols: u32,
     pub rows: u32,
+}
+
+/// How far a pixel's region lookup moves in each axis: half a region.
+pub(super) fn reach(region_px: u32) -> u32 {
+    region_px / 2
+}
+
+/// A well-mixed hash of a pixel's position (mirrored in shaders/organ.wgsl).
+fn pixel_hash(x: u32, y: u32) -> u32 {
+    let mut h = x.wrapping_mul(0x8da6_b343) ^ y.wrapping_mul(0xd816_3841);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7feb_352d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846c_a68b);
+    h ^ (h >> 16)
+}
+
+/// The region (column, row) whose masks pixel (x, y) takes: the one under the pixel moved by a
+/// hash of its position, at most [`reach`] in each axis, clamped to the grid. Mirrored by
+/// `region_of` in shaders/organ.wgsl.
+pub(super) fn region_of(x: u32, y: u32, region_px: u32, cols: u32, rows: u32) -> (u32, u32) {
+    let (region_px, reach) = (region_px.max(1), reach(region_px) as i64);
+    let h = pixel_hash(x, y);
+    let span = 2 * reach + 1;
+    let moved = |v: u32, bits: u32, n: u32| {
+        let v = (v as i64 + (bits as i64 % span) - reach).max(0) as u32;
+        (v / region_px).min(n.max(1) - 1)
+    };
+    (moved(x, h & 0xffff, cols), moved(y, h >> 16, rows))
 }
 
 /// A hierarchy leaf of a transparent organ on screen: the regions its rectangle touches (columns
@@ -66,7 +98,8 @@ pub(super) fn leaf_rects(
                     let (x, y) = ((c.x / c.w * 0.5 + 0.5) * w, (0.5 - c.y / c.w * 0.5) * h);
                     (x0, x1, y0, y1, z) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y), z.min(c.z / c.w));
                 }
-                (x0 - 1.0, x1 + 1.0, y0 - 1.0, y1 + 1.0, z.max(0.0))
+                let grow = 1.0 + reach(grid.region_px) as f32;
+                (x0 - grow, x1 + grow, y0 - grow, y1 + grow, z.max(0.0))
             };
             let cell = |v: f32, n: u32| ((v * scale).floor().max(0.0) as u32).min(n - 1);
             let (c0, c1, r0, r1) = (cell(x0, cols), cell(x1, cols), cell(y0, rows), cell(y1, rows));
@@ -134,4 +167,31 @@ pub(super) fn region_keys(rects: &[LeafRect], organs: usize, k: usize, grid: &Gr
     };
     let rows: Vec<Vec<u64>> = (0..rows).into_par_iter().map_init(scratch, row_keys).collect();
     rows.concat()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::region_of;
+
+    /// Pixels take a neighbouring region's masks near its edges, never one farther, and at a
+    /// region's centre nearly always its own; so edges blend and no tile edge is straight.
+    #[test]
+    fn pixels_near_an_edge_mix_the_regions_on_both_sides() {
+        let (side, cols, rows) = (32u32, 8u32, 8u32);
+        let (mut moved, mut centres_moved) = (0, 0);
+        for y in 0..rows * side {
+            for x in 0..cols * side {
+                let (c, r) = region_of(x, y, side, cols, rows);
+                let (c0, r0) = (x / side, y / side);
+                assert!(c.abs_diff(c0) <= 1 && r.abs_diff(r0) <= 1, "({x}, {y}) took region ({c}, {r})");
+                moved += usize::from((c, r) != (c0, r0));
+                let centre = x % side == side / 2 && y % side == side / 2;
+                centres_moved += usize::from(centre && (c, r) != (c0, r0));
+            }
+        }
+        let share = moved as f64 / f64::from(cols * rows * side * side);
+        assert!((0.3..0.7).contains(&share), "{share} of pixels take a neighbour's masks");
+        // Only the hash's extreme moves reach from the centre to the next region (1 in 33 per axis).
+        assert!(centres_moved <= 8, "{centres_moved} of 64 region centres take a neighbour's masks");
+    }
 }

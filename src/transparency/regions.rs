@@ -4,7 +4,7 @@
 //!
 //! 1. (`region_keys`) The leaves of each drawn transparent organ's hierarchy (at most 256
 //!    triangles each) are projected; every region a leaf's screen rectangle (grown by a pixel, for
-//!    MSAA samples and rounding) touches records the organ as present, with the nearest depth of
+//!    MSAA samples and rounding, and by how far a pixel's region lookup moves) touches records the organ as present, with the nearest depth of
 //!    the leaf's box (a row of regions at a time). Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
@@ -25,7 +25,7 @@
 //! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
 
 use super::layout::{self, GpuBits};
-use super::region_keys::{covered_pixels, leaf_rects, region_keys, Grid};
+use super::region_keys::{covered_pixels, leaf_rects, region_keys, region_of, Grid};
 use super::{generate, MaskMethod, MaskTable, SplitOrder};
 use crate::camera::Camera;
 use crate::layout::Layout;
@@ -70,7 +70,7 @@ pub struct RegionMasks {
 impl RegionMasks {
     /// The mask of `organ` at pixel (x, y), for tests and inspection.
     pub fn mask_at(&self, x: u32, y: u32, organ: usize) -> u64 {
-        let (c, r) = ((x / self.region_px).min(self.cols - 1), (y / self.region_px).min(self.rows - 1));
+        let (c, r) = region_of(x, y, self.region_px, self.cols, self.rows);
         let config = self.config_of_region[(r * self.cols + c) as usize] as usize;
         self.masks[config * self.organ_count + organ]
     }
