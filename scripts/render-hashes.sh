@@ -37,3 +37,12 @@ r --orbit 10,10 --opacity all=0.4 --draw-order-seed 7
 r --view right --transparent
 r --route orbit:40 --hide "Right hemisphere/Frontal lobe" "Right hemisphere/Parietal lobe"
 r --orbit 200,40 --show scalp skull --opacity scalp=0.3 skull=0.6 --cull occlusion
+r --orbit 30,15 --clip coronal=-10
+r --orbit -40,20 --clip axial=20 --clip sagittal=5:flip --whole thalamus_l,caudate_l
+r --orbit 30,15 --clip coronal=-10 --caps off --opacity "Left hemisphere=0.5"
+r --orbit 30,15 --clip 0.3,0.2,0.93,15 --cull occlusion --debug-culled
+r --orbit 30,15 --highlight hippocampus_l amygdala_l --opacity "Left hemisphere=0.4"
+r --view left --labels all
+r --orbit 30,15 --labels thalamus_l,precentral_l --clip coronal=-15
+r --orbit 30,15 --clip coronal=-10 --transparency peel --opacity all=0.5
+r --orbit 30,15 --clip coronal=-10 --transparency dual-peel --opacity all=0.5
