@@ -3,6 +3,11 @@
 //! removes what lies superior of z = mm, `coronal` what lies anterior of y = mm, `sagittal` what
 //! lies right of x = mm; `:flip` keeps that side instead. At most [`MAX_PLANES`] at once; an organ
 //! marked "do not cut" is never clipped. Normals are stored unit length.
+//! - [`Section`] is the one value of a cross-section: planes, cut faces, organs kept whole (the
+//!   viewer, the renderer's [`crate::render::FrameInput`] and the culler take it); files keep it as a
+//!   [`SavedSection`] (organs by id or group).
+//! - [`Section::organ`] classifies one organ against it ([`OrganClip`]): the renderer draws by that
+//!   classification and the culler reasons from the same one, so culling stays conservative.
 
 use crate::mesh::Bounds;
 use glam::Vec3;
@@ -19,8 +24,8 @@ pub struct ClipPlane {
     pub d: f32,
 }
 
-/// A cross-section as the viewer, scene files and lesson steps keep it: the planes, whether cut
-/// faces are solid, and the organs (indices) kept whole.
+/// A cross-section: the planes (world space; the first [`MAX_PLANES`] apply), whether closed
+/// organs they cut show solid cut faces, and the organs (indices, sorted) the planes never cut.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
     pub planes: Vec<ClipPlane>,
@@ -28,9 +33,85 @@ pub struct Section {
     pub whole: Vec<usize>,
 }
 
+/// No planes, cut faces on.
+pub static NO_SECTION: Section = Section { planes: Vec::new(), caps: true, whole: Vec::new() };
+
 impl Default for Section {
     fn default() -> Self {
-        Section { planes: Vec::new(), caps: true, whole: Vec::new() }
+        NO_SECTION.clone()
+    }
+}
+
+/// How a section treats one organ, as the renderer draws it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OrganClip {
+    /// The planes apply to it: there are some, and it is not kept whole.
+    pub clipped: bool,
+    /// Where its bounds lie against the planes ([`Side::Kept`] where not clipped).
+    pub side: Side,
+    /// Drawn with solid cut faces: clipped, cut by the planes, closed, and cut faces on.
+    pub capped: bool,
+}
+
+impl Section {
+    /// The planes that apply (the first [`MAX_PLANES`]).
+    pub fn active_planes(&self) -> &[ClipPlane] {
+        &self.planes[..self.planes.len().min(MAX_PLANES)]
+    }
+
+    /// Whether the planes apply to organ `o` (they may still miss it).
+    pub fn applies_to(&self, o: usize) -> bool {
+        !self.planes.is_empty() && !self.whole.contains(&o)
+    }
+
+    /// How the section treats organ `o`, whose mesh has `bounds` in world space and is `closed`.
+    pub fn organ(&self, o: usize, bounds: &Bounds, closed: bool) -> OrganClip {
+        if !self.applies_to(o) {
+            return OrganClip { clipped: false, side: Side::Kept, capped: false };
+        }
+        let side = side(self.active_planes(), bounds);
+        OrganClip { clipped: true, side, capped: self.caps && closed && side == Side::Cut }
+    }
+
+    /// Whether organ `o`, with `bounds` in world space, lies inside every plane by `share` of its
+    /// far corner's distance from `eye` (or the planes do not apply to it): then no plane changes
+    /// any sample of it, however interpolated.
+    pub fn clear_of(&self, o: usize, bounds: &Bounds, eye: Vec3, share: f32) -> bool {
+        if !self.applies_to(o) {
+            return true;
+        }
+        let far = bounds.corners().iter().map(|&c| (c - eye).length()).fold(0.0, f32::max);
+        side_within(&self.planes, bounds, share * far) == Side::Kept
+    }
+}
+
+/// A section as scene files and lesson steps keep it: organs kept whole by id or group.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SavedSection {
+    pub planes: Vec<ClipPlane>,
+    pub caps: bool,
+    pub whole: Vec<String>,
+}
+
+impl SavedSection {
+    /// `section` as saved for `set`: its whole organs by id.
+    pub fn of(section: &Section, set: &crate::organ_set::OrganSet) -> SavedSection {
+        SavedSection { planes: section.planes.clone(), caps: section.caps, whole: set.ids(&section.whole) }
+    }
+
+    /// The section in `set`, and the names of `whole` that name no organ or group there.
+    pub fn resolve(&self, set: &crate::organ_set::OrganSet) -> (Section, Vec<String>) {
+        let (mut whole, mut unknown) = (Vec::new(), Vec::new());
+        for name in &self.whole {
+            let found = set.select(name);
+            if found.is_empty() {
+                unknown.push(name.clone());
+            }
+            whole.extend(found);
+        }
+        whole.sort_unstable();
+        whole.dedup();
+        (Section { planes: self.planes.clone(), caps: self.caps, whole }, unknown)
     }
 }
 

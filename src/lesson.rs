@@ -13,7 +13,7 @@
 //! Reading never panics: a file that is not JSON names itself and the line; a newer format says
 //! so; ids and groups the set does not have are collected as warnings, once each.
 
-use crate::clip::Section;
+use crate::clip::{SavedSection, Section};
 use crate::error::{Error, Result};
 use crate::labels::Which;
 use crate::layout::{Layout, Transform};
@@ -363,6 +363,7 @@ impl Step {
         }
         let framed = Navigator::framing(&default.bounds(set), camera.azimuth, camera.elevation);
         let orbit = camera.mode == CameraMode::Orbit && framed.target == glam::Vec3::from(camera.target);
+        let saved = SavedSection::of(section, set);
         Step {
             title: title.into(),
             caption: String::new(),
@@ -375,11 +376,16 @@ impl Step {
             place,
             camera: (!orbit).then_some(camera),
             highlight: set.ids(highlight),
-            clip: section.planes.clone(),
-            caps: section.caps,
-            whole: set.ids(&section.whole),
+            clip: saved.planes,
+            caps: saved.caps,
+            whole: saved.whole,
             labels: labels.key(),
         }
+    }
+
+    /// The step's section as saved (its `clip`, `caps` and `whole`).
+    pub fn section(&self) -> SavedSection {
+        SavedSection { planes: self.clip.clone(), caps: self.caps, whole: self.whole.clone() }
     }
 
     /// This step over `set`: the default layout changed as it says, the camera framing the set's
@@ -424,8 +430,7 @@ impl Step {
         let mut highlight: Vec<usize> = self.highlight.iter().flat_map(|n| set.select(n)).collect();
         highlight.sort_unstable();
         highlight.dedup();
-        let whole = Which::chosen(&self.whole, set).0;
-        let section = Section { planes: self.clip.clone(), caps: self.caps, whole };
+        let section = self.section().resolve(set).0;
         let labels = self.labels.as_deref().map(Which::parse);
         StepView { layout, navigator, fly, highlight, section, labels }
     }

@@ -142,6 +142,16 @@ pub struct Applied {
 }
 
 impl SceneFile {
+    /// The scene's section as saved (its `clip`, `caps` and `whole`).
+    pub fn section(&self) -> crate::clip::SavedSection {
+        crate::clip::SavedSection { planes: self.clip.clone(), caps: self.caps, whole: self.whole.clone() }
+    }
+
+    /// Keeps `section` as the scene's.
+    pub fn set_section(&mut self, section: crate::clip::SavedSection) {
+        (self.clip, self.caps, self.whole) = (section.planes, section.caps, section.whole);
+    }
+
     /// The scene of `layout` over `set` (opened from `set_path`), to be saved at `scene_path`.
     pub fn capture(
         set: &OrganSet,

@@ -58,7 +58,7 @@ impl Tasks for Subtrees<'_> {
             if let Some((_, walk)) = done.last_mut() {
                 let organ = &self.set.organs[o];
                 let start = Start { organ: o, node, test, started };
-                traverse_below(organ, view, self.occ.as_ref().map(|f| f.of(o)), &self.settings, start, walk, None);
+                traverse_below(organ, view, self.occ.as_ref().map(|f| f.of(o)), &self.settings, start, (walk, None));
             }
         }
     }

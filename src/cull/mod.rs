@@ -34,6 +34,7 @@ mod occluders;
 pub(crate) mod opacity_map;
 pub(crate) mod project;
 pub(crate) mod raster;
+mod records;
 mod rect;
 pub mod selection;
 mod settings;
@@ -43,16 +44,18 @@ mod traversal;
 mod witness;
 
 pub use draw_list::{CullStats, DrawList};
+pub use records::{OrganRecord, CLEAR_OF_PLANES};
 pub use rect::PixelRect;
-pub use selection::{by_projected_size, choose_occluders, opaque, LeafRef, OccluderSource};
+pub use selection::{by_projected_size, choose_occluders, LeafRef, OccluderSource};
 pub use settings::{CullMode, CullSettings, Selection};
 
 use crate::camera::Camera;
+use crate::clip::{Section, NO_SECTION};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use cut::Cut;
 use jobs::Subtrees;
-use occluders::{rasterise_occluders, rasterise_stand_in, Cuts, FrameOccluders};
+use occluders::{rasterise_occluders, rasterise_stand_in, FrameOccluders};
 use share::Phase;
 use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -96,7 +99,7 @@ impl Culler {
         self.database.as_ref()
     }
 
-    /// Culls one frame, as [`cull`].
+    /// Culls one frame with no section, as [`cull`].
     pub fn cull(
         &mut self,
         set: &OrganSet,
@@ -105,43 +108,31 @@ impl Culler {
         aspect: f32,
         settings: &CullSettings,
     ) -> (DrawList, CullStats) {
-        self.cull_with(set, layout, camera, aspect, settings, None, Clip::NONE)
+        self.cull_with(&CullInput::new(set, layout, camera, aspect), settings, None)
     }
 
-    /// Culls one frame of a set cut by clip planes. Organs the planes cut (or come near) occlude
-    /// only where the renderer cuts triangles at the planes, with what the planes keep of their
-    /// own triangles, and their solids' stand-ins cut there (while the eye is on the side the
-    /// planes keep, for every organ; else for the organs of no solid behind them);
-    /// their back-facing runs are not culled while cut faces are drawn (the renderer draws those
-    /// runs again as the cut faces). What the planes remove is culled only where the renderer
-    /// cuts triangles at the planes ([`Clip::exact`]): where the shaders discard removed samples
-    /// instead, a sample of a removed triangle seen at a grazing angle may pass (its position is
+    /// Culls one frame, cut by its section. Organs the planes cut (or come near) occlude only where
+    /// the renderer cuts triangles at the planes, with what the planes keep of their own
+    /// triangles, and their solids' stand-ins cut there (while the eye is on the side the planes
+    /// keep, for every organ; else for the organs of no solid behind them); their back-facing
+    /// runs are not culled while cut faces are drawn (the renderer draws those runs again as the
+    /// cut faces). What the planes remove is culled only where the renderer cuts triangles at the
+    /// planes ([`CullInput::exact_cuts`]): where the shaders discard removed samples instead, a
+    /// sample of a removed triangle seen at a grazing angle may pass (its position is
     /// interpolated off the triangle), so culling it would change that sample.
-    pub fn cull_clipped(
-        &mut self,
-        set: &OrganSet,
-        layout: &Layout,
-        camera: &Camera,
-        aspect: f32,
-        settings: &CullSettings,
-        clip: Clip,
-    ) -> (DrawList, CullStats) {
-        self.cull_with(set, layout, camera, aspect, settings, None, clip)
+    pub fn cull_frame(&mut self, input: &CullInput, settings: &CullSettings) -> (DrawList, CullStats) {
+        self.cull_with(input, settings, None)
     }
 
     /// Culls one frame with the occluders given (`Some`, in place of the settings' selection):
     /// for the occluder-selection experiments.
-    #[allow(clippy::too_many_arguments)]
     pub fn cull_with(
         &mut self,
-        set: &OrganSet,
-        layout: &Layout,
-        camera: &Camera,
-        aspect: f32,
+        input: &CullInput,
         settings: &CullSettings,
         given: Option<&[LeafRef]>,
-        clip: Clip,
     ) -> (DrawList, CullStats) {
+        let set = input.set;
         let started = std::time::Instant::now();
         let settings = CullSettings { width: settings.width.max(1), height: settings.height.max(1), ..*settings };
         self.cuts.resize_with(set.organs.len(), Cut::default);
@@ -163,67 +154,41 @@ impl Culler {
                     phases.raster.help(quit);
                     phases.traversal.help(quit);
                 },
-                || cull_in_phases(set, layout, camera, aspect, &settings, given, clip, kept, &phases),
+                || cull_in_phases(input, &settings, given, kept, &phases),
             ),
-            _ => cull_in_phases(set, layout, camera, aspect, &settings, given, clip, kept, &phases),
+            _ => cull_in_phases(input, &settings, given, kept, &phases),
         };
         stats.cull_ms = started.elapsed().as_secs_f64() * 1000.0;
         (list, stats)
     }
 }
 
-/// Clip planes cutting a frame (world space), whether cut organs show their cut faces, and the
-/// organs the planes leave whole: what the renderer is given ([`crate::render::FrameInput`]).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Clip<'a> {
-    pub planes: &'a [crate::clip::ClipPlane],
-    pub caps: bool,
-    pub whole: &'a [usize],
+/// What one frame culls: the set as laid out, seen by a camera at an aspect (width / height), cut
+/// by a section.
+#[derive(Clone, Copy)]
+pub struct CullInput<'a> {
+    pub set: &'a OrganSet,
+    pub layout: &'a Layout,
+    pub camera: &'a Camera,
+    pub aspect: f32,
+    pub section: &'a Section,
     /// The renderer cuts triangles at the planes before rasterising them
     /// ([`crate::render::Renderer::cuts_geometry`]), so a triangle the planes remove draws no
     /// sample, and the nodes they remove are culled. Without it the shaders discard removed samples
     /// one by one, and what the planes remove is drawn.
-    pub exact: bool,
+    pub exact_cuts: bool,
 }
 
-impl<'a> Clip<'a> {
-    pub const NONE: Clip<'static> = Clip { planes: &[], caps: false, whole: &[], exact: false };
-
-    /// The planes, cut faces and whole organs of a section, for a renderer that cuts triangles at
-    /// the planes (`exact`) or not.
-    pub fn of(section: &'a crate::clip::Section, exact: bool) -> Clip<'a> {
-        Clip { planes: &section.planes, caps: section.caps, whole: &section.whole, exact }
-    }
-
-    /// Whether the planes cut organ `o` (they may still miss it).
-    fn applies_to(&self, o: usize) -> bool {
-        !self.planes.is_empty() && !self.whole.contains(&o)
+impl<'a> CullInput<'a> {
+    /// A frame with no section.
+    pub fn new(set: &'a OrganSet, layout: &'a Layout, camera: &'a Camera, aspect: f32) -> CullInput<'a> {
+        CullInput { set, layout, camera, aspect, section: &NO_SECTION, exact_cuts: false }
     }
 }
-
-/// How far inside the clip planes an organ must lie to occlude, as a share of its far corner's
-/// distance from the eye. The shaders discard what the planes remove sample by sample, at a
-/// position interpolated off the triangle for a sample at its edge, far off it at grazing angles,
-/// so an occluder near a plane may lose samples there. A margin of a pixel's footprint (at 64
-/// pixels across) still changed samples in the identity test; this one changes none there.
-pub const CLEAR_OF_PLANES: f32 = 1.0 / 16.0;
 
 /// How far (millimetres) inside every clip plane the eye must lie for the stand-ins of solids
 /// the planes cut to occlude.
 const EYE_CLEAR_OF_PLANES_MM: f32 = 1.0;
-
-/// Whether `organ` lies inside every clip plane by [`CLEAR_OF_PLANES`] of its far corner's distance.
-fn clear_of_planes(
-    organ: &crate::organ_set::Organ,
-    state: &crate::layout::OrganState,
-    camera: &Camera,
-    clip: Clip,
-) -> bool {
-    let Some(root) = organ.bvh.nodes.first() else { return false };
-    let world = root.bounds.transformed(&state.transform.matrix());
-    let far = world.corners().iter().map(|&c| (c - camera.eye).length()).fold(0.0, f32::max);
-    crate::clip::side_within(clip.planes, &world, CLEAR_OF_PLANES * far) == crate::clip::Side::Kept
-}
 
 /// The solids whose stand-ins, cut at the clip planes, hide what lies behind them from any side,
 /// but only from organs of none of them (indices into the set's solids, at most 64, leaving out
@@ -241,34 +206,36 @@ fn behind_solids(
     set: &OrganSet,
     layout: &Layout,
     view_proj: &glam::Mat4,
-    (occluding, sides, capped): (&[bool], &[crate::clip::Side], &[bool]),
+    records: &[OrganRecord],
     shared: &[usize],
 ) -> Vec<usize> {
     use crate::clip::Side;
-    let sealed: Vec<bool> = (0..set.organs.len())
-        .map(|o| occluding[o] && (capped[o] || matches!(sides.get(o), Some(Side::Kept | Side::Removed))))
+    let sealed: Vec<bool> = records
+        .iter()
+        .map(|r| r.occluding && ((r.cut && r.clip.capped) || matches!(r.clip.side, Side::Kept | Side::Removed)))
         .collect();
     selection::solids(set, layout, view_proj, &sealed).into_iter().filter(|s| !shared.contains(s)).take(64).collect()
 }
 
 /// `shared`, and for each drawn organ that solids of `behind` ([`behind_solids`]) may hide (of
 /// none of them, unmoved relative to the solid, cut by the planes where they cut anything), those
-/// solids' stand-ins cut at the planes (`cut_planes`, per organ in its space) as well; and how many of `behind` hide an organ.
+/// solids' stand-ins cut at the planes (each record's planes) as well; and how many of `behind`
+/// hide an organ.
 fn with_solids_behind(
-    set: &OrganSet,
-    layout: &Layout,
+    input: &CullInput,
     view_proj: &glam::Mat4,
-    (clip, cut_planes): (Clip, &[Vec<crate::clip::ModelPlane>]),
+    records: &[OrganRecord],
     behind: Vec<usize>,
     shared: occluders::Occluders,
     (w, h): (usize, usize),
 ) -> (FrameOccluders, usize) {
+    let CullInput { set, layout, section, .. } = *input;
     let model = |o: usize| layout.organs[o].transform.matrix();
     let hides = |s: usize, o: usize| {
         let solid = &set.solids[s];
         layout.organs[o].is_drawn()
             && solid.organs.binary_search(&o).is_err()
-            && clip.applies_to(o)
+            && section.applies_to(o)
             && model(o) == model(solid.organs[0])
     };
     let behind: Vec<usize> = behind.into_iter().filter(|&s| (0..set.organs.len()).any(|o| hides(s, o))).collect();
@@ -277,7 +244,7 @@ fn with_solids_behind(
     }
     // The raster's phase has run: these are rasterised on this thread.
     let stand_ins: Vec<occluders::Occluders> =
-        behind.iter().map(|&s| rasterise_stand_in(set, layout, view_proj, s, cut_planes, (w, h))).collect();
+        behind.iter().map(|&s| rasterise_stand_in(set, layout, view_proj, s, records, (w, h))).collect();
     // Per organ, bit i for behind[i].
     let behind_of: Vec<u64> = (0..set.organs.len())
         .map(|o| behind.iter().enumerate().filter(|&(_, &s)| hides(s, o)).fold(0, |m, (i, _)| m | 1 << i))
@@ -302,104 +269,18 @@ struct Phases<'a> {
 
 /// [`Culler::cull_with`], its parallel work done in `phases` (`settings`' size at least 1 x 1),
 /// starting each organ's traversal at its cut where occlusion is tested.
-#[allow(clippy::too_many_arguments)]
 fn cull_in_phases<'a>(
-    set: &'a OrganSet,
-    layout: &Layout,
-    camera: &Camera,
-    aspect: f32,
+    input: &CullInput<'a>,
     settings: &CullSettings,
     given: Given,
-    clip: Clip,
     (cuts, witnesses): (&mut [Cut], &'a [Witnesses]),
     phases: &Phases<'a>,
 ) -> (DrawList, CullStats) {
-    let view_proj = camera.view_projection(aspect);
-    // Per organ: whether the planes leave it as it is (they miss it by the margin, or keep it
-    // whole), and whether it may occlude: opaque as well.
-    let clear: Vec<bool> = set
-        .organs
-        .iter()
-        .zip(&layout.organs)
-        .enumerate()
-        .map(|(o, (organ, state))| !clip.applies_to(o) || clear_of_planes(organ, state, camera, clip))
-        .collect();
-    let whole: Vec<bool> = layout.organs.iter().zip(&clear).map(|(s, &c)| s.is_opaque() && c).collect();
-    // Where the renderer cuts triangles at the planes, an organ they cut occludes too, with the
-    // triangles of its own mesh they keep wholly (never a stand-in: through the cut, what hides
-    // the inside is the cut face, drawn from the back faces beyond it).
-    let cut: Vec<bool> = clear.iter().map(|&c| clip.exact && !c).collect();
-    let occluding: Vec<bool> =
-        layout.organs.iter().zip(&cut).zip(&whole).map(|((s, &c), &w)| w || (c && s.is_opaque())).collect();
-    // Per organ the planes cut: the planes in its space, and whether the renderer draws its cut
-    // faces (as it decides: closed, caps on, cut by `clip::side` on its mesh's bounds).
-    let planes = &clip.planes[..clip.planes.len().min(crate::clip::MAX_PLANES)];
-    let models: Vec<glam::Mat4> = layout.organs.iter().map(|s| s.transform.matrix()).collect();
-    let cut_planes: Vec<Vec<crate::clip::ModelPlane>> = cut
-        .iter()
-        .zip(&models)
-        .map(|(&c, model)| if c { crate::clip::in_model_space(planes, model) } else { Vec::new() })
-        .collect();
-    let sides: Vec<crate::clip::Side> = set
-        .organs
-        .iter()
-        .zip(&models)
-        .map(|(organ, model)| crate::clip::side(planes, &organ.mesh.bounds().transformed(model)))
-        .collect();
-    let capped: Vec<bool> = set
-        .organs
-        .iter()
-        .zip(&sides)
-        .zip(&cut)
-        .map(|((organ, &side), &c)| c && clip.caps && organ.closed() && side == crate::clip::Side::Cut)
-        .collect();
-    let (w, h) = (settings.width, settings.height);
+    let view_proj = input.camera.view_projection(input.aspect);
+    let records = OrganRecord::of_frame(input);
     let mut stats = CullStats::default();
-    let occ = (settings.mode == CullMode::Occlusion).then(|| {
-        let list = match given {
-            Given::Occluders(list) => list.to_vec(),
-            Given::Database(database) => {
-                let (list, source) =
-                    choose_occluders(set, layout, camera, &view_proj, settings, database, (&occluding, &cut_planes));
-                stats.source = Some(source);
-                list
-            }
-        };
-        // A solid the planes cut occludes with its stand-in cut at them while the eye lies where
-        // every plane keeps: no ray from it to a kept point then passes a plane, so each enters the
-        // solid through a drawn surface, never through a cut face (drawn at the depth of the faces
-        // beyond it, behind the stand-in).
-        let eye_kept = clip.exact && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
-        let solid_organs = if eye_kept { &occluding } else { &whole };
-        let solids = selection::solids(set, layout, &view_proj, solid_organs);
-        let shared = rasterise_occluders(
-            set,
-            layout,
-            &view_proj,
-            (&solids, &list),
-            Cuts { planes: &cut_planes, capped: &capped },
-            (w, h),
-            &phases.raster,
-        );
-        // Seen from the side a plane removes, a cut solid's stand-in still hides the organs of no
-        // valid solid behind it (see `behind_solids`).
-        let behind = match eye_kept || !clip.exact || planes.is_empty() {
-            true => Vec::new(),
-            false => behind_solids(set, layout, &view_proj, (&occluding, &sides, &capped), &solids),
-        };
-        let (mut occ, behind) =
-            with_solids_behind(set, layout, &view_proj, (clip, &cut_planes), behind, shared, (w, h));
-        stats.solids = solids.len() + behind;
-        if settings.hole_tolerance.is_some() {
-            for o in &mut occ.sets {
-                let depth: Vec<f32> =
-                    o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
-                let sparse = SparseDepth::new(&depth, w, h);
-                o.approximate = Some((depth, sparse));
-            }
-        }
-        occ
-    });
+    let occ = (settings.mode == CullMode::Occlusion)
+        .then(|| frame_occluders(input, &view_proj, settings, given, &records, phases, &mut stats));
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.sets[0].leaves, o.sets[0].triangles);
         for s in &o.sets[1..] {
@@ -407,29 +288,98 @@ fn cull_in_phases<'a>(
             stats.occluder_triangles = stats.occluder_triangles.max(s.triangles);
         }
     }
-    let testing = occ.is_some();
-    // Faces inside a solid are hidden while it is intact, whatever the occluders.
-    let intact = match testing {
-        true => selection::intact_solids(set, layout, &view_proj, &whole),
-        false => 0,
+    let views = organ_views(input, &view_proj, &records, witnesses, occ.is_some());
+    let list = traverse(input.set, settings, (views, occ), (cuts, phases), &mut stats);
+    stats.drawn = list.triangles();
+    (list, stats)
+}
+
+/// The occluders of a frame: chosen (or given), rasterised with the solids' stand-ins, and per
+/// organ the set it is tested against.
+fn frame_occluders(
+    input: &CullInput,
+    view_proj: &glam::Mat4,
+    settings: &CullSettings,
+    given: Given,
+    records: &[OrganRecord],
+    phases: &Phases,
+    stats: &mut CullStats,
+) -> FrameOccluders {
+    let CullInput { set, layout, camera, section, exact_cuts, .. } = *input;
+    let (occluding, whole) = (records::occluding(records), records::whole(records));
+    let list = match given {
+        Given::Occluders(list) => list.to_vec(),
+        Given::Database(database) => {
+            let (list, source) = choose_occluders(set, layout, camera, view_proj, settings, database, records);
+            stats.source = Some(source);
+            list
+        }
     };
-    let views: Vec<Option<OrganView>> = set
-        .organs
-        .iter()
-        .zip(&layout.organs)
-        .zip(witnesses)
-        .enumerate()
-        .map(|(o, ((organ, state), witnesses))| {
+    // A solid the planes cut occludes with its stand-in cut at them while the eye lies where
+    // every plane keeps: no ray from it to a kept point then passes a plane, so each enters the
+    // solid through a drawn surface, never through a cut face (drawn at the depth of the faces
+    // beyond it, behind the stand-in).
+    let planes = section.active_planes();
+    let eye_kept = exact_cuts && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
+    let solids = selection::solids(set, layout, view_proj, if eye_kept { &occluding } else { &whole });
+    let (w, h) = (settings.width, settings.height);
+    let shared = rasterise_occluders(set, layout, view_proj, (&solids, &list), records, (w, h), &phases.raster);
+    // Seen from the side a plane removes, a cut solid's stand-in still hides the organs of no
+    // valid solid behind it (see `behind_solids`).
+    let behind = match eye_kept || !exact_cuts || planes.is_empty() {
+        true => Vec::new(),
+        false => behind_solids(set, layout, view_proj, records, &solids),
+    };
+    let (mut occ, behind) = with_solids_behind(input, view_proj, records, behind, shared, (w, h));
+    stats.solids = solids.len() + behind;
+    if settings.hole_tolerance.is_some() {
+        for o in &mut occ.sets {
+            let depth: Vec<f32> =
+                o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
+            let sparse = SparseDepth::new(&depth, w, h);
+            o.approximate = Some((depth, sparse));
+        }
+    }
+    occ
+}
+
+/// Per organ, how its traversal sees it (`None` where it is not drawn): its back faces culled
+/// unless the renderer draws them as cut faces, the planes that remove its nodes where the
+/// renderer cuts triangles, and (where occlusion is `testing`) the solids intact this frame, whose
+/// inside faces are hidden whatever the occluders.
+fn organ_views<'w>(
+    input: &CullInput<'w>,
+    view_proj: &glam::Mat4,
+    records: &[OrganRecord],
+    witnesses: &'w [Witnesses],
+    testing: bool,
+) -> Vec<Option<OrganView<'w>>> {
+    let CullInput { set, layout, camera, section, .. } = *input;
+    let whole = records::whole(records);
+    let intact = if testing { selection::intact_solids(set, layout, view_proj, &whole) } else { 0 };
+    let organs = set.organs.iter().zip(&layout.organs).zip(witnesses).zip(records);
+    organs
+        .map(|(((organ, state), witnesses), record)| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
-            // The renderer draws a cut organ's back faces as its cut faces.
-            let capped = clip.caps && !clear[o];
-            let back_faces_culled = organ.closed() && !capped;
-            let removing = if clip.exact && !clear[o] { clip.planes } else { &[] };
+            let back_faces_culled = organ.closed() && !record.clip.capped;
+            let removing = if record.cut { section.active_planes() } else { &[] };
             let model = state.transform.matrix();
             let inside = (&organ.inside, intact);
-            drawn.then(|| OrganView::new(&view_proj, &model, camera, witnesses, back_faces_culled, removing, inside))
+            drawn.then(|| OrganView::new(view_proj, &model, camera, witnesses, back_faces_culled, removing, inside))
         })
-        .collect();
+        .collect()
+}
+
+/// Each drawn organ's hierarchy traversed from its cut (where occlusion is tested), the subtrees
+/// shared between this thread and the pool; the draw list in triangle order, and the cuts kept.
+fn traverse<'a>(
+    set: &'a OrganSet,
+    settings: &CullSettings,
+    (views, occ): (Vec<Option<OrganView<'a>>>, Option<FrameOccluders>),
+    (cuts, phases): (&mut [Cut], &Phases<'a>),
+    stats: &mut CullStats,
+) -> DrawList {
+    let testing = occ.is_some();
     // Per organ, what its traversals gave. Starts above the subtree size are traversed here, their
     // subtrees below shared; smaller starts are shared in groups.
     let mut walks: Vec<Walk> = set.organs.iter().map(|_| Walk::default()).collect();
@@ -451,15 +401,8 @@ fn cull_in_phases<'a>(
             }
             let mut split = Vec::new();
             let start = Start { organ: o, node, test: testing, started: true };
-            traverse_below(
-                organ,
-                view,
-                occ.as_ref().map(|f| f.of(o)),
-                settings,
-                start,
-                &mut walks[o],
-                Some(&mut split),
-            );
+            let here = (&mut walks[o], Some(&mut split));
+            traverse_below(organ, view, occ.as_ref().map(|f| f.of(o)), settings, start, here);
             for (node, test) in split {
                 let count = organ.bvh.nodes[node as usize].count;
                 job.add(Start { organ: o, node, test, started: false }, count, false);
@@ -488,6 +431,5 @@ fn cull_in_phases<'a>(
         r.sort_by_key(|r| r.start);
         r.into_iter().for_each(|r| list.push(o, r));
     }
-    stats.drawn = list.triangles();
-    (list, stats)
+    list
 }

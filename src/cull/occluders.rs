@@ -7,6 +7,7 @@ use super::depth_bound::DepthBound;
 use super::opacity_map::OpacityMap;
 use super::project::{first_pixel, last_pixel, project_point, ProjectedVertices};
 use super::raster::{OccluderMaps, OccluderRaster, Patches};
+use super::records::OrganRecord;
 use super::rect::PixelRect;
 use super::selection::LeafRef;
 use super::share::Phase;
@@ -198,7 +199,7 @@ impl Occluders {
 
 /// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
 /// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
-/// structures. An organ the planes cut (`cuts`) gives only its own triangles, cut at the planes,
+/// structures. An organ the planes cut (its record's `cut`) gives only its own triangles, cut at the planes,
 /// and a solid one of whose organs they cut gives its stand-in cut there (the caller chose it
 /// only where that hides what lies behind).
 pub(super) fn rasterise_occluders(
@@ -206,7 +207,7 @@ pub(super) fn rasterise_occluders(
     layout: &Layout,
     view_proj: &Mat4,
     (solids, list): (&[usize], &[LeafRef]),
-    cuts: Cuts,
+    records: &[OrganRecord],
     (w, h): (usize, usize),
     phase: &Phase<Patches>,
 ) -> Occluders {
@@ -219,17 +220,18 @@ pub(super) fn rasterise_occluders(
     let mut triangles = 0;
     let mut leaves = list.len();
     for solid in solids.iter().filter_map(|&s| set.solids.get(s)) {
-        let (l, t) = add_stand_in(&mut raster, solid, layout, view_proj, cuts.planes, &[false]);
+        let (l, t) = add_stand_in(&mut raster, solid, layout, view_proj, records, &[false]);
         (leaves, triangles) = (leaves + l, triangles + t);
     }
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
         let organ = &set.organs[o];
         let mvp = *view_proj * layout.organs[o].transform.matrix();
-        let planes = cuts.planes.get(o).map_or(&[][..], Vec::as_slice);
+        let record = records.get(o);
+        let planes = record.map_or(&[][..], |r| r.planes.as_slice());
         if !own.is_empty() {
             let leaves = (&organ.mesh, &organ.bvh, &own[..]);
             triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, false);
-            if cuts.capped.get(o).copied().unwrap_or(false) {
+            if record.is_some_and(|r| r.cut && r.clip.capped) {
                 // Its faces turned away, drawn as the cut face, hide what lies behind them too.
                 triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, true);
             }
@@ -306,11 +308,11 @@ pub(super) fn rasterise_stand_in(
     layout: &Layout,
     view_proj: &Mat4,
     solid: usize,
-    planes: &[Vec<ModelPlane>],
+    records: &[OrganRecord],
     (w, h): (usize, usize),
 ) -> Occluders {
     let mut raster = OccluderRaster::new(w, h);
-    let (leaves, triangles) = add_stand_in(&mut raster, &set.solids[solid], layout, view_proj, planes, &[false, true]);
+    let (leaves, triangles) = add_stand_in(&mut raster, &set.solids[solid], layout, view_proj, records, &[false, true]);
     Occluders::over(raster.finish_on(&Phase::default()), leaves, triangles)
 }
 
@@ -322,14 +324,14 @@ fn add_stand_in(
     solid: &Solid,
     layout: &Layout,
     view_proj: &Mat4,
-    planes: &[Vec<ModelPlane>],
+    records: &[OrganRecord],
     away: &[bool],
 ) -> (usize, usize) {
     let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { return (0, 0) };
     let mvp = *view_proj * layout.organs[first].transform.matrix();
     let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
     // Its organs move as one, so the planes cutting any of them are the same in its space.
-    let planes = solid.organs.iter().find_map(|&o| planes.get(o).filter(|p| !p.is_empty()));
+    let planes = solid.organs.iter().find_map(|&o| records.get(o).map(|r| &r.planes).filter(|p| !p.is_empty()));
     let planes = planes.map_or(&[][..], Vec::as_slice);
     let size = (raster.width, raster.height);
     let triangles = away
@@ -337,14 +339,6 @@ fn add_stand_in(
         .map(|&away| rasterise_organ(raster, (&s.mesh, &s.bvh, &all), &mvp, size, STAND_IN_DEPTH_BIAS, planes, away))
         .sum();
     (all.len(), triangles)
-}
-
-/// Organs the clip planes cut, as occluders: per organ the planes in its space (empty where none
-/// cuts it), and whether the renderer draws its faces turned away as the cut face.
-#[derive(Clone, Copy)]
-pub(super) struct Cuts<'a> {
-    pub planes: &'a [Vec<ModelPlane>],
-    pub capped: &'a [bool],
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).

@@ -79,12 +79,12 @@ pub fn by_projected_size(
     camera: &Camera,
     view_proj: &Mat4,
     settings: &CullSettings,
-    (occluding, cut): (&[bool], &[Vec<crate::clip::ModelPlane>]),
+    records: &[super::OrganRecord],
 ) -> Vec<LeafRef> {
     let (w, h) = (settings.width, settings.height);
     let mut organs: Vec<(usize, usize)> = Vec::new(); // (projected area, organ)
     for (o, (organ, state)) in set.organs.iter().zip(&layout.organs).enumerate() {
-        if !occluding.get(o).copied().unwrap_or(false) || organ.bvh.nodes.is_empty() {
+        if !records.get(o).is_some_and(|r| r.occluding) || organ.bvh.nodes.is_empty() {
             continue;
         }
         let mvp = *view_proj * state.transform.matrix();
@@ -103,7 +103,7 @@ pub fn by_projected_size(
         let (organ, state) = (&set.organs[o], &layout.organs[o]);
         let model = state.transform.matrix();
         let mvp = *view_proj * model;
-        let planes = cut.get(o).map_or(&[][..], Vec::as_slice);
+        let planes = records.get(o).map_or(&[][..], |r| r.planes.as_slice());
         let whole = planes.is_empty();
         let stand_in = organ.stand_in.as_ref().filter(|_| whole && wholly_ahead(&mvp, &organ.bvh.nodes[0].bounds));
         let bvh = stand_in.map_or(&organ.bvh, |s| &s.bvh);
@@ -152,11 +152,6 @@ fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3
         .count()
 }
 
-/// Per organ, whether it may occlude in `layout` with no clip planes: opaque and visible.
-pub fn opaque(layout: &Layout) -> Vec<bool> {
-    layout.organs.iter().map(|s| s.is_opaque()).collect()
-}
-
 /// The occluders of this frame among the organs marked `occluding` (opaque and visible), those
 /// marked `cut` (by clip planes) with their own leaves only, never a stand-in's: the pre-computed
 /// set of the nearest viewpoint where `settings.selection` allows it (automatic: the database
@@ -170,7 +165,7 @@ pub fn choose_occluders(
     view_proj: &Mat4,
     settings: &CullSettings,
     database: Option<&Database>,
-    (occluding, cut): (&[bool], &[Vec<crate::clip::ModelPlane>]),
+    records: &[super::OrganRecord],
 ) -> (Vec<LeafRef>, OccluderSource) {
     let viewpoint = database.and_then(|db| match settings.selection {
         Selection::ProjectedSize => None,
@@ -178,8 +173,8 @@ pub fn choose_occluders(
         Selection::Auto => db.serves(layout).and_then(|whole| Some((db.near(camera)?, whole))),
     });
     if let Some((viewpoint, whole)) = viewpoint {
-        let is_cut = |r: &LeafRef| cut.get(r.organ as usize).is_some_and(|p| !p.is_empty());
-        let occludes = |r: &LeafRef| occluding.get(r.organ as usize).copied().unwrap_or(false);
+        let is_cut = |r: &LeafRef| records.get(r.organ as usize).is_some_and(|o| o.cut);
+        let occludes = |r: &LeafRef| records.get(r.organ as usize).is_some_and(|o| o.occluding);
         let valid = |r: &&LeafRef| r.exists_in(set) && occludes(r) && !(r.stand_in && is_cut(r));
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list: Vec<LeafRef> = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
@@ -188,7 +183,7 @@ pub fn choose_occluders(
             return (list, OccluderSource::Mos);
         }
     }
-    (by_projected_size(set, layout, camera, view_proj, settings, (occluding, cut)), OccluderSource::ProjectedSize)
+    (by_projected_size(set, layout, camera, view_proj, settings, records), OccluderSource::ProjectedSize)
 }
 
 /// The solids ([`crate::organ_set::Solid`]) whose stand-ins may occlude this frame: with a
@@ -277,6 +272,11 @@ mod tests {
     use super::*;
     use crate::organ_set::{Organ, Solid, StandIn};
     use glam::Vec3;
+
+    /// Per organ, whether it is opaque (and so occludes with no section).
+    fn opaque(layout: &Layout) -> Vec<bool> {
+        layout.organs.iter().map(|s| s.is_opaque()).collect()
+    }
 
     /// A unit octahedron moved `x` along x.
     fn organ(id: &str, x: f32) -> Organ {

@@ -54,7 +54,6 @@ pub(super) struct OrganView<'a> {
 }
 
 impl<'a> OrganView<'a> {
-    #[allow(clippy::too_many_arguments)]
     pub fn new(
         view_proj: &Mat4,
         model: &Mat4,
@@ -133,8 +132,7 @@ pub(super) fn traverse_below(
     occ: Option<&Occluders>,
     settings: &CullSettings,
     start: Start,
-    walk: &mut Walk,
-    mut split: Option<&mut Vec<(u32, bool)>>,
+    (walk, mut split): (&mut Walk, Option<&mut Vec<(u32, bool)>>),
 ) {
     let Start { node: root, test, started, .. } = start;
     let (w, h) = (settings.width, settings.height);

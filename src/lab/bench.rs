@@ -6,7 +6,7 @@
 
 use crate::camera::Camera;
 use crate::cull::database::Database;
-use crate::cull::{CullMode, CullSettings, Culler, DrawList};
+use crate::cull::{CullInput, CullMode, CullSettings, Culler, DrawList};
 use crate::error::{Error, Result};
 use crate::layout::Layout;
 use crate::organ_set::OrganSet;
@@ -155,7 +155,7 @@ pub fn run(
     let total_leaves: usize = set.organs.iter().map(|o| o.bvh.leaves.len()).sum();
     for i in 0..frames {
         let camera = route.camera(&home, i, frames);
-        let frame = cut_by(FrameInput::new(set, &camera, layout), section);
+        let frame = FrameInput { section, ..FrameInput::new(set, &camera, layout) };
         renderer.render_leaf_ids(&gpu.device, &gpu.queue, &target, &frame, set, &first_id);
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         let mut h = vec![true; total_leaves];
@@ -175,10 +175,11 @@ pub fn run(
         // One frame: cull, draw, wait for the GPU.
         let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
             let camera = route.camera(&home, i, frames);
-            let clip = crate::cull::Clip::of(section, renderer.cuts_geometry());
-            let (draw, stats) = culler.cull_clipped(set, layout, &camera, target.aspect(), &settings, clip);
-            let input = FrameInput { draw: Some(&draw), transparency, ..FrameInput::new(set, &camera, layout) };
-            let input = cut_by(input, section);
+            let exact_cuts = renderer.cuts_geometry();
+            let cull = CullInput { section, exact_cuts, ..CullInput::new(set, layout, &camera, target.aspect()) };
+            let (draw, stats) = culler.cull_frame(&cull, &settings);
+            let input =
+                FrameInput { draw: Some(&draw), transparency, section, ..FrameInput::new(set, &camera, layout) };
             renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
             wait()?;
             Ok((draw, stats))
@@ -216,11 +217,6 @@ pub fn run(
         }
     }
     Ok(records)
-}
-
-/// A frame cut by a section's planes.
-fn cut_by<'f>(frame: FrameInput<'f>, section: &'f crate::clip::Section) -> FrameInput<'f> {
-    FrameInput { clip: &section.planes, caps: section.caps, whole: &section.whole, ..frame }
 }
 
 /// The drawn organs' leaves that exact visibility hides: how many, how many the draw list left

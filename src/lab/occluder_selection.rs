@@ -83,15 +83,8 @@ pub fn run(
             lengths[m] += list.len();
             for (c, &n) in counts.iter().enumerate() {
                 let given = &list[..n.min(list.len())];
-                let (_, stats) = Culler::default().cull_with(
-                    set,
-                    layout,
-                    camera,
-                    1.0,
-                    &settings,
-                    Some(given),
-                    crate::cull::Clip::NONE,
-                );
+                let input = crate::cull::CullInput::new(set, layout, camera, 1.0);
+                let (_, stats) = Culler::default().cull_with(&input, &settings, Some(given));
                 sums[m][c] += stats.culled_percent();
             }
         }

@@ -4,6 +4,7 @@
 use super::scene::GpuScene;
 use super::target::Target;
 use crate::camera::Camera;
+use crate::clip::{Section, NO_SECTION};
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::layout::Layout;
@@ -31,12 +32,8 @@ pub struct FrameInput<'a> {
     pub highlight: &'a [usize],
     /// The selected organ, outlined in its own colour.
     pub selection: Option<usize>,
-    /// Clip planes (world space); the first [`crate::clip::MAX_PLANES`] apply.
-    pub clip: &'a [crate::clip::ClipPlane],
-    /// Closed organs the planes cut show solid cut faces.
-    pub caps: bool,
-    /// Organs the planes never cut ("do not cut").
-    pub whole: &'a [usize],
+    /// The cross-section: clip planes, cut faces, organs kept whole.
+    pub section: &'a Section,
     /// Progressive refinement (the viewer): if the target shows this same frame in part, add one
     /// more screen-door pass to it; otherwise start it with the interactive count of passes.
     /// `false` draws the full count at once (exports, headless renders).
@@ -59,26 +56,41 @@ impl<'a> FrameInput<'a> {
             draw_order: None,
             highlight: &[],
             selection: None,
-            clip: &[],
-            caps: true,
-            whole: &[],
+            section: &NO_SECTION,
             refine: false,
             time_gpu: false,
         }
     }
 
-    /// A hash of everything that changes the image: equal for the same frame. Not `refine`, and
-    /// not the draw list: culling never changes a pixel, so passes drawn with different lists of
-    /// the same view add up to the same image.
+    /// A hash of everything that changes the image a technique draws: equal for the same frame.
+    /// Not `refine` or `time_gpu`; not the outlines (`highlight`, `selection`), drawn over the
+    /// finished image at every call; and not the draw list: culling never changes a pixel, so
+    /// passes drawn with different lists of the same view add up to the same image. The struct is taken apart
+    /// field by field, so that a new field must be placed here or left out on purpose.
     pub fn fingerprint(&self) -> u64 {
         use std::hash::{Hash, Hasher};
+        let FrameInput {
+            set: _,
+            camera,
+            layout,
+            draw: _,
+            background,
+            transparency,
+            moving,
+            draw_order,
+            highlight: _,
+            selection: _,
+            section,
+            refine: _,
+            time_gpu: _,
+        } = *self;
         let mut h = std::collections::hash_map::DefaultHasher::new();
         let floats =
             |v: &[f32], h: &mut std::collections::hash_map::DefaultHasher| v.iter().for_each(|f| f.to_bits().hash(h));
-        let c = self.camera;
+        let c = camera;
         floats(&[c.eye.x, c.eye.y, c.eye.z, c.target.x, c.target.y, c.target.z], &mut h);
         floats(&[c.up.x, c.up.y, c.up.z, c.fov_y, c.near, c.far], &mut h);
-        for s in &self.layout.organs {
+        for s in &layout.organs {
             (s.visible, s.opacity.to_bits()).hash(&mut h);
             let t = &s.transform;
             floats(&s.colour, &mut h);
@@ -87,11 +99,11 @@ impl<'a> FrameInput<'a> {
             floats(&t.pivot.to_array(), &mut h);
             t.scale.to_bits().hash(&mut h);
         }
-        floats(&self.background, &mut h);
-        let t = &self.transparency;
+        floats(&background, &mut h);
+        let t = &transparency;
         (t.mode.name(), t.subsamples, t.interactive_subsamples, t.region_px, t.k).hash(&mut h);
-        (self.moving, self.draw_order, self.caps, self.whole).hash(&mut h);
-        for p in self.clip {
+        (moving, draw_order, section.caps, &section.whole).hash(&mut h);
+        for p in &section.planes {
             floats(&p.normal, &mut h);
             p.d.to_bits().hash(&mut h);
         }
@@ -155,4 +167,59 @@ pub(super) struct Frame<'a> {
 pub(super) trait Technique {
     /// Records the frame; the stats' `passes` and mask figures (the renderer counts what was drawn).
     fn record(&self, frame: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats>;
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::View;
+    use crate::clip::ClipPlane;
+    use crate::organ_set::Organ;
+
+    /// Each field that changes what a technique draws changes the fingerprint; the others do not.
+    #[test]
+    fn the_fingerprint_follows_what_changes_the_image() {
+        let triangle = crate::mesh::Mesh {
+            positions: vec![[0.0; 3], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]],
+            normals: vec![[0.0, 0.0, 1.0]; 3],
+            indices: vec![0, 1, 2],
+        };
+        let set =
+            OrganSet { organs: vec![Organ::new("a".into(), "A".into(), [0.5; 3], triangle)], ..Default::default() };
+        let layout = Layout::new(&set);
+        let camera = Camera::view(&layout.bounds(&set), View::Anterior);
+        let base = FrameInput::new(&set, &camera, &layout);
+        let of = |f: FrameInput| f.fingerprint();
+        let cut = Section { planes: vec![ClipPlane::parse("axial=0").unwrap()], ..Section::default() };
+        let no_caps = Section { caps: false, ..Section::default() };
+        let whole = Section { whole: vec![0], ..Section::default() };
+        let moved = Camera { eye: camera.eye + glam::Vec3::X, ..camera };
+        let mut faded = layout.clone();
+        faded.organs[0].opacity = 0.5;
+        let order = [0usize];
+        let changed = [
+            FrameInput { section: &cut, ..base },
+            FrameInput { section: &no_caps, ..base },
+            FrameInput { section: &whole, ..base },
+            FrameInput { camera: &moved, ..base },
+            FrameInput { layout: &faded, ..base },
+            FrameInput { background: [1.0; 4], ..base },
+            FrameInput { moving: true, ..base },
+            FrameInput { draw_order: Some(&order), ..base },
+            FrameInput { transparency: TransparencySettings { region_px: 8, ..base.transparency }, ..base },
+        ];
+        for (i, f) in changed.into_iter().enumerate() {
+            assert_ne!(of(f), of(base), "change {i} must change the fingerprint");
+        }
+        let draw = DrawList { ranges: vec![Vec::new()] };
+        let same = [
+            FrameInput { refine: true, ..base },
+            FrameInput { time_gpu: true, ..base },
+            FrameInput { draw: Some(&draw), ..base },
+            FrameInput { selection: Some(0), highlight: &order, ..base },
+        ];
+        for (i, f) in same.into_iter().enumerate() {
+            assert_eq!(of(f), of(base), "change {i} must leave the fingerprint");
+        }
+    }
 }

@@ -73,9 +73,22 @@ impl Renderer {
 
     /// Whether triangles are cut at the clip planes before they are rasterised (the device has clip
     /// distances), so that what the planes remove draws no sample and culling may leave it out
-    /// ([`crate::cull::Clip::exact`]).
+    /// ([`crate::cull::CullInput::exact_cuts`]).
     pub fn cuts_geometry(&self) -> bool {
         self.cuts_geometry
+    }
+
+    /// What culling `frame` for this renderer into `target` takes: the same set, layout, camera
+    /// and section, at the target's aspect.
+    pub fn cull_input<'a>(&self, frame: &FrameInput<'a>, target: &Target) -> crate::cull::CullInput<'a> {
+        crate::cull::CullInput {
+            set: frame.set,
+            layout: frame.layout,
+            camera: frame.camera,
+            aspect: target.aspect(),
+            section: frame.section,
+            exact_cuts: self.cuts_geometry,
+        }
     }
 
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones

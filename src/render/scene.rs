@@ -214,7 +214,7 @@ impl GpuScene {
             view_proj: vp.to_cols_array_2d(),
             eye: frame.camera.eye.extend(1.0).to_array(),
             jitter,
-            clip: crate::clip::uniform(frame.clip),
+            clip: crate::clip::uniform(&frame.section.planes),
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));
     }
@@ -228,21 +228,13 @@ impl GpuScene {
         colour: impl Fn(usize, &OrganState) -> [f32; 4],
     ) {
         let mut data = Vec::with_capacity(self.meshes.len());
-        let planes = &frame.clip[..frame.clip.len().min(crate::clip::MAX_PLANES)];
         let mut capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
         capped.iter_mut().for_each(|c| *c = false);
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
-            let mut flags = 0;
-            if !planes.is_empty() && !frame.whole.contains(&i) {
-                flags |= CLIPPED;
-                let bounds = self.meshes[i].bounds.transformed(&model);
-                let cut = crate::clip::side(planes, &bounds) == crate::clip::Side::Cut;
-                if frame.caps && cut && self.meshes[i].closed {
-                    flags |= CAPPED;
-                    capped[i] = true;
-                }
-            }
+            let clip = frame.section.organ(i, &self.meshes[i].bounds.transformed(&model), self.meshes[i].closed);
+            let flags = if clip.clipped { CLIPPED } else { 0 } | if clip.capped { CAPPED } else { 0 };
+            capped[i] = clip.capped;
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
             let u = OrganUniform {
                 model: model.to_cols_array_2d(),

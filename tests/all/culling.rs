@@ -11,9 +11,9 @@
 use crate::common::{cube, default_database, default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::Camera;
-use vbrain::clip::ClipPlane;
+use vbrain::clip::{ClipPlane, Section};
 use vbrain::cull::database::Database;
-use vbrain::cull::{Clip, CullMode, CullSettings, Culler, Selection};
+use vbrain::cull::{CullInput, CullMode, CullSettings, Culler, Selection};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::navigation::Navigator;
@@ -207,7 +207,10 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 (layout, camera, Vec::new(), false, Vec::new())
             }
         };
-        let clip = Clip { planes: &planes, caps, whole: &whole, exact: renderer.cuts_geometry() };
+        let section = Section { planes: planes.to_vec(), caps, whole: whole.clone() };
+        let exact_cuts = renderer.cuts_geometry();
+        let input =
+            CullInput { section: &section, exact_cuts, ..CullInput::new(set, &layout, &camera, target.aspect()) };
         let settings = CullSettings {
             width: 64 + (pose % 3) * 32,
             height: 64 + (pose % 2) * 64,
@@ -218,7 +221,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
         for mode in [CullMode::None, CullMode::Occlusion] {
             let settings = CullSettings { mode, ..settings };
             let (draw, stats) = match mode {
-                CullMode::Occlusion => culler.cull_clipped(set, &layout, &camera, target.aspect(), &settings, clip),
+                CullMode::Occlusion => culler.cull_frame(&input, &settings),
                 _ => Culler::default().cull(set, &layout, &camera, target.aspect(), &settings),
             };
             removed += stats.clip_culled;
@@ -234,9 +237,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 draw: Some(&draw),
                 background: [0.0, 0.0, 0.0, 1.0],
                 transparency,
-                clip: &planes,
-                caps,
-                whole: &whole,
+                section: &section,
                 ..FrameInput::new(set, &camera, &layout)
             };
             renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
@@ -367,9 +368,10 @@ fn a_cut_solid_hides_what_lies_behind_it_but_not_an_organ_moved_into_it() {
         Camera { eye: Vec3::new(0.0, 0.0, 40.0), target: Vec3::ZERO, up: Vec3::Y, fov_y: 45.0, near: 1.0, far: 100.0 };
     // The plane removes the solid's near half: the eye looks at the cut face.
     let planes = [ClipPlane::new(Vec3::Z, 0.0).unwrap()];
-    let clip = Clip { planes: &planes, caps: true, whole: &[], exact: true };
+    let section = Section { planes: planes.to_vec(), ..Section::default() };
+    let input = CullInput { section: &section, exact_cuts: true, ..CullInput::new(&set, &layout, &camera, 1.0) };
     let settings = CullSettings { selection: Selection::ProjectedSize, ..Default::default() };
-    let (draw, stats) = Culler::default().cull_clipped(&set, &layout, &camera, 1.0, &settings, clip);
+    let (draw, stats) = Culler::default().cull_frame(&input, &settings);
     assert_eq!(stats.solids, 1, "the solid's stand-in occludes");
     assert!(draw.ranges[1].is_empty(), "the organ behind the solid is hidden: {:?}", draw.ranges[1]);
     assert!(!draw.ranges[2].is_empty(), "the organ moved into the solid is drawn");

@@ -7,7 +7,7 @@ use crate::common::cube;
 use glam::Vec3;
 use vbrain::camera::Camera;
 use vbrain::cull::database::{self, Database, DbProblem};
-use vbrain::cull::{choose_occluders, opaque, CullSettings, Culler, OccluderSource, Selection};
+use vbrain::cull::{choose_occluders, CullSettings, Culler, OccluderSource, OrganRecord, Selection};
 use vbrain::layout::Layout;
 use vbrain::mos::{self, Params};
 use vbrain::organ_set::{self, Organ, OrganSet};
@@ -77,7 +77,8 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     let camera = Camera::orbit(&home, 0.0, 0.0);
     let vp = camera.view_projection(1.0);
     let auto = CullSettings::default();
-    let (list, source) = choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db), (&opaque(&layout), &[]));
+    let (list, source) =
+        choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db), &OrganRecord::unclipped(&layout));
     assert_eq!(source, OccluderSource::Mos);
     assert!(list.iter().any(|r| r.organ == 0), "the wall is not among the pre-computed occluders: {list:?}");
     let (_, stats) = Culler::new(Some(db.clone())).cull(&set, &layout, &camera, 1.0, &auto);
@@ -87,32 +88,32 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     let mut moved = layout.clone();
     moved.organs[3].transform.translation = Vec3::new(0.0, 0.0, 5.0);
     assert_eq!(
-        choose_occluders(&set, &moved, &camera, &vp, &auto, Some(&db), (&opaque(&moved), &[])).1,
+        choose_occluders(&set, &moved, &camera, &vp, &auto, Some(&db), &OrganRecord::unclipped(&moved)).1,
         OccluderSource::ProjectedSize
     );
     let forced = CullSettings { selection: Selection::Mos, ..auto };
     assert_eq!(
-        choose_occluders(&set, &moved, &camera, &vp, &forced, Some(&db), (&opaque(&moved), &[])).1,
+        choose_occluders(&set, &moved, &camera, &vp, &forced, Some(&db), &OrganRecord::unclipped(&moved)).1,
         OccluderSource::Mos
     );
     // Far from every viewpoint (inside the set, looking sideways): projected size.
     let inside = Camera { eye: home.center(), target: home.center() + Vec3::X, ..camera };
     assert_eq!(
-        choose_occluders(&set, &layout, &inside, &vp, &auto, Some(&db), (&opaque(&layout), &[])).1,
+        choose_occluders(&set, &layout, &inside, &vp, &auto, Some(&db), &OrganRecord::unclipped(&layout)).1,
         OccluderSource::ProjectedSize
     );
     let ps = CullSettings { selection: Selection::ProjectedSize, ..auto };
     assert_eq!(
-        choose_occluders(&set, &layout, &camera, &vp, &ps, Some(&db), (&opaque(&layout), &[])).1,
+        choose_occluders(&set, &layout, &camera, &vp, &ps, Some(&db), &OrganRecord::unclipped(&layout)).1,
         OccluderSource::ProjectedSize
     );
     // A faded wall never occludes, even when the database is forced.
     let mut faded = layout.clone();
     faded.organs[0].opacity = 0.5;
-    let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db), (&opaque(&faded), &[]));
+    let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db), &OrganRecord::unclipped(&faded));
     assert!(list.iter().all(|r| r.organ != 0));
     // Automatic: with the wall faded too little of the set is left; a faded box leaves the wall.
-    let pick = |l: &Layout| choose_occluders(&set, l, &camera, &vp, &auto, Some(&db), (&opaque(l), &[]));
+    let pick = |l: &Layout| choose_occluders(&set, l, &camera, &vp, &auto, Some(&db), &OrganRecord::unclipped(l));
     assert_eq!(pick(&faded).1, OccluderSource::ProjectedSize);
     let box_faded = {
         let mut l = layout.clone();
@@ -128,7 +129,8 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     let mut hidden = layout.clone();
     hidden.organs[3].visible = false;
     let db_hidden = mos::preprocess(&set, &hidden, 32, &Params::default(), &|_, _| {});
-    let (_, source) = choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db_hidden), (&opaque(&layout), &[]));
+    let (_, source) =
+        choose_occluders(&set, &layout, &camera, &vp, &auto, Some(&db_hidden), &OrganRecord::unclipped(&layout));
     assert_eq!(source, OccluderSource::ProjectedSize);
 }
 

@@ -5,7 +5,7 @@
 use crate::common::gpu;
 use glam::Vec3;
 use vbrain::camera::{Camera, View};
-use vbrain::clip::ClipPlane;
+use vbrain::clip::{ClipPlane, Section};
 use vbrain::layout::Layout;
 use vbrain::mesh::Mesh;
 use vbrain::organ_set::{Organ, OrganSet};
@@ -52,11 +52,10 @@ fn a_sphere_cut_through_its_centre_shows_a_solid_disc() {
     let camera = Camera::view(&Layout::new(&set).bounds(&set), View::Superior);
     let axial = [ClipPlane::parse("axial=0").unwrap()];
     let shoot_whole = |layout: &Layout, caps: bool, whole: &[usize]| {
+        let section = Section { planes: axial.to_vec(), caps, whole: whole.to_vec() };
         let frame = FrameInput {
             background: [0.0, 0.0, 0.0, 1.0],
-            clip: &axial,
-            caps,
-            whole,
+            section: &section,
             ..FrameInput::new(&set, &camera, layout)
         };
         renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();

@@ -5,7 +5,7 @@ use super::{LayoutArgs, SectionArgs};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::Path;
-use vbrain::clip::Section;
+use vbrain::clip::{SavedSection, Section};
 use vbrain::cull::database::Database;
 use vbrain::layout::Layout;
 use vbrain::organ_set::{self, Loaded, OrganSet};
@@ -82,20 +82,22 @@ pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hi
 }
 
 /// The cross-section `--clip`, `--caps` and `--whole` give, each else the scene's (caps default
-/// on), with at most [`vbrain::clip::MAX_PLANES`] planes; and the names of the organs kept whole,
-/// as a scene file keeps them.
-pub fn section(set: &OrganSet, args: &SectionArgs, scene: Option<&SceneFile>) -> Result<(Section, Vec<String>)> {
-    let planes = if args.clip.is_empty() { scene.map_or(Vec::new(), |s| s.clip.clone()) } else { args.clip.clone() };
-    if planes.len() > vbrain::clip::MAX_PLANES {
+/// on), with at most [`vbrain::clip::MAX_PLANES`] planes: in the set, and as a scene file keeps it.
+pub fn section(set: &OrganSet, args: &SectionArgs, scene: Option<&SceneFile>) -> Result<(Section, SavedSection)> {
+    let saved = scene.map(SceneFile::section).unwrap_or(SavedSection { caps: true, ..Default::default() });
+    let saved = SavedSection {
+        planes: if args.clip.is_empty() { saved.planes } else { args.clip.clone() },
+        caps: args.caps.unwrap_or(saved.caps),
+        whole: if args.whole.is_empty() { saved.whole } else { args.whole.clone() },
+    };
+    if saved.planes.len() > vbrain::clip::MAX_PLANES {
         bail!("--clip: at most {} planes at once", vbrain::clip::MAX_PLANES);
     }
-    let caps = args.caps.or(scene.map(|s| s.caps)).unwrap_or(true);
-    let names = if args.whole.is_empty() { scene.map_or(Vec::new(), |s| s.whole.clone()) } else { args.whole.clone() };
-    let mut whole = Vec::new();
-    for key in &names {
-        whole.extend(organs(set, key).map_err(|e| anyhow!("--whole: {e}"))?);
+    let (section, unknown) = saved.resolve(set);
+    if let Some(key) = unknown.first() {
+        bail!("--whole: no organ with id \"{key}\" and no group of that name (see `vbrain info`)");
     }
-    Ok((Section { planes, caps, whole }, names))
+    Ok((section, saved))
 }
 
 /// The organs `key` names: an id or a group ([`OrganSet::select`]).

@@ -69,19 +69,14 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
             }
         };
         let camera = navigator.camera(&view.layout.bounds(&set).union(home));
-        let section = &view.section;
-        let clip = vbrain::cull::Clip::of(section, renderer.cuts_geometry());
-        let settings = CullSettings::default();
-        let (draw, _) = culler.cull_clipped(&set, &view.layout, &camera, target.aspect(), &settings, clip);
         let frame = FrameInput {
-            draw: Some(&draw),
             background: crate::background_linear(crate::background_srgb(), false),
             highlight: &view.highlight,
-            clip: &section.planes,
-            caps: section.caps,
-            whole: &section.whole,
+            section: &view.section,
             ..FrameInput::new(&set, &camera, &view.layout)
         };
+        let (draw, _) = culler.cull_frame(&renderer.cull_input(&frame, &target), &CullSettings::default());
+        let frame = FrameInput { draw: Some(&draw), ..frame };
         renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
         let mut image = target.read_color(&gpu.device, &gpu.queue)?;
         if labels != Labels::None {

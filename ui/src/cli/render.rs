@@ -86,14 +86,14 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
 
     // Sections and labels: the options given, else the scene's.
     let from_scene = scene.as_ref().map(|(_, s)| s);
-    let (section, whole_names) = section(&set, &args.section, from_scene)?;
+    let (section, saved_section) = section(&set, &args.section, from_scene)?;
     let which = Which::parse(args.labels.as_deref().or(from_scene.and_then(|s| s.labels.as_deref())).unwrap_or(""));
 
     if let Some(out) = &args.save_scene {
         let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
         let render = RenderState { transparency, cull: mode, background: background_srgb };
         let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
-        (file.clip, file.caps, file.whole) = (section.planes.clone(), section.caps, whole_names);
+        file.set_section(saved_section);
         file.labels = which.key();
         file.save(out).map_err(|e| anyhow!(e))?;
     }
@@ -112,23 +112,20 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let renderer = Renderer::new(&gpu.device, &set)?;
     let target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
-    let clip = vbrain::cull::Clip::of(&section, renderer.cuts_geometry());
     let mut culler = Culler::new(database(&path, &set));
-    let (draw, cull) = culler.cull_clipped(&set, &layout, &camera, target.aspect(), &settings, clip);
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
     let input = FrameInput {
-        draw: Some(&draw),
         background,
         transparency,
         draw_order: order.as_deref(),
         highlight: &highlight,
         selection,
-        clip: &section.planes,
-        caps: section.caps,
-        whole: &section.whole,
+        section: &section,
         time_gpu: args.json,
         ..FrameInput::new(&set, &camera, &layout)
     };
+    let (draw, cull) = culler.cull_frame(&renderer.cull_input(&input, &target), &settings);
+    let input = FrameInput { draw: Some(&draw), ..input };
     let stats = if args.debug_culled {
         renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input)?
     } else {

@@ -150,8 +150,7 @@ pub fn capture(
         render,
         selected,
     );
-    (file.clip, file.caps) = (section.planes.clone(), section.caps);
-    file.whole = scene.set().ids(&section.whole);
+    file.set_section(vbrain::clip::SavedSection::of(section, scene.set()));
     file.labels = labels.key();
     Some(file)
 }

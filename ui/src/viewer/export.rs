@@ -46,11 +46,8 @@ pub fn unused_path(path: &Path) -> PathBuf {
 /// Renders `frame` (a still: full screen-door masks) at `size`, with `labels` (named by `name`)
 /// sized to the image, and writes a PNG to `path` (or, if that exists, to the next free name,
 /// which is returned).
-#[allow(clippy::too_many_arguments)]
 pub fn export(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    renderer: &Renderer,
+    (device, queue, renderer): (&wgpu::Device, &wgpu::Queue, &Renderer),
     frame: &FrameInput,
     size: [u32; 2],
     path: &Path,

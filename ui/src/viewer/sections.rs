@@ -41,10 +41,8 @@ pub struct Sections {
     pub planes: [PlaneControl; 4],
     /// The oblique plane's unit normal (into the side removed, unflipped).
     pub oblique_normal: Vec3,
-    pub caps: bool,
-    /// Organs (indices) the planes do not cut, sorted.
-    pub whole: Vec<usize>,
-    /// What the controls set, as of the last change.
+    /// What the controls set, as of the last change: its cut faces and organs kept whole are
+    /// set here directly, its planes from `planes`.
     pub current: Section,
 }
 
@@ -55,8 +53,6 @@ impl Default for Sections {
             open: false,
             planes: [off; 4],
             oblique_normal: Vec3::new(0.0, -1.0, 1.0).normalize(),
-            caps: true,
-            whole: Vec::new(),
             current: Section::default(),
         }
     }
@@ -84,7 +80,7 @@ impl Sections {
                 ClipPlane::new(self.normal(k), p.mm).map(|c| if p.flip { c.flipped() } else { c })
             })
             .collect();
-        Section { planes, caps: self.caps, whole: self.whole.clone() }
+        Section { planes, caps: self.current.caps, whole: self.current.whole.clone() }
     }
 
     fn changed(&mut self) {
@@ -96,9 +92,9 @@ impl Sections {
     /// out (a second oblique one, or a second plane on one axis).
     pub fn set_section(&mut self, section: &Section) -> usize {
         self.planes.iter_mut().for_each(|p| p.on = false);
-        (self.caps, self.whole) = (section.caps, section.whole.clone());
-        self.whole.sort_unstable();
-        self.whole.dedup();
+        (self.current.caps, self.current.whole) = (section.caps, section.whole.clone());
+        self.current.whole.sort_unstable();
+        self.current.whole.dedup();
         let mut left_out = 0;
         for plane in &section.planes {
             let n = plane.normal();
@@ -122,10 +118,10 @@ impl Sections {
 
     /// Marks organ `organ` kept whole or not.
     pub fn set_whole(&mut self, organ: usize, whole: bool) {
-        self.whole.retain(|&o| o != organ);
+        self.current.whole.retain(|&o| o != organ);
         if whole {
-            self.whole.push(organ);
-            self.whole.sort_unstable();
+            self.current.whole.push(organ);
+            self.current.whole.sort_unstable();
         }
         self.changed();
     }
@@ -184,7 +180,7 @@ impl Sections {
         forward: Vec3,
         name: impl Fn(usize) -> String,
     ) -> bool {
-        let before = (self.planes, self.oblique_normal, self.caps, self.whole.clone());
+        let before = (self.planes, self.oblique_normal, self.current.caps, self.current.whole.clone());
         ui.vertical(|ui| {
             let Some(b) = bounds.filter(|b| !b.is_empty()) else {
                 ui.label("Open an organ set to cut it.");
@@ -223,26 +219,26 @@ impl Sections {
             });
             ui.label(egui::RichText::new("Drag a plane's handle in the view to move it.").weak());
             ui.separator();
-            ui.checkbox(&mut self.caps, "Solid cut faces")
+            ui.checkbox(&mut self.current.caps, "Solid cut faces")
                 .on_hover_text("Fill the cut faces of closed organs in their colour");
-            if self.whole.is_empty() {
+            if self.current.whole.is_empty() {
                 ui.label(egui::RichText::new("No organ kept whole (see the inspector's \"Do not cut\").").weak());
             } else {
                 ui.label("Kept whole:");
                 let mut keep = None;
                 ui.horizontal_wrapped(|ui| {
-                    for &o in &self.whole {
+                    for &o in &self.current.whole {
                         if ui.small_button(format!("{} ×", name(o))).on_hover_text("Cut it again").clicked() {
                             keep = Some(o);
                         }
                     }
                 });
                 if let Some(o) = keep {
-                    self.whole.retain(|&w| w != o);
+                    self.current.whole.retain(|&w| w != o);
                 }
             }
         });
-        let changed = before != (self.planes, self.oblique_normal, self.caps, self.whole.clone());
+        let changed = before != (self.planes, self.oblique_normal, self.current.caps, self.current.whole.clone());
         if changed {
             self.changed();
         }

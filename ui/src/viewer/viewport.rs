@@ -291,13 +291,7 @@ impl Viewport {
     fn draw_ids<'a>(&'a self, input: &Input<'a>, min_opacity: f32) -> Option<(&'a Target, &'a egui_wgpu::RenderState)> {
         let (scene, rs, (target, _)) = (input.scene?, input.gpu?, self.target.as_ref()?);
         let camera = self.camera(scene);
-        let section = input.section;
-        let frame = FrameInput {
-            clip: &section.planes,
-            caps: section.caps,
-            whole: &section.whole,
-            ..FrameInput::new(scene.set(), &camera, scene.shown())
-        };
+        let frame = FrameInput { section: input.section, ..FrameInput::new(scene.set(), &camera, scene.shown()) };
         scene.renderer().render_ids(&rs.device, &rs.queue, target, &frame, min_opacity);
         Some((target, rs))
     }
@@ -448,14 +442,9 @@ impl Viewport {
         }
         let settings = input.settings;
         let Some((target, id)) = &self.target else { return out };
-        let section = input.section;
-        let clip = vbrain::cull::Clip::of(section, scene.renderer().cuts_geometry());
-        let (draw, cull) =
-            self.culler.cull_clipped(scene.set(), scene.shown(), &camera, target.aspect(), &settings.cull, clip);
         // Moving and slow: fewer sub-samples, down to one blended pass.
         let transparency = self.motion.0.frame(settings.transparency, self.moving);
         let frame = FrameInput {
-            draw: Some(&draw),
             background: settings.background_linear(false),
             transparency,
             moving: self.moving,
@@ -463,11 +452,12 @@ impl Viewport {
             refine: !self.moving,
             highlight: input.highlight,
             selection: input.selected,
-            clip: &section.planes,
-            caps: section.caps,
-            whole: &section.whole,
+            section: input.section,
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
+        let cull_input = scene.renderer().cull_input(&frame, target);
+        let (draw, cull) = self.culler.cull_frame(&cull_input, &settings.cull);
+        let frame = FrameInput { draw: Some(&draw), ..frame };
         let faded = frame.has_transparent();
         let stats = if settings.cull_debug {
             scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame)

@@ -174,13 +174,11 @@ impl App {
             transparency: self.settings.transparency,
             highlight: &self.lesson.highlight,
             selection: self.selected,
-            clip: &self.sections.current.planes,
-            caps: self.sections.current.caps,
-            whole: &self.sections.current.whole,
+            section: &self.sections.current,
             ..FrameInput::new(scene.set(), &camera, scene.layout())
         };
         let labels = self.labels();
         let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
-        export::export(&rs.device, &rs.queue, scene.renderer(), &frame, size, &path, &labels, &name)
+        export::export((&rs.device, &rs.queue, scene.renderer()), &frame, size, &path, &labels, &name)
     }
 }

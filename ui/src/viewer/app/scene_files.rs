@@ -42,14 +42,13 @@ impl App {
         self.settings.background = file.render.background;
         let which = vbrain::labels::Which::parse(file.labels.as_deref().unwrap_or(""));
         (self.settings.labels, self.chosen_labels) = LabelMode::of_which(&which, scene.set());
-        let (whole, unknown) = vbrain::labels::Which::chosen(&file.whole, scene.set());
+        let (section, unknown) = file.section().resolve(scene.set());
         for name in unknown {
             self.notifications.push(Notification {
                 text: format!("{}: \"whole\" names no organ or group {name}", path.display()),
                 error: false,
             });
         }
-        let section = vbrain::clip::Section { planes: file.clip.clone(), caps: file.caps, whole };
         let left_out = self.sections.set_section(&section);
         if self.document.restoring.as_deref() == Some(path) {
             // Recovered changes are saved nowhere yet.
