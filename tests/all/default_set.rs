@@ -231,7 +231,7 @@ fn solid_stand_ins_are_coarse_and_inside_their_organs() {
     let dir = Vec3::new(0.31, 0.52, 0.79).normalize();
     for solid in &set.solids {
         // The whole brain's are left out: in a close-up pose of the identity test, six pixels
-        // showed one of them through a gap its rays did not find (docs/BENCHMARKS.md).
+        // showed one of them through a gap its rays did not find (docs/benchmarks-log.md).
         let shipped = solid.id != "brain";
         assert_eq!(!solid.hidden_faces().is_empty(), shipped, "{}: faces inside it: run `vbrain stand-ins`", solid.id);
         if solid.id.starts_with("cerebellum") {
