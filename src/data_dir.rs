@@ -145,18 +145,22 @@ pub fn lesson(name_or_path: &Path) -> Result<PathBuf, LessonNotFound> {
     }
 }
 
-/// The names of a set's lessons (`lessons/*.vblesson`), sorted.
-pub fn lesson_names(set: &Path) -> Vec<String> {
-    let mut names: Vec<String> = std::fs::read_dir(set.join("lessons"))
+/// A set's lesson files (`lessons/*.vblesson`), sorted.
+pub fn lesson_files(set: &Path) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(set.join("lessons"))
         .into_iter()
         .flatten()
         .flatten()
         .map(|entry| entry.path())
         .filter(|p| p.extension().is_some_and(|e| e == "vblesson"))
-        .filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned()))
         .collect();
-    names.sort();
-    names
+    files.sort();
+    files
+}
+
+/// The names of a set's lessons (their file names without `.vblesson`), sorted.
+pub fn lesson_names(set: &Path) -> Vec<String> {
+    lesson_files(set).iter().filter_map(|p| p.file_stem().map(|s| s.to_string_lossy().into_owned())).collect()
 }
 
 /// A lesson named that is neither a file nor one of the default set's lessons.

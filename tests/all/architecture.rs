@@ -229,3 +229,31 @@ fn no_source_file_over_700_lines() {
         }
     }
 }
+
+/// What each of the viewer's components uses of the others (docs/ARCHITECTURE.md: components
+/// depend on the shared modules only; `app` and `window` compose them; a component's parts are
+/// modules of its own, such as `viewport::motion`).
+fn component_uses(graph: &BTreeMap<Vec<String>, BTreeSet<Vec<String>>>) -> Vec<(String, String)> {
+    const SHARED: [&str; 7] = ["action", "scene", "settings", "shortcuts", "widgets", "jobs", "paths"];
+    let viewer = |m: &Vec<String>| (m.len() >= 2 && m[0] == "viewer").then(|| m[1].clone());
+    let component = |name: &str| !["app", "window"].contains(&name) && !SHARED.contains(&name);
+    let mut out = Vec::new();
+    for (module, uses) in graph {
+        let Some(from) = viewer(module).filter(|n| component(n)) else { continue };
+        for to in uses.iter().filter_map(viewer).filter(|n| component(n) && *n != from) {
+            out.push((from.clone(), to));
+        }
+    }
+    out
+}
+
+#[test]
+fn viewer_components_use_only_the_shared_modules() {
+    let graph = use_graph(&repo().join("ui/src"));
+    let uses = component_uses(&graph);
+    assert!(uses.is_empty(), "viewer components that use other components: {uses:?}");
+    // The rule can fail: a component that uses another is reported.
+    let mut broken = graph.clone();
+    broken.entry(vec!["viewer".into(), "status".into()]).or_default().insert(vec!["viewer".into(), "viewport".into()]);
+    assert_eq!(component_uses(&broken), [("status".to_string(), "viewport".to_string())]);
+}

@@ -165,7 +165,7 @@ fn at_equal_error(curve: &[CurvePoint]) -> serde_json::Value {
 }
 
 /// A view's weighted blended frame: what the viewer draws while moving where one screen-door pass
-/// is too slow (`viewer::motion`).
+/// is too slow (`viewer::viewport::motion`).
 fn blended_ms(rows: &[Row], view: &str) -> f64 {
     rows.iter().find(|r| r.view == view && r.mode == TransparencyMode::WeightedBlended).map_or(f64::NAN, |r| r.frame_ms)
 }

@@ -3,6 +3,7 @@
 //! notifications) as commands. [`crate::viewer::App::perform`] carries them out in order, in one
 //! place.
 
+use glam::Vec3;
 use std::path::PathBuf;
 use vbrain::camera::View;
 use vbrain::edit::Edit;
@@ -165,4 +166,17 @@ impl Action {
                 | QuizClose
         )
     }
+}
+
+/// Which control: 0 axial, 1 coronal, 2 sagittal, 3 oblique.
+pub type Slot = usize;
+
+/// Where a plane's handle sits (world millimetres) and which way it moves the plane.
+/// (The Sections panel makes them; the viewport draws and drags them.)
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Handle {
+    pub slot: Slot,
+    pub at: Vec3,
+    /// Unit normal: dragging along it moves the plane to larger positions.
+    pub normal: Vec3,
 }

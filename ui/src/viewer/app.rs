@@ -8,10 +8,10 @@
 
 use super::about::About;
 use super::action::{Action, Window};
+use super::dialogs::files;
 use super::dialogs::Dialogs;
 use super::dock::{self, Dock, Tab};
 use super::document::{self, Document};
-use super::files;
 use super::jobs::Job;
 use super::lesson_panel::LessonPanel;
 use super::menus::{self, MenuState};
@@ -506,7 +506,8 @@ impl eframe::App for App {
         let status = Status {
             scene: self.scene.as_ref(),
             loading: self.is_loading(),
-            viewport: &self.viewport,
+            frame: (self.viewport.stats(), self.viewport.fps(), self.viewport.fly()),
+            occluders: self.viewport.cull_stats().source,
             settings: &self.settings,
             selected: self.selected,
         };

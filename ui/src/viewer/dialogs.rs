@@ -2,8 +2,11 @@
 //! export a screenshot, a glTF model or a web page.
 
 use super::action::ModelKind;
-use super::export::{ExportWindow, ModelWindow};
-use super::files::{ImportWindow, OpenWindow};
+pub mod export;
+pub mod files;
+
+use export::{ExportWindow, ModelWindow};
+use files::{ImportWindow, OpenWindow};
 
 /// The viewer's windows.
 pub struct Dialogs {

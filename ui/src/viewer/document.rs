@@ -10,11 +10,10 @@
 use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
-use super::viewport::Viewport;
 use super::widgets::{PathField, Pick};
 use eframe::egui;
 use std::path::{Path, PathBuf};
-use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile, EXTENSION};
+use vbrain::scene_file::{CameraState, RenderState, SceneFile, EXTENSION};
 
 /// Is this a scene file (by its extension)?
 pub fn is_scene(p: &Path) -> bool {
@@ -131,25 +130,16 @@ impl Document {
 /// saved (several mesh files opened together have no one path to refer to).
 pub fn capture(
     scene: &Scene,
-    viewport: &Viewport,
+    camera: CameraState,
     section: &vbrain::clip::Section,
     (settings, labels): (&Settings, &vbrain::labels::Which),
     selected: Option<usize>,
     path: &Path,
 ) -> Option<SceneFile> {
     let [set_path] = scene.source() else { return None };
-    let mode = if viewport.fly() { CameraMode::Walk } else { CameraMode::Orbit };
     let render =
         RenderState { transparency: settings.transparency, cull: settings.cull.mode, background: settings.background };
-    let mut file = SceneFile::capture(
-        scene.set(),
-        set_path,
-        path,
-        scene.layout(),
-        CameraState::of(&viewport.navigator(), mode),
-        render,
-        selected,
-    );
+    let mut file = SceneFile::capture(scene.set(), set_path, path, scene.layout(), camera, render, selected);
     file.set_section(vbrain::clip::SavedSection::of(section, scene.set()));
     file.labels = labels.key();
     Some(file)

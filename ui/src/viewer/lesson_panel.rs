@@ -50,16 +50,6 @@ struct Texts {
     typing: bool,
 }
 
-/// The lessons in the `lessons` folder beside a set, by file name.
-pub fn lessons_beside(set: &Path) -> Vec<PathBuf> {
-    let mut found: Vec<PathBuf> = std::fs::read_dir(set.join("lessons"))
-        .map(|d| d.filter_map(|e| e.ok().map(|e| e.path())).collect())
-        .unwrap_or_default();
-    found.retain(|p| p.extension().is_some_and(|e| e == EXTENSION));
-    found.sort();
-    found
-}
-
 impl LessonPanel {
     /// A panel showing `lesson` (from `path`, or new) at its first step.
     pub fn open(lesson: Lesson, path: Option<PathBuf>) -> LessonPanel {

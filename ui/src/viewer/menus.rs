@@ -247,7 +247,7 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
 /// The lessons in the `lessons` folder beside the open set.
 fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>) {
     let lessons = match scene.map(Scene::source) {
-        Some([set]) => super::lesson_panel::lessons_beside(set),
+        Some([set]) => vbrain::data_dir::lesson_files(set),
         _ => Vec::new(),
     };
     let new = ui.add_enabled(scene.is_some(), egui::Button::new("New lesson"));

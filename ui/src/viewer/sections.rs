@@ -12,6 +12,8 @@ use glam::Vec3;
 use vbrain::clip::{ClipPlane, Section};
 use vbrain::mesh::Bounds;
 
+pub use super::action::{Handle, Slot};
+
 /// One plane as the window sets it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PlaneControl {
@@ -20,18 +22,6 @@ pub struct PlaneControl {
     pub mm: f32,
     /// Keep the side the normal points to instead.
     pub flip: bool,
-}
-
-/// Which control: 0 axial, 1 coronal, 2 sagittal, 3 oblique.
-pub type Slot = usize;
-
-/// Where a plane's handle sits (world millimetres) and which way it moves the plane.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Handle {
-    pub slot: Slot,
-    pub at: Vec3,
-    /// Unit normal: dragging along it moves the plane to larger positions.
-    pub normal: Vec3,
 }
 
 #[derive(Clone, Debug, PartialEq)]

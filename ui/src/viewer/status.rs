@@ -5,7 +5,6 @@
 use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
-use super::viewport::Viewport;
 use eframe::egui;
 
 /// A message for the user; errors name the file that failed.
@@ -18,7 +17,10 @@ pub struct Notification {
 pub struct Status<'a> {
     pub scene: Option<&'a Scene>,
     pub loading: bool,
-    pub viewport: &'a Viewport,
+    /// The last frame's counts, the frame rate, and whether the camera walks (not orbits).
+    pub frame: (vbrain::render::RenderStats, f32, bool),
+    /// Where the last frame's occluders came from.
+    pub occluders: Option<vbrain::cull::OccluderSource>,
     pub settings: &'a Settings,
     pub selected: Option<usize>,
 }
@@ -29,20 +31,20 @@ pub fn status_bar(ui: &mut egui::Ui, s: &Status) {
             ui.label(if s.loading { "loading..." } else { "no organ set: File > Open organ set..." });
             return;
         };
-        let stats = s.viewport.stats();
+        let (stats, fps, fly) = s.frame;
         if s.settings.show_stats {
-            ui.label(format!("{:.0} fps", s.viewport.fps()));
+            ui.label(format!("{fps:.0} fps"));
             ui.separator();
         }
         ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set().triangle_count()));
         ui.separator();
         ui.label(format!("{} organs drawn", stats.organs_drawn));
         ui.separator();
-        ui.label(if s.viewport.fly() { "walk-through camera" } else { "orbit camera" });
+        ui.label(if fly { "walk-through camera" } else { "orbit camera" });
         ui.separator();
         ui.label(format!("transparency: {}", s.settings.transparency.mode.name()));
         ui.separator();
-        let occluders = match s.viewport.cull_stats().source {
+        let occluders = match s.occluders {
             Some(vbrain::cull::OccluderSource::Mos) => ", pre-computed occluders",
             Some(vbrain::cull::OccluderSource::ProjectedSize) => ", occluders by projected size",
             None => "",

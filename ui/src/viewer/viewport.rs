@@ -9,6 +9,8 @@
 //! [`Action`]s. A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its
 //! actions, then [`Viewport::draw`], so what is drawn includes this frame's moves.
 
+mod motion;
+
 use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
@@ -43,7 +45,7 @@ pub struct Input<'a> {
     /// Which organs get labels.
     pub labels: crate::annotate::Labels,
     /// Handles to drag planes by (while the Sections window is open).
-    pub handles: Vec<super::sections::Handle>,
+    pub handles: Vec<super::action::Handle>,
 }
 
 pub struct Viewport {
@@ -57,7 +59,7 @@ pub struct Viewport {
     /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
     moving: bool,
     /// How moving frames draw faded organs, and when the last one was drawn.
-    motion: (super::motion::MotionQuality, Option<Instant>),
+    motion: (motion::MotionQuality, Option<Instant>),
     target: Option<(Target, egui::TextureId)>,
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
@@ -130,6 +132,12 @@ impl Viewport {
     /// The camera framing these world bounds, from where it looks now.
     pub fn frame(&mut self, bounds: &Bounds) {
         self.nav.frame(bounds);
+    }
+
+    /// The camera as a scene file keeps it.
+    pub fn camera_state(&self) -> vbrain::scene_file::CameraState {
+        use vbrain::scene_file::{CameraMode, CameraState};
+        CameraState::of(&self.navigator(), if self.fly() { CameraMode::Walk } else { CameraMode::Orbit })
     }
 
     pub fn fly(&self) -> bool {
@@ -352,7 +360,7 @@ impl Viewport {
     }
 
     /// A handle's dot and the tip of its arrow (12 mm along the plane's normal), in points.
-    pub fn handle_points(&self, scene: &Scene, h: &super::sections::Handle) -> Option<(Pos2, Pos2)> {
+    pub fn handle_points(&self, scene: &Scene, h: &super::action::Handle) -> Option<(Pos2, Pos2)> {
         Some((self.project(scene, h.at)?, self.project(scene, h.at + h.normal * 12.0)?))
     }
 
@@ -373,7 +381,7 @@ impl Viewport {
 
     /// Millimetres a drag of `delta` points moves a plane: its component along the handle's
     /// arrow on screen, scaled by the arrow's length.
-    fn drag_along(&self, scene: &Scene, h: &super::sections::Handle, delta: Vec2) -> f32 {
+    fn drag_along(&self, scene: &Scene, h: &super::action::Handle, delta: Vec2) -> f32 {
         let Some((dot, tip)) = self.handle_points(scene, h) else { return 0.0 };
         let arrow = Vec2::new(tip.x - dot.x, tip.y - dot.y);
         let len = arrow.length();
@@ -529,7 +537,7 @@ impl Viewport {
 }
 
 /// The statistics overlay (top left): culling and transparency figures of the frame, with
-/// `transparency` as this frame drew (see [`super::motion`]).
+/// `transparency` as this frame drew (see [`motion`]).
 fn overlay(
     ui: &egui::Ui,
     rect: Rect,

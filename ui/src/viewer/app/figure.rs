@@ -4,7 +4,7 @@
 
 use super::App;
 use crate::viewer::action::ModelKind;
-use crate::viewer::export;
+use crate::viewer::dialogs::export;
 use crate::viewer::settings::LabelMode;
 use anyhow::{Context, Result};
 use eframe::egui;

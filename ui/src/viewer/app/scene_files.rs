@@ -76,7 +76,8 @@ impl App {
         let Some(scene) = &self.scene else { return };
         let which = self.settings.labels.which(&self.chosen_labels, scene.set());
         let marks = (&self.settings, &which);
-        let Some(file) = document::capture(scene, &self.viewport, &self.sections.current, marks, self.selected, path)
+        let Some(file) =
+            document::capture(scene, self.viewport.camera_state(), &self.sections.current, marks, self.selected, path)
         else {
             return self
                 .notify("mesh files opened together cannot be saved as a scene: save them as a set first", true);
@@ -160,7 +161,7 @@ impl App {
             let which = self.settings.labels.which(&self.chosen_labels, scene.set());
             let (viewport, section, selected) = (&self.viewport, &self.sections.current, self.selected);
             let marks = (&self.settings, &which);
-            let capture = |p: &Path| document::capture(scene, viewport, section, marks, selected, p);
+            let capture = |p: &Path| document::capture(scene, viewport.camera_state(), section, marks, selected, p);
             if let Some(problem) = self.document.keep_recovery(now, scene, capture) {
                 self.notifications.push(Notification { text: problem, error: true });
             }

@@ -2,9 +2,9 @@
 //! onto the window, and the import job. Each window has a path field (see
 //! [`PathField`]) and returns [`Action`]s; the app runs them.
 
-use super::action::{Action, ImportRequest};
-use super::jobs::Progress;
-use super::widgets::{accessible, PathField, Pick};
+use crate::viewer::action::{Action, ImportRequest};
+use crate::viewer::jobs::Progress;
+use crate::viewer::widgets::{accessible, PathField, Pick};
 use anyhow::Result;
 use eframe::egui;
 use std::path::{Path, PathBuf};

@@ -5,15 +5,15 @@
 //! [`Action::ExportModel`]: the scene as a glTF model ([`vbrain::gltf`]) or a web page
 //! ([`vbrain::web_page`]).
 
-use super::action::{Action, ModelKind};
-use super::settings::{ExportSettings, ExportSize};
-use super::widgets::{accessible, PathField, Pick};
+use crate::viewer::action::{Action, ModelKind};
+use crate::viewer::settings::{ExportSettings, ExportSize};
+use crate::viewer::widgets::{accessible, PathField, Pick};
 use anyhow::{bail, Result};
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::render::{FrameInput, Renderer, Target};
 
-pub use super::settings::MAX_EXPORT_SIDE as MAX_SIDE;
+pub use crate::viewer::settings::MAX_EXPORT_SIDE as MAX_SIDE;
 
 /// `<set>-YYYYMMDD-HHMMSS.png` for the set's title and a time (UTC).
 pub fn default_file_name(title: &str, now: std::time::SystemTime) -> String {
