@@ -29,7 +29,7 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         size: (args.size.width, args.size.height),
         modes: &args.cull,
         route: args.route,
-        json: args.json,
+        json: args.report.json,
         out: &args.out,
         settings,
         transparency,

@@ -8,6 +8,6 @@ use anyhow::Result;
 pub fn run(args: &BenchTransparencyArgs) -> Result<bool> {
     let set = open_set(&args.path)?;
     let size = (args.size.width, args.size.height);
-    crate::lab::transparency_bench::run(&set, size, args.region, &args.out, args.json)?;
+    crate::lab::transparency_bench::run(&set, size, args.region, &args.out, args.report.json)?;
     Ok(true)
 }

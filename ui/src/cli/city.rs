@@ -5,8 +5,8 @@ use super::CityArgs;
 use anyhow::Result;
 
 pub fn run(args: &CityArgs) -> Result<bool> {
-    writable_folder(&args.out, args.force)?;
+    writable_folder(&args.out.out, args.out.force)?;
     let set = vbrain::lab::city::generate(args.seed);
-    set.save(&args.out)?;
-    summary(args.json, "city", &set, &args.out)
+    set.save(&args.out.out)?;
+    summary(args.report.json, "city", &set, &args.out.out)
 }

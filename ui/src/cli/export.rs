@@ -47,7 +47,7 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         };
         let glb = vbrain::gltf::glb(&set, layout, section, vbrain::gltf::Encoding::Float);
         vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
-        if !args.json {
+        if !args.report.json {
             println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);
         }
         summary["gltf"] = json!({"out": out, "bytes": glb.bytes.len(), "organs": glb.organs});
@@ -55,12 +55,12 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(dir) = &args.web {
         let bytes = vbrain::web_page::write(dir, &page).map_err(|e| anyhow!(e))?;
         let steps = if page.lesson { format!("{} steps, ", page.views.len()) } else { String::new() };
-        if !args.json {
+        if !args.report.json {
             println!("wrote {} ({steps}{:.1} MB in all)", dir.join("index.html").display(), bytes as f64 / 1e6);
         }
         summary["web"] = json!({"out": dir, "bytes": bytes, "steps": page.views.len()});
     }
-    if args.json {
+    if args.report.json {
         println!("{summary}");
     }
     Ok(true)

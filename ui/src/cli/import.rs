@@ -6,7 +6,7 @@ use anyhow::Result;
 use vbrain::organ_set::import;
 
 pub fn run(args: &ImportArgs) -> Result<bool> {
-    writable_folder(&args.out, args.force)?;
+    writable_folder(&args.out.out, args.out.force)?;
     let table = import::read_label_table(&args.labels)?;
     let vol = import::read_volume(&args.volume)?;
     let title = args.title.clone().unwrap_or_else(|| {
@@ -26,6 +26,6 @@ pub fn run(args: &ImportArgs) -> Result<bool> {
     for w in table.warnings.iter().chain(&warnings) {
         eprintln!("warning: {w}");
     }
-    set.save(&args.out)?;
-    summary(args.json, "import", &set, &args.out)
+    set.save(&args.out.out)?;
+    summary(args.report.json, "import", &set, &args.out.out)
 }

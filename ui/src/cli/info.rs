@@ -9,7 +9,7 @@ pub fn run(args: &InfoArgs) -> Result<bool> {
     let path = vbrain::data_dir::set_or_default(args.path.as_deref())?;
     let (set, ok) = open_reporting(&path)?;
     let bounds = set.bounds();
-    if args.json {
+    if args.report.json {
         let organs: Vec<_> = set
             .organs
             .iter()

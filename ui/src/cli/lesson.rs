@@ -104,7 +104,7 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     }
     let md = args.out.join("lesson.md");
     vbrain::atomic::write(&md, |w| w.write_all(markdown.as_bytes())).map_err(|e| anyhow!(e))?;
-    if args.json {
+    if args.report.json {
         println!(
             "{}",
             serde_json::to_string_pretty(

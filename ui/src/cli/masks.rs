@@ -9,6 +9,6 @@ pub fn run(args: &MasksArgs) -> Result<bool> {
     let n = args.mask.width as usize * args.mask.height as usize;
     let experiment =
         Experiment { n, objects: args.objects, trials: args.trials, alpha: args.alpha, k: args.k, seed: args.seed };
-    masks::run(&MasksOptions { experiment, out: &args.out, json: args.json })?;
+    masks::run(&MasksOptions { experiment, out: &args.out, json: args.report.json })?;
     Ok(true)
 }

@@ -49,6 +49,7 @@ pub enum Command {
     #[command(subcommand)]
     Lesson(LessonCommand),
     /// A quiz worksheet: per question a picture of the structure, questions.md and answers.md
+    /// (with --json: {"questions": [{"kind", "organ", "choices", "image"}...]})
     Quiz(QuizArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
@@ -98,12 +99,31 @@ pub struct ManualArgs {
 pub struct InfoArgs {
     /// Organ set (folder, manifest, mesh files) [default: the default brain]
     pub path: Option<PathBuf>,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 /// `--show`, `--hide` and `--opacity`: changes to a set's default layout, by organ id or group
 /// ("Frontal lobe" is both frontal lobes, "Left hemisphere/Frontal lobe" one).
+/// `--out` and `--force` of the commands that write an organ set.
+#[derive(clap::Args, Clone, Debug)]
+pub struct SetOut {
+    /// Output folder for the organ set
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Write into --out even where it already holds files
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// `--json`, shared by every command.
+#[derive(clap::Args, Clone, Copy, Debug)]
+pub struct Report {
+    /// Print what the command did as JSON on standard output, instead of lines of text
+    #[arg(long)]
+    pub json: bool,
+}
+
 #[derive(clap::Args)]
 pub struct LayoutArgs {
     /// Show organs hidden by default (e.g. skull), by id or group
@@ -177,9 +197,8 @@ pub struct QuizArgs {
     /// Image size, WxH
     #[arg(long, default_value = "1024x768", value_parser = values::size)]
     pub size: Size,
-    /// Print {"questions": [{"kind", "organ", "choices", "image"}...]}
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -200,8 +219,8 @@ pub struct LessonRenderArgs {
     /// Put each step's title and caption in its picture, in a band below the figure
     #[arg(long)]
     pub caption: bool,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -265,8 +284,8 @@ pub struct RenderArgs {
     /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
     #[arg(long)]
     pub draw_order_seed: Option<u64>,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -276,12 +295,8 @@ pub struct ImportArgs {
     /// Label table: CSV `index,name` or a FreeSurfer colour look-up table
     #[arg(long)]
     pub labels: PathBuf,
-    /// Output folder for the organ set
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Write into --out even where it already holds files
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub out: SetOut,
     /// Triangle budget for the whole set, 100..=20000000
     #[arg(long, default_value_t = 200_000, value_parser = count(100, 20_000_000))]
     pub triangles: usize,
@@ -295,8 +310,8 @@ pub struct ImportArgs {
     /// and decimated as one), so no gap or sliver shows between them
     #[arg(long)]
     pub seamless: bool,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -343,8 +358,8 @@ pub struct BenchArgs {
     /// Folder for bench.csv and bench.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -370,8 +385,8 @@ pub struct MasksArgs {
     /// Folder for masks.csv and masks.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -386,8 +401,8 @@ pub struct BenchTransparencyArgs {
     /// Folder for transparency.csv, transparency.png and transparency-sheet.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -423,22 +438,18 @@ pub struct OccludersArgs {
     /// Folder for occluders.csv and occluders.png (experiment)
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
 pub struct CityArgs {
-    /// Output folder for the organ set
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Write into --out even where it already holds files
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub out: SetOut,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -448,13 +459,10 @@ pub struct ScaleArgs {
     /// whose copy would not fit in memory is refused before any work
     #[arg(long, value_parser = values::float_in(1.0, 10_000.0))]
     pub factor: f64,
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Write into --out even where it already holds files (the original set, say)
-    #[arg(long)]
-    pub force: bool,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub out: SetOut,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -477,8 +485,8 @@ pub struct ExportArgs {
     pub layout: LayoutArgs,
     #[command(flatten)]
     pub section: SectionArgs,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -511,8 +519,8 @@ pub struct StandInsArgs {
     /// Write into --out even where it already holds files
     #[arg(long)]
     pub force: bool,
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 /// A screen-door mask region side in pixels, in [`vbrain::transparency::REGION_PX`].

@@ -17,7 +17,7 @@ pub fn run(args: &OccludersArgs) -> Result<bool> {
         views: args.views,
         image: args.image,
         out: &args.out,
-        json: args.json,
+        json: args.report.json,
     };
     if args.experiment {
         occluders::experiment(&set, &layout, &opts)?;

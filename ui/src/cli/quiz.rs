@@ -141,7 +141,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     };
     write("questions.md", &questions_md)?;
     write("answers.md", &answers_md)?;
-    if args.json {
+    if args.report.json {
         println!("{}", serde_json::to_string_pretty(&json!({"questions": listed, "note": generated.note}))?);
     } else {
         println!("{} questions written to {}", listed.len(), args.out.display());

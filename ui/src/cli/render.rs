@@ -121,7 +121,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         highlight: &highlight,
         selection,
         section: &section,
-        time_gpu: args.json,
+        time_gpu: args.report.json,
         ..FrameInput::new(&set, &camera, &layout)
     };
     let (draw, cull) = culler.cull_frame(&renderer.cull_input(&input, &target), &settings);
@@ -145,7 +145,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
     }
     vbrain::atomic::write_png(&args.out, &image, true)?;
-    if args.json {
+    if args.report.json {
         let out = json!({
             "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),

@@ -6,7 +6,7 @@ use anyhow::{bail, Result};
 use vbrain::organ_set::scale;
 
 pub fn run(args: &ScaleArgs) -> Result<bool> {
-    writable_folder(&args.out, args.force)?;
+    writable_folder(&args.out.out, args.out.force)?;
     let (set, ok) = open_reporting(&args.set)?;
     if !ok {
         bail!("{}: some organs did not load (above); a scaled copy would leave them out", args.set.display());
@@ -38,8 +38,8 @@ pub fn run(args: &ScaleArgs) -> Result<bool> {
         bar.set_message(what.to_string());
     });
     bar.finish_and_clear();
-    scaled.save(&args.out)?;
-    summary(args.json, "scale", &scaled, &args.out)
+    scaled.save(&args.out.out)?;
+    summary(args.report.json, "scale", &scaled, &args.out.out)
 }
 
 /// The memory the system can give this process now (Linux's MemAvailable), if it says.

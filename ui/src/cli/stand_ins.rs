@@ -14,7 +14,7 @@ use vbrain::organ_set::{self, stand_in};
 /// most half the organ's triangles, and saves them (in place: only the stand-ins and the manifest).
 pub fn run(args: &StandInsArgs) -> Result<bool> {
     let (path, ratio, offset, min_triangles) = (args.path.as_path(), args.ratio, args.offset, args.min_triangles);
-    let (out, json) = (args.out.as_deref(), args.json);
+    let (out, json) = (args.out.as_deref(), args.report.json);
     if !(ratio > 0.0 && ratio <= 0.5) {
         bail!("--ratio {ratio} outside (0, 0.5]");
     }
