@@ -101,16 +101,7 @@ impl SavedSection {
 
     /// The section in `set`, and the names of `whole` that name no organ or group there.
     pub fn resolve(&self, set: &crate::organ_set::OrganSet) -> (Section, Vec<String>) {
-        let (mut whole, mut unknown) = (Vec::new(), Vec::new());
-        for name in &self.whole {
-            let found = set.select(name);
-            if found.is_empty() {
-                unknown.push(name.clone());
-            }
-            whole.extend(found);
-        }
-        whole.sort_unstable();
-        whole.dedup();
+        let (whole, unknown) = crate::labels::Which::chosen(&self.whole, set);
         (Section { planes: self.planes.clone(), caps: self.caps, whole }, unknown)
     }
 }

@@ -163,7 +163,9 @@ pub(super) struct Frame<'a> {
 
 /// A way of drawing a frame (opaque and blended, screen-door, weighted blended, exact, the culling
 /// debug view). It writes its per-frame and per-pass data (uniform slots, pooled buffers) through
-/// the queue and records its passes into the frame's one encoder, which the renderer submits once.
+/// the queue and records its passes into the frame's encoder, which the renderer submits. Most
+/// techniques record the whole frame there; depth peeling submits each peel on its own (an
+/// occlusion query then says whether to go on), and the exact reference submits a layer at a time.
 pub(super) trait Technique {
     /// Records the frame; the stats' `passes` and mask figures (the renderer counts what was drawn).
     fn record(&self, frame: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats>;

@@ -1,6 +1,7 @@
 //! The renderer: pipelines and the set's GPU meshes, made once per device and organ set; each call
 //! draws one frame from plain per-frame data ([`FrameInput`]) into a [`Target`] by one technique,
-//! recorded into one encoder and submitted once.
+//! recorded into one encoder and submitted once (depth peeling and the exact reference submit
+//! their passes as they go; see [`super::frame::Technique`]).
 
 use super::blend::Blend;
 use super::debug::CullDebug;

@@ -25,8 +25,8 @@ pub fn passes(n: usize) -> usize {
 
 /// How far pass `p` of `passes` shifts what it draws, in pixels: a point of a 4x4 grid an eighth of
 /// a pixel apart, taken in the order of [`BAYER4`], less the mean of the `passes` points used so
-/// that they centre on the samples. (Measured against the exact reference at 64 sub-samples, four
-/// views: mean error 0.80 unshifted, 0.76 at a sixteenth, 0.74 at an eighth, 0.76 at a quarter.)
+/// that they centre on the samples. An eighth of a pixel erred least against the exact reference
+/// (docs/benchmarks-log.md, "Pass offsets").
 pub fn pass_offset(p: usize, passes: usize) -> Vec2 {
     let cell = |p: usize| -> Vec2 {
         let at = BAYER4.as_flattened().iter().position(|&v| v == p % 16).unwrap_or(0);
