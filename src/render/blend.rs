@@ -38,7 +38,7 @@ impl Blend {
 impl Technique for Blend {
     fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (scene, input, target) = (f.scene, f.input, f.target);
-        scene.upload(f.queue, input, target.aspect());
+        let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, mut translucent) = input.split(scene.organ_count());
         if self.sorted {
             let states = &input.layout.organs;
@@ -51,8 +51,13 @@ impl Technique for Blend {
         }
         let colour = [&target.msaa_color, &target.color_view];
         let mut pass = scene.begin_organ_pass(encoder, colour, target, input.background, false);
-        scene.draw_many(&mut pass, &self.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
-        scene.draw_many(&mut pass, &self.translucent, 0, translucent.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+        scene.draw_many((&mut pass, &shown), &self.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+        scene.draw_many(
+            (&mut pass, &shown),
+            &self.translucent,
+            0,
+            translucent.iter().map(|&i| (i, scene.ranges(i, input.draw))),
+        );
         Ok(RenderStats { passes: 1, ..Default::default() })
     }
 }

@@ -30,8 +30,8 @@ impl Technique for CullDebug<'_> {
     fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (scene, input, target) = (f.scene, f.input, f.target);
         scene.upload(f.queue, input, target.aspect());
-        scene.upload_organs(f.queue, input, 1, |_, _| [0.35, 0.35, 0.35, 0.22]);
-        scene.upload_organs(f.queue, input, 2, |i, _| {
+        let grey = scene.upload_organs(f.queue, input, 1, |_, _| [0.35, 0.35, 0.35, 0.22]);
+        let coloured = scene.upload_organs(f.queue, input, 2, |i, _| {
             let h = (i as f32 * 0.618_034) % 1.0;
             let hue = |o: f32| (((h + o) * std::f32::consts::TAU).sin() * 0.5 + 0.5).powf(0.8);
             [hue(0.0), hue(0.33), hue(0.67), 1.0]
@@ -43,10 +43,10 @@ impl Technique for CullDebug<'_> {
         for &i in &drawn {
             let kept = scene.ranges(i, input.draw);
             let culled = complement(&kept, scene.index_count(i));
-            scene.draw_in(&mut pass, &self.0.opaque, 2, i, &culled);
+            scene.draw_in((&mut pass, &coloured), &self.0.opaque, 2, i, &culled);
         }
         for &i in &drawn {
-            scene.draw_in(&mut pass, &self.0.translucent, 1, i, &scene.ranges(i, None));
+            scene.draw_in((&mut pass, &grey), &self.0.translucent, 1, i, &scene.ranges(i, None));
         }
         Ok(RenderStats { passes: 1, ..Default::default() })
     }

@@ -57,6 +57,7 @@ impl Technique for Exact {
         let (colour_view, depth_view) =
             (colour.create_view(&Default::default()), depth.create_view(&Default::default()));
         let (opaque, transparent) = input.split(scene.organ_count());
+        let shown = scene.upload(queue, input, target.aspect());
         let pixels = (w * h) as usize;
         let states = &input.layout.organs;
         // Renders `organs` alone and reads back (linear RGBA, depth) per pixel.
@@ -87,14 +88,18 @@ impl Technique for Exact {
                     multiview_mask: None,
                 });
                 scene.set_frame(&mut pass, 0);
-                scene.draw_many(&mut pass, &self.layer, 0, organs.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+                scene.draw_many(
+                    (&mut pass, &shown),
+                    &self.layer,
+                    0,
+                    organs.iter().map(|&i| (i, scene.ranges(i, input.draw))),
+                );
             }
             queue.submit([encoder.finish()]);
             let c = read_texture(device, queue, &colour, 16, [0, 0], [w, h], wgpu::TextureAspect::All)?;
             let d = read_texture(device, queue, &depth, 4, [0, 0], [w, h], wgpu::TextureAspect::DepthOnly)?;
             Ok((bytemuck::pod_collect_to_vec(&c), bytemuck::pod_collect_to_vec(&d)))
         };
-        scene.upload(queue, input, target.aspect());
         let mut sum = vec![[0.0f32; 4]; pixels];
         let samples = EXACT_GRID * EXACT_GRID;
         for s in 0..samples {

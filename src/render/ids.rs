@@ -45,7 +45,7 @@ impl Ids {
         kind: IdKind,
         encoder: &mut wgpu::CommandEncoder,
     ) {
-        scene.upload(queue, input, target.aspect());
+        let shown = scene.upload(queue, input, target.aspect());
         let label = match kind {
             IdKind::Organs { .. } => "organ ids",
             IdKind::Leaves { .. } => "leaf ids",
@@ -76,7 +76,7 @@ impl Ids {
             IdKind::Organs { min_opacity } => {
                 for (i, s) in organs {
                     if s.is_drawn() && s.opacity >= min_opacity {
-                        scene.draw(&mut pass, &self.organ, i, &scene.ranges(i, input.draw));
+                        scene.draw((&mut pass, &shown), &self.organ, i, &scene.ranges(i, input.draw));
                     }
                 }
             }

@@ -61,7 +61,7 @@ impl Outline {
             return;
         }
         scene.write_frame(queue, input, target.aspect(), 0, super::uniforms::UNMOVED);
-        scene.upload_organs(queue, input, 0, |i, _| [(i + 1) as f32, 1.0, 0.0, 1.0]);
+        let shown = scene.upload_organs(queue, input, 0, |i, _| [(i + 1) as f32, 1.0, 0.0, 1.0]);
         let mask = target.mask(device);
         for (channel, organs) in [highlighted, selected].iter().enumerate() {
             let load = if channel == 0 { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load };
@@ -84,7 +84,7 @@ impl Outline {
             });
             scene.set_frame(&mut pass, 0);
             for &i in organs {
-                scene.draw(&mut pass, &self.mask[channel], i, &scene.ranges(i, None));
+                scene.draw((&mut pass, &shown), &self.mask[channel], i, &scene.ranges(i, None));
             }
         }
         let images = composite.images(device, [mask, mask, mask]);

@@ -18,7 +18,7 @@ use super::pipelines::{
     fullscreen_pipeline, module, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory, OVER,
     SAMPLE_COUNT,
 };
-use super::scene::GpuScene;
+use super::scene::{GpuScene, Shown};
 use super::target::{image_view, Target, DEPTH_FORMAT, HDR_FORMAT};
 use crate::error::{Error, Result};
 use std::sync::Mutex;
@@ -282,16 +282,22 @@ pub(super) struct PeelFrame<'a> {
 
 impl PeelFrame<'_> {
     /// The opaque organs into the float image and the depth, both kept.
-    fn opaque(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder, opaque: &[usize], pipelines: &OrganPipelines) {
+    fn opaque(
+        &self,
+        (f, shown): (&Frame, &Shown),
+        encoder: &mut wgpu::CommandEncoder,
+        opaque: &[usize],
+        pipelines: &OrganPipelines,
+    ) {
         let hdr = f.target.hdr(f.device);
         let background = Some(super::pipelines::clear_colour(f.input.background));
         let mut p = pass(encoder, &[(&hdr.msaa, background)], None, Some((&f.target.msaa_depth, Some(1.0))), None);
         f.scene.set_frame(&mut p, 0);
-        f.scene.draw_many(&mut p, pipelines, 0, opaque.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+        f.scene.draw_many((&mut p, shown), pipelines, 0, opaque.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
     }
 
     /// Peels up to `layers` layers, front to back; returns the layers drawn.
-    fn peel(&self, f: &Frame, images: &Images, faded: &[usize], layers: usize) -> Result<usize> {
+    fn peel(&self, (f, shown): (&Frame, &Shown), images: &Images, faded: &[usize], layers: usize) -> Result<usize> {
         let pe = self.technique;
         let query = f.device.create_query_set(&wgpu::QuerySetDescriptor {
             label: Some("peel"),
@@ -313,7 +319,12 @@ impl PeelFrame<'_> {
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.peel_binds[prev], &[]);
                 p.begin_occlusion_query(0);
-                f.scene.draw_many(&mut p, &pe.layer, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+                f.scene.draw_many(
+                    (&mut p, shown),
+                    &pe.layer,
+                    0,
+                    faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))),
+                );
                 p.end_occlusion_query();
             }
             {
@@ -332,7 +343,13 @@ impl PeelFrame<'_> {
 
     /// Dual peeling, up to `layers` layers (two a pass); returns the passes drawn and the front
     /// image that holds the front layers.
-    fn dual_peel(&self, f: &Frame, images: &Images, faded: &[usize], layers: usize) -> Result<(usize, usize)> {
+    fn dual_peel(
+        &self,
+        (f, shown): (&Frame, &Shown),
+        images: &Images,
+        faded: &[usize],
+        layers: usize,
+    ) -> Result<(usize, usize)> {
         let pe = self.technique;
         let Some([init, peel]) = &pe.dual else {
             return Err(Error::gpu(
@@ -356,7 +373,7 @@ impl PeelFrame<'_> {
             let mut p = pass(&mut encoder, &targets, None, depth, None);
             f.scene.set_frame(&mut p, 0);
             p.set_bind_group(2, &images.dual_binds[1], &[]);
-            f.scene.draw_many(&mut p, init, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+            f.scene.draw_many((&mut p, shown), init, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
         }
         let mut passes = 0;
         let mut front = 0;
@@ -374,7 +391,12 @@ impl PeelFrame<'_> {
                 let mut p = pass(&mut encoder, &targets, None, depth, None);
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.dual_binds[prev], &[]);
-                f.scene.draw_many(&mut p, peel, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+                f.scene.draw_many(
+                    (&mut p, shown),
+                    peel,
+                    0,
+                    faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))),
+                );
             }
             {
                 let mut p = pass(&mut encoder, &[(&hdr.msaa, None)], None, None, Some(&query));
@@ -404,22 +426,22 @@ impl Technique for PeelFrame<'_> {
             Some(i) if i.target == target.id() => i,
             _ => pe.images(device, self.composite, target),
         };
-        scene.upload(f.queue, input, target.aspect());
+        let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, faded) = input.split(scene.organ_count());
         let layers = input.transparency.peel_layers.max(1);
         let hdr = target.hdr(device);
         let mut first = device.create_command_encoder(&Default::default());
-        self.opaque(f, &mut first, &opaque, &pe.opaque);
+        self.opaque((f, &shown), &mut first, &opaque, &pe.opaque);
         f.queue.submit([first.finish()]);
         let passes = if self.dual {
-            let (passes, front) = self.dual_peel(f, &images, &faded, layers)?;
+            let (passes, front) = self.dual_peel((f, &shown), &images, &faded, layers)?;
             let mut p = pass(encoder, &[(&images.layer, None)], Some(&hdr.resolved), None, None);
             p.set_pipeline(&pe.final_pass);
             p.set_bind_group(0, &images.final_binds[front], &[]);
             p.draw(0..3, 0..1);
             passes + 1
         } else {
-            let passes = self.peel(f, &images, &faded, layers)?;
+            let passes = self.peel((f, &shown), &images, &faded, layers)?;
             let mut p = pass(encoder, &[(&images.accum, None)], Some(&hdr.resolved), None, None);
             p.set_pipeline(&pe.under);
             p.set_bind_group(0, &images.opaque_bind, &[]);

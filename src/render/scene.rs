@@ -56,8 +56,19 @@ pub(super) struct GpuScene {
     pub organ_layout: wgpu::BindGroupLayout,
     /// The pipeline layout of organ pipelines: frame, then organ.
     pub layout: wgpu::PipelineLayout,
-    /// Per organ, whether the last upload made it capped (drawn again for its cut faces).
-    capped: std::sync::Mutex<Vec<bool>>,
+}
+
+/// What an upload of the organs' uniforms decided for the draws that follow: per organ, whether it
+/// is capped (drawn again for its cut faces). Draws take it, so no other upload in between can
+/// change what they draw.
+pub(super) struct Shown {
+    capped: Vec<bool>,
+}
+
+impl Shown {
+    fn capped(&self, organ: usize) -> bool {
+        self.capped.get(organ).copied().unwrap_or(false)
+    }
 }
 
 /// A uniform-buffer bind group layout entry at binding 0, with a dynamic offset.
@@ -168,7 +179,6 @@ impl GpuScene {
             bind_group_layouts: &[Some(&frame_layout), Some(&organ_layout)],
             immediate_size: 0,
         });
-        let capped = std::sync::Mutex::new(vec![false; meshes.len()]);
         Ok(GpuScene {
             meshes,
             batches,
@@ -180,7 +190,6 @@ impl GpuScene {
             frame_layout,
             organ_layout,
             layout,
-            capped,
         })
     }
 
@@ -198,12 +207,12 @@ impl GpuScene {
     }
 
     /// Writes frame slot 0 (unmoved) and the organs as shown (section 0).
-    pub fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) {
+    pub fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) -> Shown {
         self.write_frame(queue, frame, aspect, 0, UNMOVED);
         self.upload_organs(queue, frame, 0, |_, s| {
             let c = s.colour.map(super::srgb_to_linear);
             [c[0], c[1], c[2], s.opacity]
-        });
+        })
     }
 
     /// Writes frame slot `slot`: the image moved by `jitter` (NDC x' = x * zw + xy, x right, y up).
@@ -226,10 +235,9 @@ impl GpuScene {
         frame: &FrameInput,
         section: u64,
         colour: impl Fn(usize, &OrganState) -> [f32; 4],
-    ) {
+    ) -> Shown {
         let mut data = Vec::with_capacity(self.meshes.len());
-        let mut capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
-        capped.iter_mut().for_each(|c| *c = false);
+        let mut capped = vec![false; self.meshes.len()];
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
             let clip = frame.section.organ(i, &self.meshes[i].bounds.transformed(&model), self.meshes[i].closed);
@@ -245,6 +253,7 @@ impl GpuScene {
             data.push(u);
         }
         queue.write_buffer(&self.organ_buffer, section * self.section_bytes, bytemuck::cast_slice(&data));
+        Shown { capped }
     }
 
     /// Index ranges of an organ to draw: the draw list's, or all of it.
@@ -261,33 +270,38 @@ impl GpuScene {
     }
 
     /// Draws `ranges` of an organ as shown, with the pipeline of its kind (closed or open).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass, pipelines: &OrganPipelines, organ: usize, ranges: &[Range<u32>]) {
-        self.draw_in(pass, pipelines, 0, organ, ranges);
+    pub fn draw(
+        &self,
+        (pass, shown): (&mut wgpu::RenderPass, &Shown),
+        pipelines: &OrganPipelines,
+        organ: usize,
+        ranges: &[Range<u32>],
+    ) {
+        self.draw_in((pass, shown), pipelines, 0, organ, ranges);
     }
 
     /// Draws with the organs' data of a section.
     pub fn draw_in(
         &self,
-        pass: &mut wgpu::RenderPass,
+        (pass, shown): (&mut wgpu::RenderPass, &Shown),
         pipelines: &OrganPipelines,
         section: u64,
         organ: usize,
         ranges: &[Range<u32>],
     ) {
-        self.draw_many(pass, pipelines, section, [(organ, Cow::Borrowed(ranges))]);
+        self.draw_many((pass, shown), pipelines, section, [(organ, Cow::Borrowed(ranges))]);
     }
 
     /// Draws organs in the order given, each its `ranges` (of its own indices), as shown in
     /// `section`: ranges that meet in a batch, of organs of one kind, go in one draw call.
     pub fn draw_many<'r>(
         &self,
-        pass: &mut wgpu::RenderPass,
+        (pass, shown): (&mut wgpu::RenderPass, &Shown),
         pipelines: &OrganPipelines,
         section: u64,
         organs: impl IntoIterator<Item = (usize, Cow<'r, [Range<u32>]>)>,
     ) {
         pass.set_bind_group(1, &self.organ_bind, &[(section * self.section_bytes) as u32]);
-        let capped = self.capped.lock().unwrap_or_else(|e| e.into_inner());
         let (mut batch, mut closed, mut run): (Option<usize>, Option<bool>, Option<Range<u32>>) = (None, None, None);
         let flush = |pass: &mut wgpu::RenderPass, run: &mut Option<Range<u32>>| {
             if let Some(r) = run.take() {
@@ -312,7 +326,7 @@ impl GpuScene {
                 closed = Some(m.closed);
             }
             let shifted = ranges.iter().map(|r| r.start + m.first_index..r.end + m.first_index);
-            if capped.get(organ).copied().unwrap_or(false) {
+            if shown.capped(organ) {
                 // The faces turned away, seen through the cut: the solid cut face.
                 flush(pass, &mut run);
                 for r in shifted.clone() {

@@ -21,7 +21,7 @@ use super::pipelines::{
     fullscreen_pipeline, module, target, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
     SAMPLE_COUNT,
 };
-use super::scene::{uniform_entry, GpuScene};
+use super::scene::{uniform_entry, GpuScene, Shown};
 use super::target::{image_view, Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
 use super::tiles::{tiling, Rect, Tiling, ATLAS_BUDGET_PX, GAP};
 use super::uniforms::{GatherUniform, ScreendoorUniform, MAX_PASSES, SLOT};
@@ -357,9 +357,9 @@ impl Technique for ScreendoorFrame<'_> {
                 (pool, progress, 0, to)
             }
         };
-        scene.upload(queue, input, target.aspect());
+        let shown = scene.upload(queue, input, target.aspect());
         if from == 0 {
-            draw_opaque(sd, f, encoder);
+            draw_opaque(sd, (f, &shown), encoder);
         }
         let images = match pool.images.take() {
             Some(i) if i.target == target.id() => i,
@@ -369,7 +369,7 @@ impl Technique for ScreendoorFrame<'_> {
         let drawn = if tiling.rect.is_empty() { 0 } else { to - from };
         if drawn > 0 {
             let atlas = sd.atlas(device, pool.atlas.take(), tiling.atlas);
-            draw_passes(sd, f, encoder, (&pool, &atlas, &images), &tiling, (from..to, progress.total));
+            draw_passes(sd, (f, &shown), encoder, (&pool, &atlas, &images), &tiling, (from..to, progress.total));
             pool.atlas = Some(atlas);
         }
         progress.done = if tiling.rect.is_empty() { progress.total } else { to };
@@ -437,7 +437,7 @@ fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key:
 }
 
 /// The opaque organs into the float image (resolved) and the multisampled depth, both kept.
-fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
+fn draw_opaque(sd: &Screendoor, (f, shown): (&Frame, &Shown), encoder: &mut wgpu::CommandEncoder) {
     let (scene, input, target) = (f.scene, f.input, f.target);
     let hdr = target.hdr(f.device);
     let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -464,7 +464,7 @@ fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
     // In index order too (see `draw_passes`): exact depth ties between opaque organs.
     let (mut opaque, _) = input.split(scene.organ_count());
     opaque.sort_unstable();
-    scene.draw_many(&mut pass, &sd.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+    scene.draw_many((&mut pass, shown), &sd.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
 }
 
 /// Passes `passes` of `total` of the faded organs, each shifted by its
@@ -472,7 +472,7 @@ fn draw_opaque(sd: &Screendoor, f: &Frame, encoder: &mut wgpu::CommandEncoder) {
 /// mean (weighted by the passes it adds to those before).
 fn draw_passes(
     sd: &Screendoor,
-    f: &Frame,
+    (f, shown): (&Frame, &Shown),
     encoder: &mut wgpu::CommandEncoder,
     (pool, atlas, images): (&Pool, &Atlas, &Images),
     tiling: &Tiling,
@@ -536,7 +536,12 @@ fn draw_passes(
                 }
                 scene.set_frame(&mut pass, 1 + p);
                 pass.set_bind_group(2, &pool.bind, &[(p * SLOT) as u32]);
-                scene.draw_many(&mut pass, &sd.masked, 0, faded.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+                scene.draw_many(
+                    (&mut pass, shown),
+                    &sd.masked,
+                    0,
+                    faded.iter().map(|&i| (i, scene.ranges(i, input.draw))),
+                );
             }
         }
         let g = GatherUniform {

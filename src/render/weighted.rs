@@ -66,12 +66,17 @@ impl Technique for WeightedFrame<'_> {
         let wb = self.technique;
         let (scene, input, target) = (f.scene, f.input, f.target);
         let hdr = target.hdr(f.device);
-        scene.upload(f.queue, input, target.aspect());
+        let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, transparent) = input.split(scene.organ_count());
         {
             // The opaque depth stays for the weighted pass to test against.
             let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
-            scene.draw_many(&mut pass, &wb.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+            scene.draw_many(
+                (&mut pass, &shown),
+                &wb.opaque,
+                0,
+                opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))),
+            );
         }
         {
             let attachment = |view, resolve, clear_to: wgpu::Color| {
@@ -98,7 +103,12 @@ impl Technique for WeightedFrame<'_> {
                 multiview_mask: None,
             });
             scene.set_frame(&mut pass, 0);
-            scene.draw_many(&mut pass, &wb.sums, 0, transparent.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+            scene.draw_many(
+                (&mut pass, &shown),
+                &wb.sums,
+                0,
+                transparent.iter().map(|&i| (i, scene.ranges(i, input.draw))),
+            );
         }
         let images = self.composite.images(f.device, [&hdr.resolved, &hdr.accum, &hdr.reveal]);
         fullscreen_pass(encoder, &target.color_view, &wb.resolve, &images, false, 1.0);
