@@ -201,18 +201,27 @@ impl App {
         &mut self.dialogs
     }
 
-    /// What the viewport reads.
+    /// What the viewport reads (the one place it is built).
     fn viewport_input(&self) -> viewport::Input<'_> {
         viewport::Input {
             scene: self.scene.as_ref(),
             gpu: self.gpu.as_ref(),
             settings: &self.settings,
             selected: self.selected,
-            highlight: self.lesson_or_quiz_highlight(),
+            highlight: self.highlight(),
             section: &self.sections.current,
             labels: self.labels(),
-            handles: Vec::new(),
+            handles: self.plane_handles(),
         }
+    }
+
+    /// Runs `step` on the viewport with what it reads, as it is now; returns the actions it asks for.
+    fn with_viewport(&mut self, step: impl FnOnce(&mut Viewport, &viewport::Input) -> Vec<Action>) -> Vec<Action> {
+        // The viewport is out of the App while the input borrows the rest of it.
+        let mut viewport = std::mem::take(&mut self.viewport);
+        let actions = step(&mut viewport, &self.viewport_input());
+        self.viewport = viewport;
+        actions
     }
 
     /// The organ-ID buffer of the current view (see [`Viewport::read_ids`]).
@@ -536,30 +545,9 @@ impl eframe::App for App {
         }
         CentralPanel::no_frame().show(ui, |ui| {
             let (rect, response) = self.viewport.allocate(ui);
-            let (labels, handles, highlight) = (self.labels(), self.plane_handles(), self.highlight());
-            let input = viewport::Input {
-                scene: self.scene.as_ref(),
-                gpu: self.gpu.as_ref(),
-                settings: &self.settings,
-                selected: self.selected,
-                highlight: &highlight,
-                section: &self.sections.current,
-                labels: labels.clone(),
-                handles: handles.clone(),
-            };
-            let actions = self.viewport.input(ui, &response, &input);
+            let actions = self.with_viewport(|v, input| v.input(ui, &response, input));
             self.perform(&ctx, actions);
-            let input = viewport::Input {
-                scene: self.scene.as_ref(),
-                gpu: self.gpu.as_ref(),
-                settings: &self.settings,
-                selected: self.selected,
-                highlight: &highlight,
-                section: &self.sections.current,
-                labels: labels.clone(),
-                handles: handles.clone(),
-            };
-            let actions = self.viewport.draw(ui, rect, &input);
+            let actions = self.with_viewport(|v, input| v.draw(ui, rect, input));
             self.perform(&ctx, actions);
         });
         self.windows(&ctx);

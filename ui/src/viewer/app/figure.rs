@@ -34,11 +34,7 @@ impl App {
     }
 
     /// The organs outlined: the quiz's while one is open, else the lesson step's.
-    pub(super) fn highlight(&self) -> Vec<usize> {
-        self.lesson_or_quiz_highlight().to_vec()
-    }
-
-    pub(super) fn lesson_or_quiz_highlight(&self) -> &[usize] {
+    pub(super) fn highlight(&self) -> &[usize] {
         if self.quiz.run.is_some() {
             &self.quiz.outlined
         } else {
@@ -129,7 +125,7 @@ impl App {
                         caption: String::new(),
                         layout: layout.clone(),
                         camera: self.viewport.camera(scene),
-                        highlight: self.highlight(),
+                        highlight: self.highlight().to_vec(),
                         labels: (0..set.organs.len())
                             .filter(|&o| labels.wants(o) && layout.organs[o].is_drawn())
                             .collect(),
