@@ -516,6 +516,7 @@ impl eframe::App for App {
             scene: self.scene.as_ref(),
             loading: self.is_loading(),
             frame: (self.viewport.stats(), self.viewport.fps(), self.viewport.fly()),
+            scale: self.viewport.scale(),
             occluders: self.viewport.cull_stats().source,
             settings: &self.settings,
             selected: self.selected,

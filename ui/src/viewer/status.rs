@@ -19,6 +19,8 @@ pub struct Status<'a> {
     pub loading: bool,
     /// The last frame's counts, the frame rate, and whether the camera walks (not orbits).
     pub frame: (vbrain::render::RenderStats, f32, bool),
+    /// The last frame's render scale: below 1 while moving frames are drawn smaller.
+    pub scale: f32,
     /// Where the last frame's occluders came from.
     pub occluders: Option<vbrain::cull::OccluderSource>,
     pub settings: &'a Settings,
@@ -39,6 +41,13 @@ pub fn status_bar(ui: &mut egui::Ui, s: &Status) {
         ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set().triangle_count()));
         ui.separator();
         ui.label(format!("{} organs drawn", stats.organs_drawn));
+        if s.scale < 1.0 {
+            ui.separator();
+            let r = ui.label(format!("moving: drawn at {:.0} % size", s.scale * 100.0));
+            r.on_hover_text(
+                "While the view moves slowly, frames are drawn smaller and scaled up; still frames are full size",
+            );
+        }
         ui.separator();
         ui.label(if fly { "walk-through camera" } else { "orbit camera" });
         ui.separator();

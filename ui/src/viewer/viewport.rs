@@ -11,6 +11,8 @@
 
 mod motion;
 
+pub use motion::SCALE_BUDGET;
+
 use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
@@ -61,6 +63,10 @@ pub struct Viewport {
     /// How moving frames draw faded organs, and when the last one was drawn.
     motion: (motion::MotionQuality, Option<Instant>),
     target: Option<(Target, egui::TextureId)>,
+    /// The smaller image moving frames are drawn into ([`motion::MotionQuality::scale`]).
+    reduced: Option<(Target, egui::TextureId)>,
+    /// The render scale of the frame last drawn (1 at full size).
+    scale: f32,
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
     frame_times: VecDeque<Instant>,
@@ -86,6 +92,8 @@ impl Default for Viewport {
             moving: false,
             motion: Default::default(),
             target: None,
+            reduced: None,
+            scale: 1.0,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
             labels: Default::default(),
@@ -138,6 +146,11 @@ impl Viewport {
     pub fn camera_state(&self) -> vbrain::scene_file::CameraState {
         use vbrain::scene_file::{CameraMode, CameraState};
         CameraState::of(&self.navigator(), if self.fly() { CameraMode::Walk } else { CameraMode::Orbit })
+    }
+
+    /// The render scale of the frame last drawn: below 1 while moving frames are drawn smaller.
+    pub fn scale(&self) -> f32 {
+        self.scale
     }
 
     pub fn fly(&self) -> bool {
@@ -444,12 +457,23 @@ impl Viewport {
         let camera = self.camera(scene);
         let ppp = ui.ctx().pixels_per_point();
         let (w, h) = (((rect.width() * ppp).round() as u32).max(1), ((rect.height() * ppp).round() as u32).max(1));
-        if let Err(e) = self.resize_target(rs, w, h) {
+        // Moving and slow: a smaller image, scaled up; still frames at full size.
+        let scale = if self.moving { self.motion.0.scale() } else { 1.0 };
+        let small = |v: u32| ((v as f32 * scale).round() as u32).max(1);
+        let fitted = fit_target(&mut self.target, rs, w, h).and_then(|()| {
+            if scale < 1.0 {
+                fit_target(&mut self.reduced, rs, small(w), small(h))
+            } else {
+                Ok(())
+            }
+        });
+        if let Err(e) = fitted {
             out.push(Action::NotifyOnce(e.to_string()));
             return out;
         }
         let settings = input.settings;
-        let Some((target, id)) = &self.target else { return out };
+        let drawn_into = if scale < 1.0 { &self.reduced } else { &self.target };
+        let Some((target, id)) = drawn_into else { return out };
         // Moving and slow: fewer sub-samples, down to one blended pass.
         let transparency = self.motion.0.frame(settings.transparency, self.moving);
         let frame = FrameInput {
@@ -496,8 +520,12 @@ impl Viewport {
         }
         self.stats = stats;
         self.cull = cull;
+        self.scale = scale;
         let now = Instant::now();
         let (quality, last) = &mut self.motion;
+        if let (true, Some(last)) = (self.moving, *last) {
+            quality.observe_scale(now - last);
+        }
         // Only frames whose faded organs screen-door draws tell how it fares.
         let screendoor = faded && settings.transparency.mode.mask_method().is_some();
         if let (true, true, Some(last)) = (self.moving, screendoor, *last) {
@@ -511,29 +539,34 @@ impl Viewport {
         }
         out
     }
+}
 
-    /// Makes the target `w` x `h` physical pixels, registered with egui as a texture.
-    fn resize_target(&mut self, rs: &egui_wgpu::RenderState, w: u32, h: u32) -> vbrain::Result<()> {
-        if self.target.as_ref().is_some_and(|(t, _)| t.width == w && t.height == h) {
-            return Ok(());
-        }
-        let t = Target::new(&rs.device, w, h)?;
-        let mut egui_renderer = rs.renderer.write();
-        let id = match self.target.take() {
-            Some((_, id)) => {
-                egui_renderer.update_egui_texture_from_wgpu_texture(
-                    &rs.device,
-                    &t.display_view,
-                    wgpu::FilterMode::Linear,
-                    id,
-                );
-                id
-            }
-            None => egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear),
-        };
-        self.target = Some((t, id));
-        Ok(())
+/// Makes `slot` a target of `w` x `h` physical pixels, registered with egui as a texture.
+fn fit_target(
+    slot: &mut Option<(Target, egui::TextureId)>,
+    rs: &egui_wgpu::RenderState,
+    w: u32,
+    h: u32,
+) -> vbrain::Result<()> {
+    if slot.as_ref().is_some_and(|(t, _)| t.width == w && t.height == h) {
+        return Ok(());
     }
+    let t = Target::new(&rs.device, w, h)?;
+    let mut egui_renderer = rs.renderer.write();
+    let id = match slot.take() {
+        Some((_, id)) => {
+            egui_renderer.update_egui_texture_from_wgpu_texture(
+                &rs.device,
+                &t.display_view,
+                wgpu::FilterMode::Linear,
+                id,
+            );
+            id
+        }
+        None => egui_renderer.register_native_texture(&rs.device, &t.display_view, wgpu::FilterMode::Linear),
+    };
+    *slot = Some((t, id));
+    Ok(())
 }
 
 /// The statistics overlay (top left): culling and transparency figures of the frame, with

@@ -276,3 +276,38 @@ fn lesson_pictures_take_labels_and_a_caption() {
     let counts = labelled["labels"].as_array().unwrap();
     assert!(counts.len() == 7 && counts.iter().all(|n| n.as_u64() > Some(0)), "{labelled}");
 }
+
+/// While a drag orbits the brain and frames come slowly (a software GPU), moving frames are drawn
+/// smaller; once the drag ends, the view is drawn at full size again.
+#[test]
+fn slow_moving_frames_are_drawn_smaller_and_still_ones_in_full() {
+    let mut h = harness_of(egui::Vec2::new(1280.0, 800.0));
+    let centre = h.state().viewport().rect().center();
+    let press = |h: &egui_kittest::Harness<'static, vbrain_ui::viewer::App>, at: egui::Pos2, pressed| {
+        h.event(egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        })
+    };
+    h.event(egui::Event::PointerMoved(centre));
+    press(&h, centre, true);
+    h.step();
+    let (mut smallest, mut slowest): (f32, _) = (1.0, std::time::Duration::ZERO);
+    for k in 1..=12 {
+        let started = std::time::Instant::now();
+        h.event(egui::Event::PointerMoved(centre + egui::vec2(8.0 * k as f32, 0.0)));
+        h.step();
+        // The first moving frame has no frame before it to be timed against.
+        if k > 1 {
+            slowest = slowest.max(started.elapsed());
+        }
+        smallest = smallest.min(h.state().viewport().scale());
+    }
+    press(&h, centre + egui::vec2(96.0, 0.0), false);
+    h.run_steps(4);
+    let budget = vbrain_ui::viewer::viewport::SCALE_BUDGET;
+    assert!(slowest <= budget || smallest < 1.0, "moving frames took up to {slowest:?}, yet all were full size");
+    assert_eq!(h.state().viewport().scale(), 1.0, "the still view is drawn at full size");
+}

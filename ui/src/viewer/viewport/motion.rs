@@ -6,12 +6,22 @@
 //! opaque frame), so that a drag stays responsive on a heavy scene or a slow machine. When the
 //! motion stops, the still image converges to the full sub-samples. Times are the wall clock
 //! between two moving frames of the viewer.
+//! - Render scale (level of detail by pixels, Callahan 2005 §5): moving frames are drawn into a
+//!   smaller image, its sides one of [`SCALES`] of the view's, a step down while they take longer
+//!   than [`SCALE_BUDGET`] and a step up while they take under a third of it; still frames are
+//!   drawn at full size.
 
 use std::time::Duration;
 use vbrain::transparency::{clamp_subsamples, TransparencyMode, TransparencySettings};
 
 /// What a moving frame may take: ten frames a second.
 pub const BUDGET: Duration = Duration::from_millis(100);
+
+/// What a moving frame may take before it is drawn smaller: twenty frames a second.
+pub const SCALE_BUDGET: Duration = Duration::from_millis(50);
+
+/// The render scales moving frames step through: each about halves the pixels of the one before.
+pub const SCALES: [f32; 4] = [1.0, 0.71, 0.5, 0.35];
 
 /// How a moving frame draws faded organs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,6 +36,8 @@ pub enum Moving {
 pub struct MotionQuality {
     /// Where moving frames had to come down from the setting.
     down: Option<Moving>,
+    /// The render scale of moving frames: an index into [`SCALES`].
+    scale: usize,
 }
 
 impl MotionQuality {
@@ -55,6 +67,21 @@ impl MotionQuality {
         t
     }
 
+    /// The side of the next moving frame's image, as a share of the view's.
+    pub fn scale(&self) -> f32 {
+        SCALES[self.scale.min(SCALES.len() - 1)]
+    }
+
+    /// After a moving frame (of any kind) came `took` after the one before: a smaller image next
+    /// while frames are slow, a larger one while they are quick.
+    pub fn observe_scale(&mut self, took: Duration) {
+        if took > SCALE_BUDGET {
+            self.scale = (self.scale + 1).min(SCALES.len() - 1);
+        } else if took < SCALE_BUDGET / 3 {
+            self.scale = self.scale.saturating_sub(1);
+        }
+    }
+
     /// After a moving frame drawn as `used` came `took` after the one before.
     pub fn observe(&mut self, setting: usize, used: Moving, took: Duration) {
         let setting = clamp_subsamples(setting);
@@ -76,6 +103,20 @@ impl MotionQuality {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn slow_moving_frames_are_drawn_smaller_and_quick_ones_larger() {
+        let mut q = MotionQuality::default();
+        assert_eq!(q.scale(), 1.0, "full size at first");
+        for expected in [0.71, 0.5, 0.35, 0.35] {
+            q.observe_scale(Duration::from_millis(80));
+            assert_eq!(q.scale(), expected);
+        }
+        q.observe_scale(Duration::from_millis(30));
+        assert_eq!(q.scale(), 0.35, "within the budget: kept");
+        q.observe_scale(Duration::from_millis(10));
+        assert_eq!(q.scale(), 0.5, "well within it: larger");
+    }
 
     #[test]
     fn slow_moving_frames_take_fewer_sub_samples_then_blend_and_quick_ones_come_back() {
@@ -105,7 +146,7 @@ mod tests {
 
     #[test]
     fn only_moving_screen_door_frames_blend() {
-        let q = MotionQuality { down: Some(Moving::Blended) };
+        let q = MotionQuality { down: Some(Moving::Blended), ..Default::default() };
         let sd = TransparencySettings::default();
         assert!(sd.mode.mask_method().is_some());
         assert_eq!(q.frame(sd, true).mode, TransparencyMode::WeightedBlended);
@@ -113,7 +154,7 @@ mod tests {
         assert_eq!((still.mode, still.interactive_subsamples), (sd.mode, 4), "still: screen-door from one pass");
         let peel = TransparencySettings { mode: TransparencyMode::Peel, ..sd };
         assert_eq!(q.frame(peel, true), peel, "other modes as set");
-        let q = MotionQuality { down: Some(Moving::Subsamples(8)) };
+        let q = MotionQuality { down: Some(Moving::Subsamples(8)), ..Default::default() };
         assert_eq!(q.frame(sd, true).interactive_subsamples, 8);
     }
 }
