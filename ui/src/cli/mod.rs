@@ -355,6 +355,10 @@ pub struct BenchArgs {
     /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
     pub clip: Vec<vbrain::clip::ClipPlane>,
+    /// Level of detail instead of culling: time moving frames at full size, at each smaller render
+    /// scale the viewer uses and as the viewer chooses (auto), each scale's error against full size
+    #[arg(long)]
+    pub lod: bool,
     /// Folder for bench.csv and bench.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,

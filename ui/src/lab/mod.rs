@@ -4,6 +4,7 @@
 //! argument stay here.
 
 pub mod bench;
+pub mod lod;
 pub mod masks;
 pub mod occluders;
 pub mod plot;

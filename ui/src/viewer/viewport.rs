@@ -9,9 +9,7 @@
 //! [`Action`]s. A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its
 //! actions, then [`Viewport::draw`], so what is drawn includes this frame's moves.
 
-mod motion;
-
-pub use motion::SCALE_BUDGET;
+pub mod motion;
 
 use super::action::Action;
 use super::scene::Scene;

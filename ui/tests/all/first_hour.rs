@@ -307,7 +307,7 @@ fn slow_moving_frames_are_drawn_smaller_and_still_ones_in_full() {
     }
     press(&h, centre + egui::vec2(96.0, 0.0), false);
     h.run_steps(4);
-    let budget = vbrain_ui::viewer::viewport::SCALE_BUDGET;
+    let budget = vbrain_ui::viewer::viewport::motion::SCALE_BUDGET;
     assert!(slowest <= budget || smallest < 1.0, "moving frames took up to {slowest:?}, yet all were full size");
     assert_eq!(h.state().viewport().scale(), 1.0, "the still view is drawn at full size");
 }

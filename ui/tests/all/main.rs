@@ -1,10 +1,12 @@
 //! The ui crate's integration tests, in one binary so that it links once: the `vbrain` command
-//! line run as a user would ([`cli`]) and with what breaks things ([`hardening`]), the glTF export
-//! checked by the Khronos validator ([`export`]), the viewer under egui_kittest ([`viewer`], [`quiz`]), and README.md's
-//! controls table against the viewer's shortcut table ([`shortcuts`]).
+//! line run as a user would ([`cli`], the experiments and benchmarks in [`benches`]) and with what
+//! breaks things ([`hardening`]), the glTF export checked by the Khronos validator ([`export`]),
+//! the viewer under egui_kittest ([`viewer`], [`quiz`]), and README.md's controls table against
+//! the viewer's shortcut table ([`shortcuts`]).
 
 #![allow(clippy::unwrap_used, clippy::expect_used)] // tests and their helpers may panic
 
+mod benches;
 mod cli;
 mod export;
 mod first_hour;

@@ -1,0 +1,136 @@
+//! `vbrain bench --lod`: level of detail by render scale (Callahan 2005, ch. 5, Fig. 5.6) over the
+//! bench's camera path. Each frame is drawn as the viewer draws a moving frame (interactive
+//! sub-samples, culled): at full size, at each of the viewer's smaller scales, and as the viewer
+//! chooses (`auto`: each frame's scale from the last one's time). Times are the render and the
+//! wait for the GPU, not the read-back; errors are RMSE over 8-bit RGB against the full-size frame,
+//! after scaling up with a bilinear filter as the viewer's texture does.
+//! - Pixels: top left origin; the smaller images keep the view's aspect.
+
+use crate::viewer::viewport::motion::{MotionQuality, SCALES};
+use anyhow::{anyhow, Result};
+use image::imageops::{resize, FilterType};
+use image::RgbaImage;
+use serde::Serialize;
+use std::time::{Duration, Instant};
+use vbrain::cull::{CullSettings, Culler};
+use vbrain::layout::Layout;
+use vbrain::organ_set::OrganSet;
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+
+/// What `bench --lod` runs.
+pub struct LodOptions {
+    pub frames: usize,
+    pub size: (u32, u32),
+    pub route: vbrain::lab::bench::Route,
+    pub transparency: vbrain::transparency::TransparencySettings,
+    pub section: vbrain::clip::Section,
+    pub database: Option<vbrain::cull::database::Database>,
+}
+
+/// One way of drawing moving frames: its median time and its error against full size.
+#[derive(Clone, Debug, Serialize)]
+pub struct Strategy {
+    pub strategy: String,
+    pub moving_median_ms: f64,
+    pub rmse: f64,
+}
+
+/// The run: full-size moving frames' median time, then each strategy.
+#[derive(Clone, Debug, Serialize)]
+pub struct LodReport {
+    pub full_median_ms: f64,
+    pub strategies: Vec<Strategy>,
+}
+
+/// RMSE of `a` against `b` (the same size) over their 8-bit RGB channels.
+pub fn rmse(a: &RgbaImage, b: &RgbaImage) -> f64 {
+    let pairs = a.pixels().zip(b.pixels());
+    let sum: f64 = pairs.map(|(p, q)| (0..3).map(|k| (f64::from(p[k]) - f64::from(q[k])).powi(2)).sum::<f64>()).sum();
+    (sum / (3 * a.width() as usize * a.height() as usize).max(1) as f64).sqrt()
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// Runs the comparison; `progress(done, total)` hears of every frame.
+pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dyn FnMut(usize)) -> Result<LodReport> {
+    let gpu = GpuContext::headless()?;
+    let renderer = Renderer::new(&gpu.device, set)?;
+    let (w, h) = opts.size;
+    let side = |v: u32, s: f32| ((v as f32 * s).round() as u32).max(1);
+    let mut targets = Vec::new();
+    for &s in &SCALES {
+        targets.push(Target::new(&gpu.device, side(w, s), side(h, s))?);
+    }
+    let home = layout.bounds(set);
+    let mut culler = Culler::new(opts.database.clone());
+    let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("waiting for the GPU: {e}"));
+    // Draws frame `camera` into `target`: its time, and the image at full size.
+    let mut draw = |camera: &vbrain::camera::Camera, target: &Target| -> Result<(f64, RgbaImage)> {
+        let frame = FrameInput {
+            transparency: opts.transparency,
+            moving: true,
+            section: &opts.section,
+            ..FrameInput::new(set, camera, layout)
+        };
+        let started = Instant::now();
+        let (list, _) = culler.cull_frame(&renderer.cull_input(&frame, target), &CullSettings::default());
+        renderer.render(&gpu.device, &gpu.queue, target, &FrameInput { draw: Some(&list), ..frame })?;
+        wait()?;
+        let ms = started.elapsed().as_secs_f64() * 1000.0;
+        let image = target.read_color(&gpu.device, &gpu.queue)?;
+        let image = if image.width() == w { image } else { resize(&image, w, h, FilterType::Triangle) };
+        Ok((ms, image))
+    };
+    let names: Vec<String> =
+        SCALES[1..].iter().map(|s| format!("scale-{:.0}", s * 100.0)).chain(["auto".into()]).collect();
+    let (mut full_ms, mut times, mut errors) =
+        (Vec::new(), vec![Vec::new(); names.len()], vec![Vec::new(); names.len()]);
+    let mut auto = MotionQuality::default();
+    for i in 0..opts.frames {
+        let camera = opts.route.camera(&home, i, opts.frames);
+        let (ms, full) = draw(&camera, &targets[0])?;
+        // The first frame warms pipelines and caches: not counted.
+        let counted = i > 0 || opts.frames == 1;
+        for (k, target) in targets.iter().enumerate().skip(1) {
+            let (ms, image) = draw(&camera, target)?;
+            if counted {
+                times[k - 1].push(ms);
+                errors[k - 1].push(rmse(&image, &full));
+            }
+        }
+        let chosen = SCALES.iter().position(|&s| s == auto.scale()).unwrap_or(0);
+        let (auto_ms, image) = draw(&camera, &targets[chosen])?;
+        auto.observe_scale(Duration::from_secs_f64(auto_ms / 1000.0));
+        if counted {
+            full_ms.push(ms);
+            times[names.len() - 1].push(auto_ms);
+            errors[names.len() - 1].push(rmse(&image, &full));
+        }
+        progress(i + 1);
+    }
+    let mean = |v: &[f64]| v.iter().sum::<f64>() / v.len().max(1) as f64;
+    let strategies = names
+        .into_iter()
+        .zip(times.into_iter().zip(&errors))
+        .map(|(strategy, (t, e))| Strategy { strategy, moving_median_ms: median(t), rmse: mean(e) })
+        .collect();
+    Ok(LodReport { full_median_ms: median(full_ms), strategies })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rmse_is_zero_for_the_same_image_and_grows_with_the_difference() {
+        let a = RgbaImage::from_pixel(4, 4, image::Rgba([10, 20, 30, 255]));
+        let mut b = a.clone();
+        assert_eq!(rmse(&a, &b), 0.0);
+        b.put_pixel(0, 0, image::Rgba([10 + 48, 20, 30, 0]));
+        // One channel of 48 (alpha is not counted) over 48 channel values: sqrt(48^2 / 48).
+        assert!((rmse(&a, &b) - 48f64.sqrt()).abs() < 1e-9, "{}", rmse(&a, &b));
+    }
+}
