@@ -5,7 +5,8 @@
 // fs_pick (the "organ pick" pipeline writing organ IDs), fs_pick_instance (the "leaf pick"
 // pipeline writing the instance index, which the benchmark sets to a leaf number), fs_screendoor
 // (transparent organs through their sub-sample masks), fs_weighted (weighted blended OIT) and
-// fs_mask (the outline mask: the organ's colour slot holds its mask channels).
+// fs_mask (the outline mask: the organ's colour slot holds its mask channels), fs_kbuffer_depth and
+// fs_kbuffer_shade (the k-buffer's two passes; their resolve is in kbuffer.wgsl).
 // Keep in sync with FrameUniform, OrganUniform and ScreendoorUniform in src/render/. The
 // peeling entry points take the sample index, so they run per MSAA sample.
 
@@ -27,7 +28,7 @@ struct Organ {
     normal_matrix: mat4x4<f32>,
     // Linear RGB and opacity.
     colour: vec4<f32>,
-    // x: organ index + 1 (0 = background in the ID buffer); y: flags, CLIPPED | CAPPED.
+    // x: organ index + 1 (0 = background in the ID buffer); y: flags, CLIPPED | CAPPED | CLOSED.
     id: vec4<u32>,
 };
 
@@ -69,6 +70,7 @@ fn organ_vertex(in: VsIn, instance: u32) -> VsOut {
 
 const CLIPPED: u32 = 1u;
 const CAPPED: u32 = 2u;
+const CLOSED: u32 = 4u;
 
 // Discards what the clip planes remove (organs they cut only). Where the device has clip distances
 // the vertex stage (vs_clipped) has cut the triangles at the planes already.
@@ -277,6 +279,96 @@ fn fs_dual_peel(in: VsOut, @builtin(front_facing) front: bool, @builtin(sample_i
         out.back = c;
     }
     return out;
+}
+
+// The k-buffer (Callahan 2005, ch. 3), per pixel: the k nearest faded fragments in front of the
+// opaque organs, kept sorted by two passes over the faded triangles (drawn back to front by
+// centroid, one pipeline with no face culling). fs_kbuffer_depth inserts each fragment's depth key
+// into the pixel's k slots with atomicMax (a key is the depth's bits inverted, so the largest key
+// is the nearest fragment and a cleared slot, 0, is empty): the slots end up holding the k nearest
+// keys in order whatever the order fragments arrive in. fs_kbuffer_shade stores the colour of a
+// fragment whose key is in a slot, and returns, to be blended in drawing order, the colour of one
+// that is not (farther than the k nearest). The resolve composites the slots over the result.
+struct KBuffer {
+    width: u32,
+    height: u32,
+    k: u32,
+    pad: u32,
+};
+
+@group(2) @binding(0) var<uniform> kbuffer: KBuffer;
+@group(2) @binding(1) var<storage, read_write> kbuffer_keys: array<atomic<u32>>;
+@group(2) @binding(2) var<storage, read_write> kbuffer_colours: array<u32>;
+@group(2) @binding(3) var<storage, read_write> kbuffer_counts: array<atomic<u32>>;
+@group(2) @binding(4) var kbuffer_opaque: texture_depth_multisampled_2d;
+
+// The fragment's first slot, or none (clipped away, a closed organ's face turned away where no cut
+// shows its inside, or behind the opaque organs at every sample). The passes write storage, so
+// the depth test is done here, before anything is written.
+fn kbuffer_slot(in: VsOut, front: bool) -> i32 {
+    let organ = organs[in.organ];
+    if !front && (organ.id.y & CLOSED) != 0u && (organ.id.y & CAPPED) == 0u {
+        return -1;
+    }
+    if (organ.id.y & CLIPPED) != 0u {
+        for (var k = 0; k < 4; k++) {
+            if dot(frame.clip[k].xyz, in.world) > frame.clip[k].w {
+                return -1;
+            }
+        }
+    }
+    let at = vec2<i32>(in.clip.xy);
+    var farthest = 0.0;
+    for (var s = 0; s < 4; s++) {
+        farthest = max(farthest, textureLoad(kbuffer_opaque, at, s));
+    }
+    if in.clip.z >= farthest {
+        return -1;
+    }
+    return i32((u32(at.y) * kbuffer.width + u32(at.x)) * kbuffer.k);
+}
+
+fn kbuffer_key(in: VsOut) -> u32 {
+    return max(~bitcast<u32>(in.clip.z), 1u);
+}
+
+@fragment
+fn fs_kbuffer_depth(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let first = kbuffer_slot(in, front);
+    if first >= 0 {
+        let at = vec2<u32>(in.clip.xy);
+        atomicAdd(&kbuffer_counts[at.y * kbuffer.width + at.x], 1u);
+        var key = kbuffer_key(in);
+        for (var i = 0u; i < kbuffer.k; i++) {
+            let old = atomicMax(&kbuffer_keys[u32(first) + i], key);
+            if old == 0u {
+                break;
+            }
+            key = min(old, key);
+        }
+    }
+    return vec4<f32>(0.0);
+}
+
+@fragment
+fn fs_kbuffer_shade(in: VsOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let first = kbuffer_slot(in, front);
+    if first < 0 {
+        return vec4<f32>(0.0);
+    }
+    let a = organs[in.organ].colour.a;
+    let c = surface(in, front);
+    let key = kbuffer_key(in);
+    for (var i = 0u; i < kbuffer.k; i++) {
+        let at = u32(first) + i;
+        if atomicLoad(&kbuffer_keys[at]) == key {
+            // Colour stored as the square root of linear light (more steps in the darks), 8 bits.
+            kbuffer_colours[at] = pack4x8unorm(vec4<f32>(sqrt(clamp(c, vec3<f32>(0.0), vec3<f32>(1.0))), a));
+            return vec4<f32>(0.0);
+        }
+    }
+    // Farther than the k nearest: blended in drawing order, back to front (premultiplied).
+    return vec4<f32>(c * a, a);
 }
 
 @fragment

@@ -8,7 +8,8 @@
 //! [`Renderer`] holds the set on the GPU (`scene`) and one technique per way of drawing a frame,
 //! each its own module with its pipelines and per-frame data, called through one interface
 //! (`frame::Technique`): `blend` (opaque, and sorted or unsorted alpha blending), `screendoor`
-//! (thesis chapter 4), `weighted` (weighted blended OIT), `peel` (depth peeling and dual depth peeling), `exact` (the
+//! (thesis chapter 4), `weighted` (weighted blended OIT), `peel` (depth peeling and dual depth
+//! peeling), `kbuffer` (the k-buffer, Callahan 2005), `exact` (the
 //! reference), `debug` (the
 //! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
 //! and selected organs, over the finished frame). `uniforms` holds the
@@ -23,6 +24,7 @@ mod exact;
 mod frame;
 pub mod guard;
 mod ids;
+mod kbuffer;
 mod outline;
 mod peel;
 mod pipelines;
@@ -86,9 +88,11 @@ pub const SCREENDOOR_SHADER: Shader =
     Shader { name: "screendoor.wgsl", source: include_str!("../../shaders/screendoor.wgsl") };
 /// The depth-peeling modes' per-sample compositing.
 pub const PEEL_SHADER: Shader = Shader { name: "peel.wgsl", source: include_str!("../../shaders/peel.wgsl") };
+/// The k-buffer's resolve.
+pub const KBUFFER_SHADER: Shader = Shader { name: "kbuffer.wgsl", source: include_str!("../../shaders/kbuffer.wgsl") };
 /// Every shader, for validation.
-pub const SHADERS: [&Shader; 5] =
-    [&ORGAN_SHADER, &ORGAN_CLIP_SHADER, &COMPOSITE_SHADER, &SCREENDOOR_SHADER, &PEEL_SHADER];
+pub const SHADERS: [&Shader; 6] =
+    [&ORGAN_SHADER, &ORGAN_CLIP_SHADER, &COMPOSITE_SHADER, &SCREENDOOR_SHADER, &PEEL_SHADER, &KBUFFER_SHADER];
 
 /// The organ pipelines' WGSL: organ.wgsl, and where the device has clip distances, organ_clip.wgsl
 /// after it (`vs_clipped`).

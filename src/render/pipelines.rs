@@ -92,17 +92,24 @@ impl<'a> PipelineFactory<'a> {
 impl PipelineFactory<'_> {
     pub fn build(&self, spec: OrganPipeline) -> OrganPipelines {
         OrganPipelines {
-            closed: self.build_one(&spec, Some(wgpu::Face::Back), Default::default()),
-            open: self.build_one(&spec, None, Default::default()),
-            caps: self.build_one(&spec, Some(wgpu::Face::Front), CAP_BIAS),
+            closed: self.build_one(&spec, Some(wgpu::Face::Back), Some(Default::default())),
+            open: self.build_one(&spec, None, Some(Default::default())),
+            caps: self.build_one(&spec, Some(wgpu::Face::Front), Some(CAP_BIAS)),
         }
     }
 
+    /// One pipeline for passes that test depth and faces in the shader (they write storage, so
+    /// the tests must come before the writes): no face culling, no depth attachment.
+    pub fn build_unculled_without_depth(&self, spec: OrganPipeline) -> wgpu::RenderPipeline {
+        self.build_one(&spec, None, None)
+    }
+
+    /// A pipeline culling `cull`, with a depth attachment biased by `depth` where given.
     fn build_one(
         &self,
         spec: &OrganPipeline,
         cull: Option<wgpu::Face>,
-        bias: wgpu::DepthBiasState,
+        depth: Option<wgpu::DepthBiasState>,
     ) -> wgpu::RenderPipeline {
         let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
         self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
@@ -119,7 +126,7 @@ impl PipelineFactory<'_> {
                 })],
             },
             primitive: wgpu::PrimitiveState { cull_mode: cull, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
+            depth_stencil: depth.map(|bias| wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(spec.depth_write),
                 depth_compare: Some(wgpu::CompareFunction::Less),

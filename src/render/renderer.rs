@@ -8,6 +8,7 @@ use super::debug::CullDebug;
 use super::exact::Exact;
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::ids::{IdKind, Ids};
+use super::kbuffer::KBuffer;
 use super::outline::Outline;
 use super::peel::{Peel, PeelFrame};
 use super::pipelines::{Composite, PipelineFactory};
@@ -27,6 +28,7 @@ pub struct Renderer {
     screendoor: Screendoor,
     weighted: Weighted,
     peel: Peel,
+    kbuffer: KBuffer,
     exact: Exact,
     composite: Composite,
     ids: Ids,
@@ -50,6 +52,7 @@ impl Renderer {
         let hdr = opaque_hdr(&factory, &scene.layout);
         let screendoor = Screendoor::new(device, &factory, &scene, &composite, hdr.clone());
         let peel = Peel::new(device, &factory, &scene, &composite, hdr.clone());
+        let kbuffer = KBuffer::new(device, &factory, &scene, hdr.clone());
         let weighted = Weighted::new(device, &factory, &scene.layout, &composite, hdr);
         let exact = Exact::new(&factory, &scene.layout);
         let ids = Ids::new(&factory, &scene.layout);
@@ -63,6 +66,7 @@ impl Renderer {
             screendoor,
             weighted,
             peel,
+            kbuffer,
             exact,
             composite,
             ids,
@@ -118,11 +122,20 @@ impl Renderer {
             TransparencyMode::Exact => &self.exact,
             TransparencyMode::Peel => &peel,
             TransparencyMode::DualPeel => &dual_peel,
+            TransparencyMode::KBuffer => &self.kbuffer,
             TransparencyMode::Screendoor
             | TransparencyMode::ScreendoorWhitenoise
             | TransparencyMode::ScreendoorPixeltree => &screendoor,
         };
         self.draw_with(technique, device, queue, target, frame)
+    }
+
+    /// Each pixel's count of faded fragments in front of the opaque organs (rows top to bottom) in
+    /// the last frame drawn into `target` with the k-buffer: the k that pixel needs for an exact
+    /// result in any drawing order (Callahan 2005, Fig. 4.7). `None` if that frame was not drawn
+    /// with the k-buffer.
+    pub fn fragment_counts(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target) -> Result<Option<Vec<u32>>> {
+        self.kbuffer.counts(device, queue, target)
     }
 
     /// The culling debug view (thesis Figure 21): what culling removed, in bright colours, seen

@@ -6,7 +6,7 @@
 
 use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
-use super::uniforms::{FrameUniform, OrganUniform, Vertex, CAPPED, CLIPPED, FRAME_SLOTS, SLOT, UNMOVED};
+use super::uniforms::{FrameUniform, OrganUniform, Vertex, CAPPED, CLIPPED, CLOSED, FRAME_SLOTS, SLOT, UNMOVED};
 use super::FrameInput;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -28,6 +28,10 @@ struct Batch {
     vertices: wgpu::Buffer,
     /// Indices into the batch's vertices (the organ's vertex offset added).
     indices: wgpu::Buffer,
+    /// The same indices, three per triangle, and each triangle's centroid in organ space, for
+    /// drawing triangles in depth order ([`GpuScene::triangle_stream`]).
+    triangles: Vec<[u32; 3]>,
+    centroids: Vec<Vec3>,
 }
 
 struct GpuMesh {
@@ -96,9 +100,14 @@ impl GpuScene {
             let buffer = |contents: &[u8], usage| {
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("organs"), contents, usage })
             };
+            let triangles: Vec<[u32; 3]> = indices.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect();
+            let at = |v: u32| Vec3::from(vertices[v as usize].position);
+            let centroids = triangles.iter().map(|t| (at(t[0]) + at(t[1]) + at(t[2])) / 3.0).collect();
             batches.push(Batch {
                 vertices: buffer(bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
                 indices: buffer(bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
+                triangles,
+                centroids,
             });
             vertices.clear();
             indices.clear();
@@ -241,7 +250,9 @@ impl GpuScene {
         for (i, s) in frame.layout.organs.iter().enumerate().take(self.meshes.len()) {
             let model = s.transform.matrix();
             let clip = frame.section.organ(i, &self.meshes[i].bounds.transformed(&model), self.meshes[i].closed);
-            let flags = if clip.clipped { CLIPPED } else { 0 } | if clip.capped { CAPPED } else { 0 };
+            let flags = if clip.clipped { CLIPPED } else { 0 }
+                | if clip.capped { CAPPED } else { 0 }
+                | if self.meshes[i].closed { CLOSED } else { 0 };
             capped[i] = clip.capped;
             let normal = Mat4::from_mat3(Mat3::from_mat4(model).inverse().transpose());
             let u = OrganUniform {
@@ -263,6 +274,47 @@ impl GpuScene {
             None => Cow::Owned(std::iter::once(0..self.meshes[organ].index_count).collect()),
         }
     }
+
+    /// The triangles of `organs` (the ranges `frame.draw` keeps of each) per batch, as indices into
+    /// the batch's vertices. `sorted`: farthest first by the distance of their centroids from the
+    /// eye, the nearly sorted stream of HAVS (Callahan 2005, §4.2), sorted per frame on the CPU;
+    /// else in the order of `organs`, each organ's triangles as stored.
+    pub fn triangle_stream(&self, frame: &FrameInput, organs: &[usize], sorted: bool) -> Vec<Vec<u32>> {
+        let draw = frame.draw;
+        let mut keyed: Vec<Vec<(f32, u32)>> = vec![Vec::new(); self.batches.len()];
+        for &organ in organs {
+            let m = &self.meshes[organ];
+            let model = frame.layout.organs[organ].transform.matrix();
+            let batch = &self.batches[m.batch];
+            for r in self.ranges(organ, draw).iter() {
+                let triangles = (m.first_index + r.start) / 3..(m.first_index + r.end) / 3;
+                keyed[m.batch].extend(triangles.map(|t| {
+                    let c = model.transform_point3(batch.centroids[t as usize]);
+                    (c.distance_squared(frame.camera.eye), t)
+                }));
+            }
+        }
+        keyed
+            .into_iter()
+            .enumerate()
+            .map(|(b, mut keys)| {
+                if sorted {
+                    keys.sort_unstable_by(|x, y| y.0.total_cmp(&x.0).then(x.1.cmp(&y.1)));
+                }
+                keys.iter().flat_map(|&(_, t)| self.batches[b].triangles[t as usize]).collect()
+            })
+            .collect()
+    }
+
+    /// Draws whole triangles of batch `batch` from `indices` (indices into the batch's vertices,
+    /// as [`Self::triangle_stream`] gives them) with one pipeline, as shown in section 0.
+    pub fn draw_indices(&self, pass: &mut wgpu::RenderPass, batch: usize, indices: &wgpu::Buffer, count: u32) {
+        pass.set_bind_group(1, &self.organ_bind, &[0]);
+        pass.set_vertex_buffer(0, self.batches[batch].vertices.slice(..));
+        pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(0..count, 0, 0..1);
+    }
+
 
     /// Selects frame slot `slot` for the draws that follow.
     pub fn set_frame(&self, pass: &mut wgpu::RenderPass, slot: u64) {

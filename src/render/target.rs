@@ -230,6 +230,20 @@ pub(crate) fn read_texture(
     })
 }
 
+/// Copies a whole buffer (`COPY_SRC`) back to the CPU (blocking).
+pub(crate) fn read_buffer(device: &wgpu::Device, queue: &wgpu::Queue, source: &wgpu::Buffer) -> Result<Vec<u8>> {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read-back"),
+        size: source.size(),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut encoder = device.create_command_encoder(&Default::default());
+    encoder.copy_buffer_to_buffer(source, 0, &buffer, 0, source.size());
+    queue.submit([encoder.finish()]);
+    read_mapped(device, &buffer, "read-back", |data| data.to_vec())
+}
+
 /// Maps a `MAP_READ` buffer whose copy has been submitted, waits for it, and hands its bytes to
 /// `read`; `what` names the read in errors.
 pub(super) fn read_mapped<T>(

@@ -48,7 +48,7 @@ pub(super) struct OrganUniform {
     pub model: [[f32; 4]; 4],
     pub normal_matrix: [[f32; 4]; 4],
     pub colour: [f32; 4],
-    /// x: organ index + 1; y: [`CLIPPED`] | [`CAPPED`].
+    /// x: organ index + 1; y: [`CLIPPED`] | [`CAPPED`] | [`CLOSED`].
     pub id: [u32; 4],
 }
 
@@ -56,6 +56,19 @@ pub(super) struct OrganUniform {
 pub(super) const CLIPPED: u32 = 1;
 /// Organ flag: closed and cut, its inside seen through the cut is drawn as a solid face.
 pub(super) const CAPPED: u32 = 2;
+
+/// Organ flag: closed (drawn with its back faces culled, which the k-buffer does in its shader).
+pub(super) const CLOSED: u32 = 4;
+
+/// `KBuffer` in shaders/organ.wgsl and shaders/kbuffer.wgsl.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub(super) struct KBufferUniform {
+    pub width: u32,
+    pub height: u32,
+    pub k: u32,
+    pub pad: u32,
+}
 
 /// `Screendoor` in shaders/organ.wgsl.
 #[repr(C)]
@@ -84,10 +97,12 @@ pub(super) struct GatherUniform {
 }
 
 /// (shader file, WGSL struct, size of the Rust struct in bytes) of every struct shared with WGSL.
-pub const SHARED_STRUCTS: [(&str, &str, usize); 5] = [
+pub const SHARED_STRUCTS: [(&str, &str, usize); 7] = [
     ("organ.wgsl", "Frame", std::mem::size_of::<FrameUniform>()),
     ("organ.wgsl", "Organ", std::mem::size_of::<OrganUniform>()),
     ("organ.wgsl", "Screendoor", std::mem::size_of::<ScreendoorUniform>()),
     ("screendoor.wgsl", "Screendoor", std::mem::size_of::<ScreendoorUniform>()),
     ("screendoor.wgsl", "Gather", std::mem::size_of::<GatherUniform>()),
+    ("organ.wgsl", "KBuffer", std::mem::size_of::<KBufferUniform>()),
+    ("kbuffer.wgsl", "KBuffer", std::mem::size_of::<KBufferUniform>()),
 ];

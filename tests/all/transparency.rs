@@ -1,5 +1,7 @@
-//! Screen-door transparency on rendered images (lavapipe in CI): the image does not depend on the
-//! order organs are drawn in, and a transparent organ shows only its outermost layer.
+//! Transparency on rendered images (lavapipe in CI): screen-door's image does not depend on the
+//! order organs are drawn in, and a transparent organ shows only its outermost layer; peeling and
+//! the k-buffer match the exact reference where they have layers or slots enough, and the k-buffer
+//! does not depend on the drawing order where its k slots hold every fragment.
 
 use crate::common::{cube, default_set, gpu};
 use glam::Vec3;
@@ -106,18 +108,16 @@ fn screendoor_shows_only_the_outermost_layer() {
     assert!(differing(TransparencyMode::AlphaSorted) > 200);
 }
 
-/// Nested transparent shells (three cubes, one inside the other, all faded) in front of an opaque
-/// block: the peeling modes must match the exact reference, and stop early once every layer is in.
-#[test]
-fn peeling_matches_exact_on_nested_shells() {
-    let gpu = gpu();
+/// Cubes of these half sides, one inside the other, and an opaque block beyond them (seen from
+/// behind), last.
+fn nested_shells(halves: &[f32]) -> OrganSet {
     let mut organs = Vec::new();
-    for (i, half) in [30.0, 20.0, 10.0].into_iter().enumerate() {
+    for (i, &half) in halves.iter().enumerate() {
         let id = format!("shell{i}");
         organs.push(Organ::new(
             id.clone(),
             id,
-            [0.9, 0.6 - 0.2 * i as f32, 0.3],
+            [0.9, 0.6 - 0.15 * i as f32, 0.3],
             cube(Vec3::ZERO, Vec3::splat(half), 0),
         ));
     }
@@ -127,7 +127,15 @@ fn peeling_matches_exact_on_nested_shells() {
     }
     back.compute_normals();
     organs.push(Organ::new("back".into(), "back".into(), [0.3, 0.5, 0.9], back));
-    let set = OrganSet { title: "nested shells".into(), organs, ..Default::default() };
+    OrganSet { title: "nested shells".into(), organs, ..Default::default() }
+}
+
+/// Nested transparent shells (three cubes, one inside the other, all faded) in front of an opaque
+/// block: the peeling modes must match the exact reference, and stop early once every layer is in.
+#[test]
+fn peeling_matches_exact_on_nested_shells() {
+    let gpu = gpu();
+    let set = nested_shells(&[30.0, 20.0, 10.0]);
     let renderer = Renderer::new(&gpu.device, &set).unwrap();
     let mut layout = Layout::new(&set);
     for (s, a) in layout.organs.iter_mut().zip([0.4, 0.5, 0.6]) {
@@ -206,4 +214,110 @@ fn refinement_converges_to_the_full_image() {
     moved.eye += Vec3::new(1.0, 0.0, 0.0);
     let stats = renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &moved, ..refined }).unwrap();
     assert_eq!(stats.subsamples_done, 16, "a new view starts again");
+}
+
+/// The k-buffer on four nested shells: with slots for every layer it matches the exact reference;
+/// drawn unsorted (a draw order given) with too few slots, the overflow's order shows.
+#[test]
+fn kbuffer_matches_exact_on_nested_shells() {
+    let gpu = gpu();
+    let mut set = nested_shells(&[30.0, 26.0, 22.0, 18.0]);
+    // Far apart in colour, so that the order of the inner two shows.
+    for (o, c) in set.organs.iter_mut().zip([[0.9, 0.9, 0.9], [0.9, 0.6, 0.3], [0.1, 0.9, 0.1], [0.9, 0.1, 0.9]]) {
+        o.colour = c;
+    }
+    let renderer = Renderer::new(&gpu.device, &set).unwrap();
+    let mut layout = Layout::new(&set);
+    for (s, a) in layout.organs.iter_mut().zip([0.4, 0.5, 0.6, 0.7]) {
+        s.opacity = a;
+    }
+    let camera = Camera::orbit(&set.bounds(), 200.0, 15.0);
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    // Outermost (nearest) shell first.
+    let front_to_back = [0, 1, 2, 3, 4];
+    let shot = |mode, kbuffer, order: Option<&[usize]>| {
+        let transparency = TransparencySettings { mode, kbuffer, ..Default::default() };
+        let frame = FrameInput {
+            background: [0.0, 0.0, 0.0, 1.0],
+            transparency,
+            draw_order: order,
+            ..FrameInput::new(&set, &camera, &layout)
+        };
+        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        target.read_color(&gpu.device, &gpu.queue).unwrap()
+    };
+    let exact = shot(TransparencyMode::Exact, 8, None);
+    let off = |a: &image::RgbaImage| {
+        a.pixels().zip(exact.pixels()).filter(|(x, y)| (0..3).any(|k| x[k].abs_diff(y[k]) > 8)).count()
+    };
+    let kbuffer = shot(TransparencyMode::KBuffer, 4, None);
+    let counts = renderer.fragment_counts(&gpu.device, &gpu.queue, &target).unwrap().unwrap();
+    assert_eq!(counts.iter().max(), Some(&4), "four shells: at most four faded fragments a pixel");
+    // Off only at the shells' edges: the k-buffer samples a pixel once, the reference 16 times.
+    let edges = off(&kbuffer);
+    let mean_error = |a: &image::RgbaImage| {
+        let sum: u64 = a
+            .pixels()
+            .zip(exact.pixels())
+            .map(|(x, y)| (0..3).map(|k| x[k].abs_diff(y[k])).max().unwrap_or(0) as u64)
+            .sum();
+        sum as f64 / (a.width() * a.height()) as f64
+    };
+    assert!(mean_error(&kbuffer) < 1.0, "mean error {:.3} with a slot for every layer", mean_error(&kbuffer));
+    // Sorted back to front, two slots suffice too: the overflow is blended in order.
+    assert!(off(&shot(TransparencyMode::KBuffer, 2, None)) <= edges + edges / 10);
+    // Drawn front to back with two slots, the two farther shells overflow and are blended in the
+    // wrong order (the innermost over the third): wrong where all four overlap. The comparison
+    // can fail.
+    let wrong = off(&shot(TransparencyMode::KBuffer, 2, Some(&front_to_back)));
+    assert!(wrong > 1000 && wrong > 3 * edges, "{wrong} pixels off front to back with two slots, {edges} sorted");
+    // With four slots the order does not matter.
+    assert!(off(&shot(TransparencyMode::KBuffer, 4, Some(&front_to_back))) <= edges);
+}
+
+/// The k-buffer on the brain, every organ faded, drawn unsorted in shuffled organ orders: every
+/// pixel whose faded fragments fit in its k slots is the same in every order.
+#[test]
+fn kbuffer_does_not_depend_on_draw_order_where_k_suffices() {
+    let gpu = gpu();
+    let set = default_set();
+    let renderer = Renderer::new(&gpu.device, set).unwrap();
+    let mut layout = Layout::new(set);
+    for (i, s) in layout.organs.iter_mut().enumerate() {
+        s.opacity = [0.3, 0.5, 0.7, 0.45][i % 4];
+    }
+    let camera = Camera::orbit(&layout.bounds(set), 35.0, 10.0);
+    let k = 4;
+    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let shot = |order: &[usize]| {
+        let transparency = TransparencySettings { mode: TransparencyMode::KBuffer, kbuffer: k, ..Default::default() };
+        let frame = FrameInput {
+            background: [0.0, 0.0, 0.0, 1.0],
+            transparency,
+            draw_order: Some(order),
+            ..FrameInput::new(set, &camera, &layout)
+        };
+        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        let counts = renderer.fragment_counts(&gpu.device, &gpu.queue, &target).unwrap().unwrap();
+        (target.read_color(&gpu.device, &gpu.queue).unwrap(), counts)
+    };
+    let n = set.organs.len();
+    let (base, counts) = shot(&XorShift::permutation(n, 1));
+    let fits = counts.iter().filter(|&&c| c > 0 && c <= k as u32).count();
+    let over = counts.iter().filter(|&&c| c > k as u32).count();
+    assert!(fits > 300 && over > 100, "{fits} pixels within k, {over} beyond: not a test of both");
+    let mut differ_beyond = 0;
+    for seed in 2..5 {
+        let (image, again) = shot(&XorShift::permutation(n, seed));
+        assert_eq!(again, counts, "the fragment counts depend on the order");
+        for ((a, b), &c) in base.pixels().zip(image.pixels()).zip(&counts) {
+            if c <= k as u32 {
+                assert_eq!(a, b, "draw order seed {seed} changed a pixel with {c} fragments");
+            } else {
+                differ_beyond += usize::from(a != b);
+            }
+        }
+    }
+    // Beyond k the order shows: the comparison can fail.
+    assert!(differ_beyond > 0, "no pixel beyond k changed with the order");
 }

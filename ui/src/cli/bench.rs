@@ -23,6 +23,7 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
     let transparency = TransparencySettings {
         mode: args.transparency.unwrap_or(base.mode),
         subsamples: args.subsamples.unwrap_or(base.subsamples),
+        kbuffer: args.kbuffer.unwrap_or(base.kbuffer),
         ..base
     };
     let opts = BenchOptions {

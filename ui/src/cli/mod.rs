@@ -278,6 +278,9 @@ pub struct RenderArgs {
     /// log2(sub-samples) - 1 are), 1..=64 [default: 8]
     #[arg(long, value_parser = k())]
     pub k: Option<usize>,
+    /// The k-buffer's fragments kept per pixel (`--transparency kbuffer`), 2..=8 [default: 8]
+    #[arg(long, value_parser = kbuffer_k())]
+    pub kbuffer: Option<usize>,
     /// Most layers `peel` and `dual-peel` peel, 1..=64 [default: 8]
     #[arg(long, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(1..=vbrain::transparency::MAX_PEEL_LAYERS as u64))]
     pub layers: Option<usize>,
@@ -352,6 +355,9 @@ pub struct BenchArgs {
     /// [default: 64]
     #[arg(long, value_parser = values::subsamples)]
     pub subsamples: Option<usize>,
+    /// The k-buffer's fragments kept per pixel (`--transparency kbuffer`), 2..=8 [default: 8]
+    #[arg(long, value_parser = kbuffer_k())]
+    pub kbuffer: Option<usize>,
     /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
     pub clip: Vec<vbrain::clip::ClipPlane>,
@@ -536,6 +542,12 @@ fn region() -> clap::builder::RangedU64ValueParser<u32> {
 /// K, the nearest organs error compensation favours, in [`vbrain::transparency::K_RANGE`].
 fn k() -> clap::builder::RangedU64ValueParser<usize> {
     let r = vbrain::transparency::K_RANGE;
+    count(*r.start() as u64, *r.end() as u64)
+}
+
+/// The k-buffer's slots per pixel, in [`vbrain::transparency::KBUFFER_K`].
+fn kbuffer_k() -> clap::builder::RangedU64ValueParser<usize> {
+    let r = vbrain::transparency::KBUFFER_K;
     count(*r.start() as u64, *r.end() as u64)
 }
 

@@ -79,6 +79,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         region_px: args.region.unwrap_or(base.region_px),
         k: args.k.unwrap_or(base.k),
         peel_layers: args.layers.unwrap_or(base.peel_layers),
+        kbuffer: args.kbuffer.unwrap_or(base.kbuffer),
     };
     let mode = args.cull.or(chosen.map(|r| r.cull)).unwrap_or(CullMode::Occlusion);
     let background_srgb = chosen.map_or_else(crate::background_srgb, |r| r.background);

@@ -100,7 +100,7 @@ const VIEWS: [ViewSpec; 6] = [
     },
 ];
 
-pub const MODES: [TransparencyMode; 8] = [
+pub const MODES: [TransparencyMode; 9] = [
     TransparencyMode::Screendoor,
     TransparencyMode::ScreendoorWhitenoise,
     TransparencyMode::ScreendoorPixeltree,
@@ -109,6 +109,7 @@ pub const MODES: [TransparencyMode; 8] = [
     TransparencyMode::WeightedBlended,
     TransparencyMode::Peel,
     TransparencyMode::DualPeel,
+    TransparencyMode::KBuffer,
 ];
 
 /// Modes of the error-against-time curve, and the most layers the peeling modes get in it.
@@ -495,6 +496,7 @@ fn colour(m: TransparencyMode) -> (u8, u8, u8) {
         TransparencyMode::WeightedBlended => (140, 60, 170),
         TransparencyMode::Peel => (20, 170, 190),
         TransparencyMode::DualPeel => (90, 90, 30),
+        TransparencyMode::KBuffer => (230, 90, 150),
         TransparencyMode::Exact => (0, 0, 0),
     }
 }
