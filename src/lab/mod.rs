@@ -11,3 +11,13 @@ pub mod bench;
 pub mod city;
 pub mod masks;
 pub mod occluder_selection;
+
+/// A CSV field (RFC 4180): quoted where it holds a comma, quote or line break. Every CSV vbrain
+/// writes (the experiments', the quiz results) goes through it.
+pub fn csv_field(s: &str) -> String {
+    if s.contains([',', '"', '\n', '\r']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}

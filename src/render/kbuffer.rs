@@ -22,7 +22,9 @@
 //!   farthest of a pixel's samples.
 
 use super::frame::{Frame, RenderStats, Technique};
-use super::pipelines::{fullscreen_pipeline, module, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory};
+use super::pipelines::{
+    fullscreen_pipeline, module, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
+};
 use super::scene::GpuScene;
 use super::target::{read_buffer, Target, COLOR_FORMAT, HDR_FORMAT};
 use super::uniforms::KBufferUniform;
@@ -148,7 +150,7 @@ impl KBuffer {
     fn buffers(&self, device: &wgpu::Device, target: &Target, k: u32) -> Result<Buffers> {
         let pixels = u64::from(target.width) * u64::from(target.height);
         let bytes = pixels * u64::from(k) * 4;
-        let most = u64::from(device.limits().max_storage_buffer_binding_size).min(device.limits().max_buffer_size);
+        let most = device.limits().max_storage_buffer_binding_size.min(device.limits().max_buffer_size);
         if bytes > most {
             return Err(Error::gpu(
                 "the k-buffer",
@@ -283,7 +285,10 @@ impl Technique for KBuffer {
                     view: &target.color_view,
                     depth_slice: None,
                     resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                        store: wgpu::StoreOp::Store,
+                    },
                 })],
                 depth_stencil_attachment: None,
                 timestamp_writes: None,

@@ -134,7 +134,12 @@ impl Renderer {
     /// the last frame drawn into `target` with the k-buffer: the k that pixel needs for an exact
     /// result in any drawing order (Callahan 2005, Fig. 4.7). `None` if that frame was not drawn
     /// with the k-buffer.
-    pub fn fragment_counts(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target) -> Result<Option<Vec<u32>>> {
+    pub fn fragment_counts(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        target: &Target,
+    ) -> Result<Option<Vec<u32>>> {
         self.kbuffer.counts(device, queue, target)
     }
 

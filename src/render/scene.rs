@@ -315,7 +315,6 @@ impl GpuScene {
         pass.draw_indexed(0..count, 0, 0..1);
     }
 
-
     /// Selects frame slot `slot` for the draws that follow.
     pub fn set_frame(&self, pass: &mut wgpu::RenderPass, slot: u64) {
         pass.set_bind_group(0, &self.frame_bind, &[(slot * SLOT) as u32]);

@@ -1,7 +1,8 @@
 //! `vbrain bench --lod`: level of detail by render scale (Callahan 2005, ch. 5, Fig. 5.6) over the
 //! bench's camera path. Each frame is drawn as the viewer draws a moving frame (interactive
 //! sub-samples, culled): at full size, at each of the viewer's smaller scales, and as the viewer
-//! chooses (`auto`: each frame's scale from the last one's time). Times are the render and the
+//! chooses (`auto`: each frame's scale, and its sub-samples or one weighted blended pass for faded
+//! organs, from the last one's time, as [`MotionQuality`] decides in the viewer). Times are the render and the
 //! wait for the GPU, not the read-back; errors are RMSE over 8-bit RGB against the full-size frame,
 //! after scaling up with a bilinear filter as the viewer's texture does.
 //! - Pixels: top left origin; the smaller images keep the view's aspect.
@@ -67,14 +68,13 @@ pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dy
     let home = layout.bounds(set);
     let mut culler = Culler::new(opts.database.clone());
     let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("waiting for the GPU: {e}"));
-    // Draws frame `camera` into `target`: its time, and the image at full size.
-    let mut draw = |camera: &vbrain::camera::Camera, target: &Target| -> Result<(f64, RgbaImage)> {
-        let frame = FrameInput {
-            transparency: opts.transparency,
-            moving: true,
-            section: &opts.section,
-            ..FrameInput::new(set, camera, layout)
-        };
+    // Draws frame `camera` into `target` with `transparency`: its time, and the image at full size.
+    let mut draw = |camera: &vbrain::camera::Camera,
+                    target: &Target,
+                    transparency: vbrain::transparency::TransparencySettings|
+     -> Result<(f64, RgbaImage)> {
+        let frame =
+            FrameInput { transparency, moving: true, section: &opts.section, ..FrameInput::new(set, camera, layout) };
         let started = Instant::now();
         let (list, _) = culler.cull_frame(&renderer.cull_input(&frame, target), &CullSettings::default());
         renderer.render(&gpu.device, &gpu.queue, target, &FrameInput { draw: Some(&list), ..frame })?;
@@ -89,21 +89,31 @@ pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dy
     let (mut full_ms, mut times, mut errors) =
         (Vec::new(), vec![Vec::new(); names.len()], vec![Vec::new(); names.len()]);
     let mut auto = MotionQuality::default();
+    // As in the viewer, only frames whose faded organs screen-door draws tell how it fares.
+    let faded = layout.organs.iter().any(|s| s.is_drawn() && !s.is_opaque());
+    let screendoor_faded = faded && opts.transparency.mode.mask_method().is_some();
     for i in 0..opts.frames {
         let camera = opts.route.camera(&home, i, opts.frames);
-        let (ms, full) = draw(&camera, &targets[0])?;
+        let (ms, full) = draw(&camera, &targets[0], opts.transparency)?;
         // The first frame warms pipelines and caches: not counted.
         let counted = i > 0 || opts.frames == 1;
         for (k, target) in targets.iter().enumerate().skip(1) {
-            let (ms, image) = draw(&camera, target)?;
+            let (ms, image) = draw(&camera, target, opts.transparency)?;
             if counted {
                 times[k - 1].push(ms);
                 errors[k - 1].push(rmse(&image, &full));
             }
         }
+        // The viewer's choice: its render scale, and its sub-samples (or one weighted blended pass)
+        // for the faded organs, each from the frame before.
         let chosen = SCALES.iter().position(|&s| s == auto.scale()).unwrap_or(0);
-        let (auto_ms, image) = draw(&camera, &targets[chosen])?;
-        auto.observe_scale(Duration::from_secs_f64(auto_ms / 1000.0));
+        let (auto_ms, image) = draw(&camera, &targets[chosen], auto.frame(opts.transparency, true))?;
+        let took = Duration::from_secs_f64(auto_ms / 1000.0);
+        if screendoor_faded {
+            let setting = opts.transparency.interactive_subsamples;
+            auto.observe(setting, auto.moving(setting), took);
+        }
+        auto.observe_scale(took);
         if counted {
             full_ms.push(ms);
             times[names.len() - 1].push(auto_ms);

@@ -4,6 +4,7 @@
 //! argument stay here.
 
 pub mod bench;
+pub mod k_analysis;
 pub mod lod;
 pub mod masks;
 pub mod occluders;

@@ -7,7 +7,8 @@
 //! frame is the weighted blended one), and an error-against-time curve
 //! (screen-door at 4..64 sub-samples, the peeling modes at 1..8 layers). CSV, a PNG plot and a
 //! contact sheet (one row per view, one column per mode in the order printed). It also times mask
-//! regeneration at 1920x1080 with every organ at 50 % opacity.
+//! regeneration at 1920x1080 with every organ at 50 % opacity, and per view counts the k-buffer
+//! slots each pixel needs ([`super::k_analysis`]).
 
 use anyhow::{bail, Result};
 use serde_json::json;
@@ -307,6 +308,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     let mut rows = Vec::new();
     let mut figures = Vec::new();
     let mut sheet_rows = Vec::new();
+    let mut k_rows = Vec::new();
     let bar = indicatif::ProgressBar::new(VIEWS.len() as u64);
     for (v, spec) in VIEWS.iter().enumerate() {
         let (layout, transparent) = view_layout(set, spec, v as u64 + 1)?;
@@ -321,6 +323,11 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         for mode in MODES {
             let Shot { image, frame_ms, gpu_ms, passes } = shooter.mode(&camera, &layout, mode)?;
             let (mae, p99) = errors(&image, &exact);
+            if mode == TransparencyMode::KBuffer {
+                if let Some(counts) = renderer.fragment_counts(&gpu.device, &gpu.queue, &target)? {
+                    k_rows.push(super::k_analysis::shares(spec.name, transparent, &counts));
+                }
+            }
             rows.push(Row { view: spec.name.into(), transparent, mode, mae, p99, frame_ms, gpu_ms, passes });
             images.push(image);
         }
@@ -337,11 +344,12 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     }
     bar.finish_and_clear();
     let regen = mask_regeneration(set, region_px)?;
+    let (k_csv, k_plot) = super::k_analysis::write(out, &k_rows)?;
     let csv = out.join("transparency.csv");
     vbrain::atomic::write(&csv, |w| {
         writeln!(w, "view,transparent_organs,mode,mean_abs_error,p99_error,frame_ms,passes,gpu_ms")?;
         for r in &rows {
-            let (v, n, m) = (&r.view, r.transparent, r.mode.name());
+            let (v, n, m) = (vbrain::lab::csv_field(&r.view), r.transparent, r.mode.name());
             let gpu = r.gpu_ms.map(|g| format!("{g:.2}")).unwrap_or_default();
             writeln!(w, "{v},{n},{m},{:.4},{:.1},{:.2},{},{gpu}", r.mae, r.p99, r.frame_ms, r.passes)?;
         }
@@ -395,6 +403,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         let out = json!({
             "size": [size.0, size.1], "region_px": region_px, "views": views, "mean_abs_error": means,
             "mask_regeneration": regen, "adapter": gpu.adapter_description(),
+            "k_analysis": k_rows, "k_csv": k_csv, "k_plot": k_plot,
             "csv": csv, "plot": plot, "sheet": sheet,
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
@@ -430,8 +439,21 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
             println!("mean over views  {:<22} {:.3}", m.name(), mean(m));
         }
         println!("mask regeneration at 1920x1080, every organ at 50 %: {regen}");
+        for r in &k_rows {
+            println!(
+                "{:<40} k-buffer slots needed: k <= 2 {:.1} %, 3-6 {:.1} %, > 6 {:.1} % (most {})",
+                r.view, r.k_at_most_2, r.k_3_to_6, r.k_over_6, r.most
+            );
+        }
         println!("contact sheet columns: exact, {}", MODES.map(|m| m.name()).join(", "));
-        println!("wrote {}, {} and {}", csv.display(), plot.display(), sheet.display());
+        println!(
+            "wrote {}, {}, {}, {} and {}",
+            csv.display(),
+            plot.display(),
+            sheet.display(),
+            k_csv.display(),
+            k_plot.display()
+        );
     }
     Ok(())
 }

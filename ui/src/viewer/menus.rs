@@ -210,7 +210,7 @@ fn culling_menu(ui: &mut egui::Ui, has_db: bool, settings: &mut Settings) {
     ui.checkbox(&mut settings.cull_debug, "Debug view: culled triangles in colour");
 }
 
-/// Transparency mode and the screen-door masks' sub-samples, region size and K.
+/// Transparency mode, the screen-door masks' sub-samples, region size and K, and the k-buffer's k.
 fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
     for mode in TransparencyMode::ALL {
         ui.radio_value(&mut t.mode, mode, mode.name());
@@ -239,6 +239,11 @@ fn transparency_menu(ui: &mut egui::Ui, t: &mut TransparencySettings) {
         .add(egui::Slider::new(&mut t.k, vbrain::transparency::K_RANGE).text("K nearest organs compensated"))
         .on_hover_text("At most this many; masks of n sub-samples follow no more than log2(n) - 1 (5 for 64)");
     accessible(&r, "Neighbourhood error compensation K");
+    ui.separator();
+    let r = ui
+        .add(egui::Slider::new(&mut t.kbuffer, vbrain::transparency::KBUFFER_K).text("k-buffer fragments"))
+        .on_hover_text("Fragments the k-buffer sorts exactly per pixel; farther ones are blended in rough order");
+    accessible(&r, "k-buffer fragments per pixel");
     if ui.button("Defaults").clicked() {
         *t = TransparencySettings::default();
     }

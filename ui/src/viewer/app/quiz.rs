@@ -162,8 +162,8 @@ impl App {
         let when = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
         let csv = format!(
             "{when},{},{},{},{},{:.1}\n",
-            csv_field(&set),
-            csv_field(&run.title),
+            vbrain::lab::csv_field(&set),
+            vbrain::lab::csv_field(&run.title),
             run.questions.len(),
             run.score(),
             now - run.started
@@ -222,9 +222,9 @@ impl App {
                 "{},{},{},{},{},{},{}\n",
                 k + 1,
                 if q.kind == Kind::Locate { "locate" } else { "name" },
-                csv_field(&o.id),
-                csv_field(&o.name),
-                csv_field(a.map_or("", |a| a.given.as_str())),
+                vbrain::lab::csv_field(&o.id),
+                vbrain::lab::csv_field(&o.name),
+                vbrain::lab::csv_field(a.map_or("", |a| a.given.as_str())),
                 a.is_some_and(|a| a.correct),
                 a.map_or(String::new(), |a| format!("{:.1}", a.seconds)),
             ));
@@ -238,7 +238,7 @@ impl App {
     /// The results kept for this set, as the panel lists them.
     pub(super) fn load_quiz_history(&mut self) {
         let (Some(path), Some(scene)) = (&self.quiz_history, &self.scene) else { return };
-        let title = csv_field(&scene.set().title);
+        let title = vbrain::lab::csv_field(&scene.set().title);
         let text = vbrain::input::read_text(path, vbrain::input::Kind::Document).unwrap_or_default();
         self.quiz.history = text
             .lines()
@@ -249,15 +249,6 @@ impl App {
                 Some(format!("{}: {correct} of {questions} in {seconds} s", quiz.trim_matches('"')))
             })
             .collect();
-    }
-}
-
-/// A CSV field: quoted where it holds a comma, quote or line break.
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\""))
-    } else {
-        s.to_string()
     }
 }
 
