@@ -41,6 +41,11 @@ fi
 if command -v npm >/dev/null && { [ ! -d scripts/web/node_modules/gltf-validator ] || [ ! -d scripts/web/node_modules/playwright-core ]; }; then
     npm ci --prefix scripts/web --no-audit --no-fund --silent
 fi
+# The Anki deck tests import decks with Anki's own collection library (PyPI package anki).
+if ! python3 -c "import anki" 2>/dev/null; then
+    echo "No Anki library found: installing the anki package from PyPI"
+    python3 -m pip install --quiet anki==26.9.3 || echo "warning: could not install anki; the deck tests will fail" >&2
+fi
 # The Vulkan loader complains without a runtime dir; give it a private one.
 if [ -z "${XDG_RUNTIME_DIR:-}" ] || [ ! -d "${XDG_RUNTIME_DIR}" ]; then
     XDG_RUNTIME_DIR="$(mktemp -d)"

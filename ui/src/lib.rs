@@ -2,10 +2,12 @@
 //!
 //! The viewer draws through the core's offscreen renderer into a texture that egui paints, so the
 //! viewport, exported screenshots and `vbrain render` show the same pixels. Modules: [`viewer`]
-//! (the desktop app), [`cli`] (the headless commands) and [`lab`] (the experiments the commands
-//! report: benchmarks, mask and occluder experiments, plots).
+//! (the desktop app), [`cli`] (the headless commands), [`lab`] (the experiments the commands
+//! report: benchmarks, mask and occluder experiments, plots), [`annotate`] (labels on figures)
+//! and [`anki`] (Anki decks of a set's structures).
 
 pub mod annotate;
+pub mod anki;
 pub mod cli;
 pub mod lab;
 pub mod viewer;

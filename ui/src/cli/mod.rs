@@ -5,6 +5,7 @@
 //! Values are checked while parsing ([`values`]); what needs the organ set (organ ids) is
 //! checked once it is open ([`common`]).
 
+mod anki;
 mod bench;
 mod bench_transparency;
 mod city;
@@ -21,6 +22,8 @@ mod render;
 mod scale;
 mod stand_ins;
 pub mod values;
+
+pub use lesson::FILL_LABELLED;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -51,6 +54,9 @@ pub enum Command {
     /// A quiz worksheet: per question a picture of the structure, questions.md and answers.md
     /// (with --json: {"questions": [{"kind", "organ", "choices", "image"}...]})
     Quiz(QuizArgs),
+    /// An Anki deck (.apkg) of the set's structures: per structure and view a "name it" card and
+    /// two image-occlusion cards with masks shaped like the structure
+    Anki(AnkiArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -196,6 +202,29 @@ pub struct QuizArgs {
     pub out: PathBuf,
     /// Image size, WxH
     #[arg(long, default_value = "1024x768", value_parser = values::size)]
+    pub size: Size,
+    #[command(flatten)]
+    pub report: Report,
+}
+
+#[derive(clap::Args)]
+pub struct AnkiArgs {
+    /// Organ set [default: the default brain]
+    pub set: Option<PathBuf>,
+    /// Only this group's organs (an id or a group path such as "Basal ganglia")
+    #[arg(long)]
+    pub group: Option<String>,
+    /// Views per structure (its best: where most of it shows), 1..=4
+    #[arg(long, default_value_t = 2, value_parser = count(1, 4))]
+    pub views: usize,
+    /// The deck file to write (.apkg)
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out if it exists
+    #[arg(long)]
+    pub force: bool,
+    /// Card picture size, WxH
+    #[arg(long, default_value = "768x768", value_parser = values::size)]
     pub size: Size,
     #[command(flatten)]
     pub report: Report,
@@ -575,6 +604,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Render(args) => render::run(&args),
         Command::Lesson(LessonCommand::Render(args)) => lesson::render(&args),
         Command::Quiz(args) => quiz::run(&args),
+        Command::Anki(args) => anki::run(&args),
         Command::Import(args) => import::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),
