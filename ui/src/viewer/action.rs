@@ -138,6 +138,8 @@ pub enum ModelKind {
     Gltf,
     /// A folder with a web page that opens in any browser.
     Web,
+    /// An Anki deck (.apkg) of the structures shown.
+    Anki,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.

@@ -7,7 +7,7 @@
 //! next component draws, so every component shows what the ones before it changed.
 
 use super::about::About;
-use super::action::{Action, Window};
+use super::action::{Action, ModelKind, Window};
 use super::dialogs::files;
 use super::dialogs::Dialogs;
 use super::dock::{self, Dock, Tab};
@@ -68,6 +68,8 @@ pub struct App {
     dialogs: Dialogs,
     loading: Option<Job<Result<Opened>>>,
     importing: Option<Job<Result<PathBuf>>>,
+    /// An Anki deck being written: its file, and what it holds.
+    exporting: Option<Job<Result<(PathBuf, crate::anki::DeckReport)>>>,
     /// The scene file: its path, whether it is saved, a scene waiting for its set.
     document: Document,
     /// The window title last set.
@@ -111,6 +113,7 @@ impl App {
             dialogs: Dialogs::default(),
             loading: None,
             importing: None,
+            exporting: None,
             document: Document::default(),
             title: String::new(),
             lesson: LessonPanel::default(),
@@ -253,9 +256,10 @@ impl App {
 
     /// The running job: title, progress (if known) and message.
     fn job(&self) -> Option<menus::Job> {
-        let (title, p) = match (&self.loading, &self.importing) {
-            (Some(j), _) => (&j.title, &j.progress),
-            (None, Some(j)) => (&j.title, &j.progress),
+        let (title, p) = match (&self.loading, &self.importing, &self.exporting) {
+            (Some(j), ..) => (&j.title, &j.progress),
+            (None, Some(j), _) => (&j.title, &j.progress),
+            (None, None, Some(j)) => (&j.title, &j.progress),
             _ => return None,
         };
         Some(menus::Job { title: title.clone(), fraction: p.fraction(), message: p.message() })
@@ -378,6 +382,7 @@ impl App {
                     self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
                 }
                 Action::Export { path, size } => self.export(&path, size),
+                Action::ExportModel { kind: ModelKind::Anki, path, .. } => self.export_deck(ctx, &path),
                 Action::ExportModel { kind, path, lesson } => self.export_model(kind, &path, lesson),
                 Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
                 Action::ResetCamera => {
@@ -479,6 +484,7 @@ impl App {
             let lesson = self.lesson.lesson.as_ref().map(|l| (l.title.as_str(), l.steps.len()));
             actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder, None));
             actions.extend(self.dialogs.web.show(ctx, &scene.set().title, folder, lesson));
+            actions.extend(self.dialogs.anki.show(ctx, &scene.set().title, folder, None));
             self.perform(ctx, actions);
         }
     }

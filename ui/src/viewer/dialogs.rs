@@ -1,5 +1,5 @@
 //! The viewer's file windows, kept together: open a set or mesh files, import a label volume,
-//! export a screenshot, a glTF model or a web page.
+//! export a screenshot, a glTF model, a web page or an Anki deck.
 
 use super::action::ModelKind;
 pub mod export;
@@ -16,6 +16,7 @@ pub struct Dialogs {
     pub export: ExportWindow,
     pub gltf: ModelWindow,
     pub web: ModelWindow,
+    pub anki: ModelWindow,
 }
 
 impl Default for Dialogs {
@@ -27,6 +28,7 @@ impl Default for Dialogs {
             export: ExportWindow::default(),
             gltf: ModelWindow::new(ModelKind::Gltf),
             web: ModelWindow::new(ModelKind::Web),
+            anki: ModelWindow::new(ModelKind::Anki),
         }
     }
 }
@@ -37,6 +39,7 @@ impl Dialogs {
         match kind {
             ModelKind::Gltf => &mut self.gltf,
             ModelKind::Web => &mut self.web,
+            ModelKind::Anki => &mut self.anki,
         }
     }
 }

@@ -113,6 +113,7 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
             "The organs shown, as a 3-D model for Blender, slides or web viewers",
         ),
         (ModelKind::Web, "Export web page...", "The organs shown, as a web page students open in any browser"),
+        (ModelKind::Anki, "Export Anki deck...", "Flashcards of the structures shown, to review in Anki"),
     ];
     for (kind, label, hover) in models {
         if ui.add_enabled(scene.is_some(), egui::Button::new(label)).on_hover_text(hover).clicked() {

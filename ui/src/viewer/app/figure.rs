@@ -5,6 +5,7 @@
 use super::App;
 use crate::viewer::action::ModelKind;
 use crate::viewer::dialogs::export;
+use crate::viewer::jobs::Job;
 use crate::viewer::settings::LabelMode;
 use anyhow::{Context, Result};
 use eframe::egui;
@@ -97,6 +98,51 @@ impl App {
     /// Writes the scene as a glTF model or a web page: the organs drawn, cut by the current
     /// section; a page also has the camera, the labels, the outlines and the selection. With
     /// `lesson`, the page is the open lesson's, its steps and captions (as `vbrain export` makes it).
+    /// Starts writing an Anki deck of the structures shown into the file `typed` (`.apkg` added
+    /// if missing; a new file, never one that exists), off the UI thread with progress.
+    pub(super) fn export_deck(&mut self, ctx: &egui::Context, typed: &str) {
+        let started = self.scene.as_ref().context("no organ set").and_then(|scene| {
+            anyhow::ensure!(self.exporting.is_none(), "a deck is being written already");
+            let path = export::file_path(typed, "apkg")?;
+            anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
+            let (set, layout) = (scene.set().clone(), scene.layout());
+            let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| layout.organs[o].is_drawn()).collect();
+            anyhow::ensure!(!scope.is_empty(), "no organ is shown");
+            let opts = crate::anki::DeckOptions { scope, size: (768, 768), views: 2 };
+            let title = format!("Anki deck {}", path.display());
+            self.exporting = Some(Job::spawn(title, ctx, move |progress| {
+                let (bytes, report) = crate::anki::build(&set, None, &opts, &mut |done, total| {
+                    progress.set(done, total, &format!("{done} of {total} structures"));
+                })?;
+                crate::anki::write(&path, &bytes, false)?;
+                Ok((path, report))
+            }));
+            Ok(())
+        });
+        if let Err(e) = started {
+            let message = format!("not saved: {e:#}");
+            self.dialogs.model(ModelKind::Anki).finished(message.clone(), false);
+            self.notify(message, true);
+        }
+    }
+
+    /// After an Anki deck was written (or failed).
+    pub(super) fn deck_written(&mut self, result: Result<(PathBuf, crate::anki::DeckReport)>) {
+        let (message, saved) = match result {
+            Ok((path, report)) => {
+                self.settings.export.folder = path.parent().map(Path::to_path_buf);
+                let mut m = format!("saved {}: {} cards", path.display(), report.notes);
+                if !report.unseen.is_empty() {
+                    m.push_str(&format!(" (not seen from any view: {})", report.unseen.join(", ")));
+                }
+                (m, true)
+            }
+            Err(e) => (format!("not saved: {e:#}"), false),
+        };
+        self.dialogs.model(ModelKind::Anki).finished(message.clone(), saved);
+        self.notify(message, !saved);
+    }
+
     pub(super) fn export_model(&mut self, kind: ModelKind, typed: &str, lesson: bool) {
         let written = self.scene.as_ref().context("no organ set").and_then(|scene| {
             let (set, layout, section) = (scene.set(), scene.layout(), &self.sections.current);
@@ -143,12 +189,14 @@ impl App {
                     let bytes = vbrain::web_page::write(&dir, &page)?;
                     Ok((dir.join("index.html"), bytes))
                 }
+                // Written off the UI thread by `export_deck`.
+                ModelKind::Anki => anyhow::bail!("an Anki deck is written with progress, not here"),
             }
         });
         let (message, saved) = match written {
             Ok((path, bytes)) => {
                 let folder = match kind {
-                    ModelKind::Gltf => path.parent(),
+                    ModelKind::Gltf | ModelKind::Anki => path.parent(),
                     ModelKind::Web => path.parent().and_then(Path::parent),
                 };
                 self.settings.export.folder = folder.map(Path::to_path_buf);

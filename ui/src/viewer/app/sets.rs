@@ -48,6 +48,10 @@ impl App {
     }
 
     pub(super) fn poll_jobs(&mut self, ctx: &egui::Context) {
+        if let Some(result) = self.exporting.as_ref().and_then(|j| j.poll()) {
+            self.exporting = None;
+            self.deck_written(result);
+        }
         if let Some(result) = self.importing.as_ref().and_then(|j| j.poll()) {
             self.importing = None;
             match result {

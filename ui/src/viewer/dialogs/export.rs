@@ -123,6 +123,7 @@ impl ModelWindow {
             let name = match self.kind {
                 ModelKind::Gltf => name.replace(".png", ".glb"),
                 ModelKind::Web => name.replace(".png", "-page"),
+                ModelKind::Anki => name.replace(".png", ".apkg"),
             };
             self.path.text = folder.unwrap_or(Path::new("")).join(name).display().to_string();
         }
@@ -131,6 +132,7 @@ impl ModelWindow {
         let title = match self.kind {
             ModelKind::Gltf => "Export glTF model",
             ModelKind::Web => "Export web page",
+            ModelKind::Anki => "Export Anki deck",
         };
         let window = egui::Window::new(title).open(&mut open).collapsible(false).default_width(520.0);
         window.show(ctx, |ui| {
@@ -160,6 +162,12 @@ impl ModelWindow {
                         });
                     }
                     save |= self.path.ui(ui, "Folder:", Pick::Folder, &[]);
+                }
+                ModelKind::Anki => {
+                    ui.label(
+                        "Flashcards of every structure shown, from its best views: \"name it\" (outlined) and                          image occlusion (covered by a mask of its exact shape), with the Latin names and                          texts. Import the file in Anki (File > Import); exporting again updates the cards and                          keeps their reviews.",
+                    );
+                    save |= self.path.ui(ui, "File:", Pick::Save, &[("Anki deck", &["apkg"])]);
                 }
             }
             save |= ui.button("Save").clicked();
