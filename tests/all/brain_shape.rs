@@ -1,7 +1,7 @@
 //! The default brain's cortex looks like a brain (issue targets, figures as build_brain.py prints
 //! them), measured on the shipped meshes. Millimetres, MNI152 RAS.
-//! - Outer cortex: each gyrus's pial patch, its first vertices in `meshes/ID.vbo` (as many as
-//!   `meshes/cortex_{l,r}.maps.json` holds sulc values for), and the faces among them.
+//! - Outer cortex: each gyrus's pial patch, its first vertices in the file `meshes/ID.vbo` (as many
+//!   as `meshes/cortex_{l,r}.maps.json` holds sulc values for), and the faces among them.
 //! - Roughness: the area-weighted mean angle between each outer face's normal and the
 //!   area-weighted mean normal of the outer faces whose centres lie within 3 mm of its centre.
 //! - Sulci: the share of the outer area deeper than 8 mm inside the hemisphere's convex hull (the
@@ -11,6 +11,27 @@ use crate::common::{brain_dir, default_set};
 use glam::Vec3;
 use std::collections::HashMap;
 
+/// A .vbo file's vertices and triangles (0-based) in the file's order, which the loader does not
+/// keep (it reorders for drawing).
+fn read_vbo(path: &std::path::Path) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+    for line in std::fs::read_to_string(path).unwrap().lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => {
+                let xyz: Vec<f32> = words.map(|w| w.parse().unwrap()).collect();
+                positions.push(Vec3::new(xyz[0], xyz[1], xyz[2]));
+            }
+            Some("f") => {
+                let v: Vec<u32> = words.map(|w| w.split('/').next().unwrap().parse::<u32>().unwrap() - 1).collect();
+                triangles.push([v[0], v[1], v[2]]);
+            }
+            _ => {}
+        }
+    }
+    (positions, triangles)
+}
+
 /// Centre, unit normal and area of each outer cortical face of one hemisphere.
 fn outer_faces(side: &str) -> Vec<(Vec3, Vec3, f32)> {
     let path = brain_dir().join(format!("meshes/cortex_{side}.maps.json"));
@@ -18,11 +39,11 @@ fn outer_faces(side: &str) -> Vec<(Vec3, Vec3, f32)> {
     let set = default_set();
     let mut faces = Vec::new();
     for (id, values) in maps["organs"].as_object().unwrap() {
-        let organ = set.organs.iter().find(|o| &o.id == id).unwrap_or_else(|| panic!("{id} not in the set"));
+        assert!(set.organs.iter().any(|o| &o.id == id), "{id} not in the set");
         let pial = values["sulc"].as_array().unwrap().len() as u32;
-        let m = &organ.mesh;
-        for t in m.indices.chunks_exact(3).filter(|t| t.iter().all(|&v| v < pial)) {
-            let [a, b, c] = [0, 1, 2].map(|k| Vec3::from(m.positions[t[k] as usize]));
+        let (positions, triangles) = read_vbo(&brain_dir().join(format!("meshes/{id}.vbo")));
+        for t in triangles.iter().filter(|t| t.iter().all(|&v| v < pial)) {
+            let [a, b, c] = [0, 1, 2].map(|k| positions[t[k] as usize]);
             let cross = (b - a).cross(c - a);
             if cross.length() > 0.0 {
                 faces.push(((a + b + c) / 3.0, cross.normalize(), cross.length() / 2.0));

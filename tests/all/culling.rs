@@ -116,9 +116,10 @@ fn random_planes(set: &OrganSet, rng: &mut Rng) -> Vec<ClipPlane> {
 /// removes behind it. Lavapipe (Mesa 22.3) lets one 4x MSAA sample of the default brain through the
 /// skull in one pose of 160: all four sample positions lie at least 0.02 pixels inside the skull's
 /// front triangles (a fan around one shared vertex, no sliver among them), the same sample leaks in
-/// every technique and drawing order, and moving the organ behind 20 mm away ends it. A culling
-/// error removes whole parts: many pixels, in many poses.
-const RASTER_CRACKS: usize = 1;
+/// every technique and drawing order, and moving the organ behind 20 mm away ends it. With the
+/// fsaverage cortex (every organ closed, no open edge after welding) two poses of 160 show one
+/// such lone sample each. A culling error removes whole parts: many pixels, in many poses.
+const RASTER_CRACKS: usize = 2;
 
 /// The poses a test renders.
 #[derive(Clone, Copy)]

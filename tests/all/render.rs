@@ -164,7 +164,10 @@ fn culling_debug_view_colours_what_was_culled() {
 
 /// Seamless cortex: from the sides, above, front and back, with everything shown, the white matter
 /// shows nowhere between the gyri (at most 0.1 % of the brain's pixels; 0 when this was written).
-/// Single-sampled ID pixels at 512x512, so a sliver one pixel wide counts.
+/// Single-sampled ID pixels at 512x512, so a sliver one pixel wide counts. The interhemispheric
+/// fissure (the middle 8 % of the image from above, the front and the back) is left out: there the
+/// medial wall, which has no cortex (as in FreeSurfer's surfaces), and the corpus callosum show,
+/// as in a real brain.
 #[test]
 fn no_white_matter_shows_between_the_gyri() {
     let gpu = gpu();
@@ -179,7 +182,9 @@ fn no_white_matter_shows_between_the_gyri() {
         renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
         let ids = target.read_ids(&gpu.device, &gpu.queue).unwrap();
         let brain = ids.iter().filter(|&&i| i != 0).count();
-        let wm = ids.iter().filter(|i| white.contains(i)).count();
+        let midline = matches!(view, View::Superior | View::Anterior | View::Posterior);
+        let in_fissure = |k: usize| midline && ((k % 512) as i32 - 256).abs() < 20;
+        let wm = ids.iter().enumerate().filter(|(k, i)| white.contains(i) && !in_fissure(*k)).count();
         assert!(brain > 50_000, "{view:?}: {brain} brain pixels");
         assert!(wm * 1000 < brain, "{view:?}: white matter shows in {wm} of {brain} brain pixels");
     }
