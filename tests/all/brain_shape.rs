@@ -91,8 +91,7 @@ fn deep_share(faces: &[(Vec3, Vec3, f32)]) -> f64 {
             Vec3::new(r * t.cos(), r * t.sin(), z)
         })
         .collect();
-    let extent: Vec<f32> =
-        dirs.iter().map(|d| faces.iter().map(|f| d.dot(f.0)).fold(f32::MIN, f32::max)).collect();
+    let extent: Vec<f32> = dirs.iter().map(|d| faces.iter().map(|f| d.dot(f.0)).fold(f32::MIN, f32::max)).collect();
     let (mut deep, mut all) = (0.0f64, 0.0f64);
     for &(centre, _, a) in faces {
         let depth = dirs.iter().zip(&extent).map(|(d, h)| h - d.dot(centre)).fold(f32::MAX, f32::min);

@@ -119,9 +119,9 @@ fn models() -> (Model, Model) {
         stable_id("vbrain image occlusion"),
         "vbrain image occlusion",
         ["Name", "Latin", "Info", "Masked", "Uncovered", "Kind"].map(Field::new).to_vec(),
-        vec![Template::new("Occlusion")
-            .qfmt("{{Masked}}<div>What lies under the red mask?</div>")
-            .afmt("{{Uncovered}}<hr id=answer><b>{{Name}}</b><div class=latin>{{Latin}}</div><div class=info>{{Info}}</div>")],
+        vec![Template::new("Occlusion").qfmt("{{Masked}}<div>What lies under the red mask?</div>").afmt(
+            "{{Uncovered}}<hr id=answer><b>{{Name}}</b><div class=latin>{{Latin}}</div><div class=info>{{Info}}</div>",
+        )],
     )
     .css(css);
     (name_it, occlusion)
@@ -195,7 +195,11 @@ pub fn build(
         let deck_at = match deck_names.iter().position(|d| *d == deck_title) {
             Some(i) => i,
             None => {
-                decks.push(Deck::new(stable_id(&deck_title), &deck_title, &format!("From vbrain: {}", html(&set.title))));
+                decks.push(Deck::new(
+                    stable_id(&deck_title),
+                    &deck_title,
+                    &format!("From vbrain: {}", html(&set.title)),
+                ));
                 deck_names.push(deck_title);
                 decks.len() - 1
             }
@@ -220,7 +224,13 @@ pub fn build(
             let (outlined, _) = shot(&[organ])?;
             let mut labelled = outlined.clone();
             let px = annotate::text_px(h) * 1.3;
-            annotate::draw_sized(&mut labelled, &seen, &Labels::Chosen(vec![organ]), |i| set.organs[i].name.clone(), px);
+            annotate::draw_sized(
+                &mut labelled,
+                &seen,
+                &Labels::Chosen(vec![organ]),
+                |i| set.organs[i].name.clone(),
+                px,
+            );
             let mut shown: Vec<usize> = seen.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
             shown.sort_unstable();
             shown.dedup();

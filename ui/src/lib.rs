@@ -6,8 +6,8 @@
 //! report: benchmarks, mask and occluder experiments, plots), [`annotate`] (labels on figures)
 //! and [`anki`] (Anki decks of a set's structures).
 
-pub mod annotate;
 pub mod anki;
+pub mod annotate;
 pub mod cli;
 pub mod lab;
 pub mod viewer;

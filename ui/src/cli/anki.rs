@@ -16,7 +16,8 @@ pub fn run(args: &AnkiArgs) -> Result<bool> {
     let opts = DeckOptions { scope, size: (args.size.width, args.size.height), views: args.views };
     let started = Instant::now();
     let bar = indicatif::ProgressBar::new(opts.scope.len() as u64);
-    let (bytes, report) = anki::build(&set, database(&path, &set), &opts, &mut |done, _| bar.set_position(done as u64))?;
+    let (bytes, report) =
+        anki::build(&set, database(&path, &set), &opts, &mut |done, _| bar.set_position(done as u64))?;
     bar.finish_and_clear();
     anki::write(&args.out, &bytes, args.force)?;
     let seconds = started.elapsed().as_secs_f64();
