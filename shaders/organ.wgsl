@@ -72,15 +72,23 @@ const CLIPPED: u32 = 1u;
 const CAPPED: u32 = 2u;
 const CLOSED: u32 = 4u;
 
-// Discards what the clip planes remove (organs they cut only). Where the device has clip distances
-// the vertex stage (vs_clipped) has cut the triangles at the planes already.
-fn clip(in: VsOut) {
+// Whether the clip planes remove the fragment (organs they cut only).
+fn removed(in: VsOut) -> bool {
     if (organs[in.organ].id.y & CLIPPED) != 0u {
         for (var k = 0; k < 4; k++) {
             if dot(frame.clip[k].xyz, in.world) > frame.clip[k].w {
-                discard;
+                return true;
             }
         }
+    }
+    return false;
+}
+
+// Discards what the clip planes remove. Where the device has clip distances the vertex stage
+// (vs_clipped) has cut the triangles at the planes already.
+fn clip(in: VsOut) {
+    if removed(in) {
+        discard;
     }
 }
 
@@ -307,15 +315,8 @@ struct KBuffer {
 // the depth test is done here, before anything is written.
 fn kbuffer_slot(in: VsOut, front: bool) -> i32 {
     let organ = organs[in.organ];
-    if !front && (organ.id.y & CLOSED) != 0u && (organ.id.y & CAPPED) == 0u {
+    if (!front && (organ.id.y & CLOSED) != 0u && (organ.id.y & CAPPED) == 0u) || removed(in) {
         return -1;
-    }
-    if (organ.id.y & CLIPPED) != 0u {
-        for (var k = 0; k < 4; k++) {
-            if dot(frame.clip[k].xyz, in.world) > frame.clip[k].w {
-                return -1;
-            }
-        }
     }
     let at = vec2<i32>(in.clip.xy);
     var farthest = 0.0;

@@ -185,7 +185,7 @@ pub fn build(
                 ranked.push((shown, (az, el), layout));
             }
         }
-        ranked.sort_by(|a, b| b.0.cmp(&a.0));
+        ranked.sort_by_key(|r| std::cmp::Reverse(r.0));
         if ranked.is_empty() {
             report.unseen.push(o.name.clone());
             progress(done + 1, opts.scope.len());
