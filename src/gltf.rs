@@ -130,8 +130,7 @@ fn document(
             }
             Encoding::CompactNormals => {
                 // Each normal in 4 bytes (x, y, z, padding): vertex attributes keep 4-byte strides.
-                let packed: Vec<[i8; 4]> =
-                    m.normals.iter().map(|n| [n[0], n[1], n[2], 0.0].map(|c| (c * 127.0).round() as i8)).collect();
+                let packed: Vec<[i8; 4]> = m.normals.iter().map(|&n| pack_normal(n)).collect();
                 let v = view(&mut bin, bytemuck::cast_slice(&packed), 34962, Some(4));
                 json!({"bufferView": v, "componentType": 5120, "normalized": true, "count": m.normals.len(), "type": "VEC3"})
             }
@@ -244,6 +243,28 @@ fn pack(json: &Value, bin: &[u8]) -> Vec<u8> {
     out
 }
 
+/// A unit normal as four signed bytes (x, y, z, 0), read back as `byte / 127`. Rounding each
+/// component alone can leave the vector up to 0.7 % off unit length, more than glTF validators
+/// accept; of the 27 roundings up or down around it, the one that keeps nearest to unit length
+/// within 0.5 % and then nearest in direction is chosen.
+fn pack_normal(n: [f32; 3]) -> [i8; 4] {
+    let n = glam::Vec3::from(n).normalize_or_zero() * 127.0;
+    let base = n.floor();
+    let mut best = (f32::MAX, [0i8; 4]);
+    for i in 0..27 {
+        let step = glam::Vec3::new((i % 3) as f32, (i / 3 % 3) as f32, (i / 9) as f32) - 1.0;
+        let q =
+            (base + step + glam::Vec3::splat(0.5)).floor().clamp(glam::Vec3::splat(-127.0), glam::Vec3::splat(127.0));
+        let off_unit = (q.length() / 127.0 - 1.0).abs();
+        let off_direction = (q - n).length() / 127.0;
+        let score = if off_unit < 0.005 { off_direction } else { 1.0 + off_unit };
+        if score < best.0 {
+            best = (score, [q.x as i8, q.y as i8, q.z as i8, 0]);
+        }
+    }
+    best.1
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -267,6 +288,19 @@ mod tests {
         let len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
         assert_eq!(len % 4, 0);
         serde_json::from_slice(&glb[20..20 + len]).unwrap()
+    }
+
+    #[test]
+    fn packed_normals_keep_unit_length() {
+        let mut rng = crate::rng::XorShift::seeded(7);
+        for _ in 0..20_000 {
+            let n = glam::Vec3::new(rng.unit() - 0.5, rng.unit() - 0.5, rng.unit() - 0.5).normalize();
+            let q = pack_normal(n.into());
+            let back = glam::Vec3::new(q[0] as f32, q[1] as f32, q[2] as f32) / 127.0;
+            assert!((back.length() - 1.0).abs() < 0.005, "{n} -> {back}");
+            assert!(back.normalize().dot(n) > 0.9995, "{n} -> {back}");
+        }
+        assert_eq!(pack_normal([0.0, 0.0, -1.0]), [0, 0, -127, 0]);
     }
 
     #[test]

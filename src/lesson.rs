@@ -38,7 +38,14 @@ pub struct Lesson {
     /// The instructor's quiz on the lesson: questions in order.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub quiz: Vec<QuizQuestion>,
+    /// The share of the quiz, in per cent (0..=100), that passes it where a learning platform
+    /// records the result (a SCORM package); [`DEFAULT_PASS_MARK`] where not given.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pass_mark: Option<f32>,
 }
+
+/// The pass mark of a lesson's quiz, in per cent, where the lesson sets none.
+pub const DEFAULT_PASS_MARK: f32 = 70.0;
 
 /// A question of a lesson's quiz: its kind, the organ's id and, optionally, the ids offered as
 /// choices (else the nearest structures, as generated quizzes choose them).
@@ -158,6 +165,9 @@ impl Lesson {
         if lesson.steps.is_empty() {
             return Err(Error::parse(path, None, "a lesson needs at least one step"));
         }
+        if let Some(mark) = lesson.pass_mark.filter(|m| !(0.0..=100.0).contains(m)) {
+            return Err(Error::parse(path, None, format!("pass_mark {mark} is not a percentage in 0..=100")));
+        }
         for (i, step) in lesson.steps.iter().enumerate() {
             let problem = crate::scene_file::angle_problem("view", step.view)
                 .or_else(|| {
@@ -182,7 +192,7 @@ impl Lesson {
     pub fn new(title: &str, set_path: &Path, lesson_path: &Path, steps: Vec<Step>) -> Lesson {
         let base = lesson_path.parent().unwrap_or(Path::new(""));
         let set = crate::scene_file::relative_to(set_path, base);
-        Lesson { format: FORMAT.into(), title: title.into(), set, steps, quiz: Vec::new() }
+        Lesson { format: FORMAT.into(), title: title.into(), set, steps, quiz: Vec::new(), pass_mark: None }
     }
 
     /// The JSON text (keys in a fixed order, two-space indents, a final newline).
@@ -198,7 +208,11 @@ impl Lesson {
     /// This lesson to be saved at `to` instead of `from`: its set path made relative to the new
     /// folder.
     pub fn moved(&self, from: &Path, to: &Path) -> Lesson {
-        Lesson { quiz: self.quiz.clone(), ..Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone()) }
+        Lesson {
+            quiz: self.quiz.clone(),
+            pass_mark: self.pass_mark,
+            ..Lesson::new(&self.title, &self.set_path(from), to, self.steps.clone())
+        }
     }
 
     /// The view question `k` of the lesson's quiz starts from, where it names a step.

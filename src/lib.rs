@@ -46,6 +46,7 @@ pub mod quiz;
 pub mod render;
 pub mod rng;
 pub mod scene_file;
+pub mod scorm;
 pub mod surface;
 pub mod transition;
 pub mod transparency;

@@ -5,11 +5,14 @@
 //!
 //! The page (`web/page.html`, `web/page.js`) reads three parts of itself: the three.js modules, as
 //! `data:` URLs in an import map (their relative imports renamed to bare names the map resolves);
-//! the model, base64 in a `<script>` element; and a JSON description (title, camera, labels, and
-//! for a lesson its steps). Conventions of that JSON: positions and directions in glTF space
-//! (metres, +Y superior, +Z anterior: [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1,
-//! organs by id. Every text from the set reaches the page as JSON data and is shown as text, never
+//! the model, base64 in a `<script>` element; and a JSON description (title, camera, labels, for
+//! a lesson its steps, for a quiz its questions with their views and pass mark). Conventions of
+//! that JSON: positions and directions in glTF space (metres, +Y superior, +Z anterior:
+//! [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1, organs by id. Every text from the set reaches the page as JSON data and is shown as text, never
 //! parsed as HTML; the JSON is escaped so that no `</script>` can end its element.
+//!
+//! - A quiz's answers are in the page (it works offline, with no server): a page for graded
+//!   work trusts its students as a paper quiz with the key on its back does.
 
 use crate::camera::Camera;
 use crate::clip::Section;
@@ -74,6 +77,27 @@ pub struct Page<'a> {
     pub views: Vec<View>,
     /// A lesson (steps with next and previous) rather than one view.
     pub lesson: bool,
+    /// The quiz the page asks, if any.
+    pub quiz: Option<PageQuiz>,
+}
+
+/// A quiz in a page: its questions in order and the pass mark (per cent) it reports to a
+/// learning platform ([`crate::scorm`]).
+#[derive(Clone, Debug)]
+pub struct PageQuiz {
+    pub questions: Vec<PageQuestion>,
+    pub pass_mark: f32,
+}
+
+/// One question of a page's quiz: what it asks about which organ, the names offered (organ
+/// indices, the organ among them) and the view it is asked in (what hides the organ faded; a
+/// name question's organ outlined).
+#[derive(Clone, Debug)]
+pub struct PageQuestion {
+    pub kind: crate::quiz::Kind,
+    pub organ: usize,
+    pub choices: Vec<usize>,
+    pub view: View,
 }
 
 impl<'a> Page<'a> {
@@ -102,7 +126,15 @@ impl<'a> Page<'a> {
         for o in &mut model.organs {
             (o.visible, o.opacity) = (true, 1.0);
         }
-        Page { set, title: lesson.title.clone(), layout: model, section: Section::default(), views, lesson: true }
+        Page {
+            set,
+            title: lesson.title.clone(),
+            layout: model,
+            section: Section::default(),
+            views,
+            lesson: true,
+            quiz: None,
+        }
     }
 }
 
@@ -157,9 +189,9 @@ fn html(page: &Page, glb: &[u8]) -> String {
         THREE.iter().map(|(name, _, text)| (name.to_string(), json!(module_url(text)))).collect();
     let import_map = json!({ "imports": imports }).to_string();
     TEMPLATE
-        .replace("{{TITLE}}", &escape_html(&page.title))
-        .replace("{{IMPORTMAP}}", &script_safe(&import_map))
-        .replace("{{DATA}}", &script_safe(&description(page).to_string()))
+        .replace("{{TITLE}}", &escape_markup(&page.title))
+        .replace("{{IMPORTMAP}}", &json_safe(&import_map))
+        .replace("{{DATA}}", &json_safe(&description(page).to_string()))
         .replace("{{GLB}}", &base64(glb))
         .replace("{{APP}}", &script_safe(APP))
 }
@@ -192,8 +224,15 @@ fn script_safe(text: &str) -> String {
     text.replace("</", "<\\/")
 }
 
-/// Text for HTML: `&`, `<`, `>` and quotes escaped.
-fn escape_html(text: &str) -> String {
+/// JSON that may stand inside a `<script>` element: every `<` (only ever inside a JSON string)
+/// becomes `\u003c`, which JSON reads alike, so no `</script>` or `<!--` reaches the HTML parser.
+fn json_safe(json: &str) -> String {
+    json.replace('<', "\\u003c")
+}
+
+/// Text for HTML or XML: `&`, `<`, `>` and quotes escaped; control characters (which XML
+/// forbids) become spaces.
+pub(crate) fn escape_markup(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {
@@ -202,6 +241,7 @@ fn escape_html(text: &str) -> String {
             '>' => out.push_str("&gt;"),
             '"' => out.push_str("&quot;"),
             '\'' => out.push_str("&#39;"),
+            c if c.is_control() && !matches!(c, '\n' | '\t') => out.push(' '),
             c => out.push(c),
         }
     }
@@ -238,42 +278,47 @@ fn direction(d: Vec3) -> [f32; 3] {
 
 /// The JSON the page reads.
 fn description(page: &Page) -> Value {
-    let ids = |organs: &[usize]| -> Vec<&str> { organs.iter().map(|&i| page.set.organs[i].id.as_str()).collect() };
-    let views: Vec<Value> = page
-        .views
-        .iter()
-        .map(|v| {
-            let c = &v.camera;
-            let organs: serde_json::Map<String, Value> = page
-                .set
-                .organs
-                .iter()
-                .zip(&v.layout.organs)
-                .map(|(o, s)| {
-                    let m = s.transform.matrix();
-                    let matrix = (m != Mat4::IDENTITY).then(|| m.to_cols_array().to_vec());
-                    let state =
-                        json!({"visible": s.visible, "opacity": s.opacity, "colour": s.colour, "matrix": matrix});
-                    (o.id.clone(), state)
-                })
-                .collect();
-            // A plane removes n.p > d in RAS; three.js keeps n'.p + d' >= 0: n' = -n, d' = d (in metres).
-            let clip: Vec<Value> = v
-                .section
-                .planes
-                .iter()
-                .map(|p| json!({"normal": direction(-p.normal()), "constant": p.d / 1000.0}))
-                .collect();
-            json!({
-                "title": v.title, "caption": v.caption, "organs": organs,
-                "camera": {"eye": point(c.eye), "target": point(c.target), "up": direction(c.up), "fov": c.fov_y},
-                "highlight": ids(&v.highlight), "labels": ids(&v.labels),
-                "selection": v.selection.map(|i| page.set.organs[i].id.clone()), "clip": clip,
-                "whole": ids(&v.section.whole),
+    let views: Vec<Value> = page.views.iter().map(|v| view_json(page.set, v)).collect();
+    let quiz = page.quiz.as_ref().map(|q| {
+        let name = |o: usize| json!({"id": page.set.organs[o].id, "name": page.set.organs[o].name});
+        let questions: Vec<Value> = q
+            .questions
+            .iter()
+            .map(|q| {
+                json!({"kind": q.kind, "organ": name(q.organ), "choices": q.choices.iter().map(|&o| name(o)).collect::<Vec<_>>(),
+                    "view": view_json(page.set, &q.view)})
             })
+            .collect();
+        json!({"passMark": q.pass_mark, "questions": questions})
+    });
+    json!({"title": page.title, "lesson": page.lesson, "views": views, "quiz": quiz})
+}
+
+/// One view's JSON: each organ's state, the camera, outlines, labels and cut.
+fn view_json(set: &OrganSet, v: &View) -> Value {
+    let ids = |organs: &[usize]| -> Vec<&str> { organs.iter().map(|&i| set.organs[i].id.as_str()).collect() };
+    let c = &v.camera;
+    let organs: serde_json::Map<String, Value> = set
+        .organs
+        .iter()
+        .zip(&v.layout.organs)
+        .map(|(o, s)| {
+            let m = s.transform.matrix();
+            let matrix = (m != Mat4::IDENTITY).then(|| m.to_cols_array().to_vec());
+            let state = json!({"visible": s.visible, "opacity": s.opacity, "colour": s.colour, "matrix": matrix});
+            (o.id.clone(), state)
         })
         .collect();
-    json!({"title": page.title, "lesson": page.lesson, "views": views})
+    // A plane removes n.p > d in RAS; three.js keeps n'.p + d' >= 0: n' = -n, d' = d (in metres).
+    let clip: Vec<Value> =
+        v.section.planes.iter().map(|p| json!({"normal": direction(-p.normal()), "constant": p.d / 1000.0})).collect();
+    json!({
+        "title": v.title, "caption": v.caption, "organs": organs,
+        "camera": {"eye": point(c.eye), "target": point(c.target), "up": direction(c.up), "fov": c.fov_y},
+        "highlight": ids(&v.highlight), "labels": ids(&v.labels),
+        "selection": v.selection.map(|i| set.organs[i].id.clone()), "clip": clip,
+        "whole": ids(&v.section.whole),
+    })
 }
 
 #[cfg(test)]
@@ -319,12 +364,13 @@ mod tests {
             section: Section::default(),
             views: vec![view],
             lesson: false,
+            quiz: None,
         };
         let files = files(&page);
         let html = String::from_utf8(files[0].1.clone()).unwrap();
         assert!(html.contains("<title>&lt;b&gt;Brain&lt;/b&gt;"));
         assert!(!html.contains("</script><script>alert"), "an organ's name cannot close a script element");
-        assert!(html.contains("<\\/script><script>alert(1)<\\/script>"));
+        assert!(html.contains("\\u003c/script>\\u003cscript>alert(1)\\u003c/script>"));
         assert!(!html.contains("./three.core.min.js") && !html.contains("../utils/BufferGeometryUtils.js"));
         assert!(files.iter().any(|(p, _)| p == "vendor/three/LICENSE"));
         assert_eq!(&files[1].1[0..4], b"glTF");

@@ -1,5 +1,6 @@
 // vbrain's web page: the model inlined in the page, an organ tree (show, hide, opacity per organ
-// and group), click to name an organ, labels, and a lesson's steps. Space: glTF (metres, +Y
+// and group), click to name an organ, labels, a lesson's steps, and a quiz that reports its score
+// to a learning platform (SCORM 1.2) where one hosts the page. Space: glTF (metres, +Y
 // superior, +Z anterior); colours in the description are sRGB. Every text from the set is shown
 // with textContent, never parsed as HTML.
 import * as THREE from 'three';
@@ -504,20 +505,193 @@ function showStep(k) {
   $('next').disabled = step === data.views.length - 1;
 }
 
-// Click (not drag) to name an organ.
-let down = null;
-renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
-renderer.domElement.addEventListener('pointerup', (e) => {
-  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
-  const r = renderer.domElement.getBoundingClientRect();
-  const ndc = new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1);
+/** The organ drawn first at a point of the view (normalised device coordinates), or null. */
+function pick(ndc) {
   const ray = new THREE.Raycaster();
   ray.setFromCamera(ndc, camera);
   const visible = [...organs.values()].filter((o) => o.mesh.visible).map((o) => o.mesh);
   const kept = (h) => (h.object.material.clippingPlanes ?? []).every((p) => p.distanceToPoint(h.point) >= 0);
   const hit = ray.intersectObjects(visible, false).find(kept);
-  select(hit ? hit.object.userData.id : null);
+  return hit ? hit.object.userData.id : null;
+}
+
+// Click (not drag) to name an organ, or to answer a locate question.
+let down = null;
+renderer.domElement.addEventListener('pointerdown', (e) => { down = [e.clientX, e.clientY]; });
+renderer.domElement.addEventListener('pointerup', (e) => {
+  if (!down || Math.hypot(e.clientX - down[0], e.clientY - down[1]) > 4) return;
+  const r = renderer.domElement.getBoundingClientRect();
+  const id = pick(new THREE.Vector2(((e.clientX - r.left) / r.width) * 2 - 1, -((e.clientY - r.top) / r.height) * 2 + 1));
+  if (quizAsks('locate')) {
+    if (id) answer(id);
+  } else {
+    select(id);
+  }
 });
+
+/**
+ * A point of the canvas (CSS pixels from its top left), not covered by a panel, where organ `id`
+ * is what a click picks, or null: for tests, which click there as a student would.
+ */
+function pointOn(id) {
+  const o = organs.get(id);
+  if (!o || !o.mesh.visible) return null;
+  const g = o.mesh.geometry, position = g.attributes.position, index = g.index;
+  const triangles = index ? index.count / 3 : position.count / 3;
+  const corner = (t, k) => new THREE.Vector3().fromBufferAttribute(position, index ? index.getX(3 * t + k) : 3 * t + k);
+  const r = renderer.domElement.getBoundingClientRect();
+  const step = Math.max(1, Math.floor(triangles / 2000));
+  for (let t = 0; t < triangles; t += step) {
+    const centre = corner(t, 0).add(corner(t, 1)).add(corner(t, 2)).divideScalar(3).applyMatrix4(o.mesh.matrixWorld);
+    const ndc = centre.project(camera);
+    if (Math.abs(ndc.x) > 0.95 || Math.abs(ndc.y) > 0.95 || ndc.z > 1) continue;
+    const at = { x: ((ndc.x + 1) / 2) * r.width, y: ((1 - ndc.y) / 2) * r.height };
+    const uncovered = document.elementFromPoint(r.left + at.x, r.top + at.y) === renderer.domElement;
+    if (uncovered && pick(new THREE.Vector2(ndc.x, ndc.y)) === id) return at;
+  }
+  return null;
+}
+
+// The quiz: each question shows its view (what hides the structure faded; a name question's
+// structure outlined) and asks to click the structure or to pick its name; then the score and
+// the missed structures. On a learning platform (a SCORM 1.2 API on a parent or opener window)
+// the page reports the score and passed or failed against the pass mark, and finishes.
+const quiz = { k: -1, score: 0, answered: true, missed: [] };
+const scorm = { api: findScormApi(), open: false };
+
+function findScormApi() {
+  const search = (w) => {
+    for (let i = 0; w && i < 16; i++) {
+      try {
+        if (w.API) return w.API;
+      } catch (e) {
+        return null; // a window of another origin
+      }
+      if (w.parent === w) break;
+      w = w.parent;
+    }
+    return null;
+  };
+  return search(window) ?? (window.opener ? search(window.opener) : null);
+}
+
+function quizAsks(kind) {
+  return quiz.k >= 0 && !quiz.answered && data.quiz.questions[quiz.k].kind === kind;
+}
+
+const lowerFirst = (s) => s.charAt(0).toLowerCase() + s.slice(1);
+
+function startQuiz() {
+  Object.assign(quiz, { k: 0, score: 0, missed: [] });
+  $('lesson').style.display = 'none';
+  $('quiz').style.display = 'block';
+  $('quiz-review').replaceChildren();
+  $('quiz-next').style.display = '';
+  askQuestion();
+}
+
+function askQuestion() {
+  const q = data.quiz.questions[quiz.k];
+  quiz.answered = false;
+  showView(q.view);
+  select(null);
+  const n = data.quiz.questions.length;
+  $('quiz-count').textContent = `Question ${quiz.k + 1} of ${n}`;
+  $('quiz-question').textContent =
+    q.kind === 'locate' ? `Click the ${lowerFirst(q.organ.name)}.` : 'Name the outlined structure.';
+  const choices = $('quiz-choices');
+  choices.replaceChildren();
+  if (q.kind === 'name') {
+    for (const c of q.choices) {
+      const b = choices.appendChild(document.createElement('button'));
+      b.textContent = c.name;
+      b.addEventListener('click', () => answer(c.id));
+    }
+  }
+  $('quiz-feedback').textContent = '';
+  $('quiz-next').disabled = true;
+  $('quiz-next').textContent = quiz.k + 1 < n ? 'Next question' : 'See the score';
+}
+
+function answer(id) {
+  if (quiz.answered) return;
+  quiz.answered = true;
+  const q = data.quiz.questions[quiz.k];
+  const right = id === q.organ.id;
+  if (right) quiz.score++;
+  else quiz.missed.push(q.organ);
+  const target = lowerFirst(q.organ.name);
+  const got = lowerFirst(organs.get(id)?.label ?? q.choices.find((c) => c.id === id)?.name ?? id);
+  $('quiz-feedback').textContent = right
+    ? `Right: the ${target}.`
+    : q.kind === 'locate'
+      ? `No: that is the ${got}. The ${target} is shown in blue.`
+      : `No: this is the ${target}, shown in blue.`;
+  // The answer selected: tinted blue, its name and text beside the view.
+  select(q.organ.id);
+  for (const b of $('quiz-choices').querySelectorAll('button')) b.disabled = true;
+  $('quiz-next').disabled = false;
+  render();
+}
+
+function nextQuestion() {
+  if (quiz.k + 1 < data.quiz.questions.length) {
+    quiz.k++;
+    askQuestion();
+  } else {
+    finishQuiz();
+  }
+}
+
+function finishQuiz() {
+  const n = data.quiz.questions.length;
+  const percent = Math.round((100 * quiz.score) / n);
+  const passed = percent >= data.quiz.passMark;
+  quiz.k = -1;
+  $('quiz-count').textContent = 'Done';
+  $('quiz-question').textContent =
+    `Score: ${quiz.score} of ${n} (${percent} %), ${passed ? 'passed' : 'not passed'} (pass mark ${data.quiz.passMark} %).`;
+  $('quiz-choices').replaceChildren();
+  $('quiz-feedback').textContent = quiz.missed.length ? 'Missed (click one to see it):' : 'Nothing missed.';
+  const review = $('quiz-review');
+  review.replaceChildren();
+  for (const m of quiz.missed) {
+    const b = review.appendChild(document.createElement('button'));
+    b.textContent = m.name;
+    b.addEventListener('click', () => {
+      const o = organs.get(m.id);
+      if (o) {
+        setShown(o, true);
+        setOpacity(o, 1);
+      }
+      select(m.id);
+    });
+  }
+  $('quiz-next').style.display = 'none';
+  if (scorm.open) {
+    const set = (key, value) => scorm.api.LMSSetValue(key, String(value));
+    set('cmi.core.score.raw', percent);
+    set('cmi.core.score.min', 0);
+    set('cmi.core.score.max', 100);
+    set('cmi.core.lesson_status', passed ? 'passed' : 'failed');
+    scorm.api.LMSCommit('');
+    scorm.api.LMSFinish('');
+    scorm.open = false;
+    $('quiz-feedback').textContent += ' Your score was sent to the course.';
+  }
+}
+
+function closeQuiz() {
+  quiz.k = -1;
+  quiz.answered = true;
+  $('quiz').style.display = 'none';
+  if (data.lesson) {
+    $('lesson').style.display = 'block';
+    showStep(step);
+  } else {
+    showView(data.views[0]);
+  }
+}
 
 new GLTFLoader().parse(decodeModel(), '', (gltf) => {
   const root = gltf.scene;
@@ -544,6 +718,7 @@ new GLTFLoader().parse(decodeModel(), '', (gltf) => {
     $('previous').addEventListener('click', () => showStep(step - 1));
     $('next').addEventListener('click', () => showStep(step + 1));
     document.addEventListener('keydown', (e) => {
+      if (quiz.k >= 0) return;
       if (e.key === 'PageDown' || e.key === 'ArrowRight') showStep(step + 1);
       if (e.key === 'PageUp' || e.key === 'ArrowLeft') showStep(step - 1);
     });
@@ -551,11 +726,26 @@ new GLTFLoader().parse(decodeModel(), '', (gltf) => {
   } else {
     showView(data.views[0]);
   }
+  if (data.quiz) {
+    $('quiz-start').hidden = false;
+    $('quiz-start').textContent = `Take the quiz (${data.quiz.questions.length} questions)`;
+    $('quiz-start').addEventListener('click', startQuiz);
+    $('quiz-next').addEventListener('click', nextQuestion);
+    $('quiz-close').addEventListener('click', closeQuiz);
+    if (scorm.api) {
+      scorm.open = String(scorm.api.LMSInitialize('')) === 'true';
+      window.addEventListener('pagehide', () => {
+        if (scorm.open) scorm.api.LMSFinish('');
+        scorm.open = false;
+      });
+    }
+  }
   window.addEventListener('resize', resize);
   resize();
-  // For tests: the cut faces on or off.
+  // For tests: the cut faces on or off; the question asked; where to click an organ.
   const setCaps = (on) => { capsShown = on; capsDirty = true; render(); };
-  window.vbrain = { render, settled, organs: organs.size, setCaps, step: (k) => showStep(k) };
+  const question = () => (quiz.k >= 0 ? data.quiz.questions[quiz.k] : null);
+  window.vbrain = { render, settled, organs: organs.size, setCaps, step: (k) => showStep(k), question, pointOn };
   document.body.dataset.ready = '1';
 }, (error) => {
   $('loading').textContent = 'The model could not be read: ' + error;

@@ -3,6 +3,11 @@
 //! opacities, transforms, groups and info texts, cut by the clip planes with solid cut faces), and
 //! as a self-contained web page (`--web DIR`, [`vbrain::web_page`]); a lesson's glTF file is its
 //! first step, its page every step. Cameras are framed as `vbrain render` frames them.
+//!
+//! - A page asks a quiz: a lesson's own, or `--quiz N` questions drawn from a set with `--seed`.
+//!   Each question's view fades what hides its structure, as the viewer's quiz does (the
+//!   organ-ID buffer of a headless render decides).
+//! - `--scorm OUT.zip` packages that page for a learning platform ([`vbrain::scorm`]).
 
 use super::common::{apply_layout_args, open_set, section, writable_folder};
 use super::ExportArgs;
@@ -15,8 +20,10 @@ use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::lesson::Lesson;
 use vbrain::organ_set::OrganSet;
+use vbrain::quiz;
+use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::scene_file::SceneFile;
-use vbrain::web_page::{camera, labelled, Page, View};
+use vbrain::web_page::{camera, labelled, Page, PageQuestion, PageQuiz, View};
 
 pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(out) = &args.gltf {
@@ -27,17 +34,34 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
             bail!("{}: already exists; give --force to replace it", out.display());
         }
     }
+    if let Some(out) = &args.scorm {
+        if out.is_dir() {
+            bail!("{}: is a folder; give a file name ending in .zip", out.display());
+        }
+        if out.exists() && !args.force {
+            bail!("{}: already exists; give --force to replace it", out.display());
+        }
+    }
     if let Some(dir) = &args.web {
         writable_folder(dir, args.force)?;
     }
     let path = vbrain::data_dir::set_or_default(args.path.as_deref())?;
+    for out in [&args.gltf, &args.scorm].into_iter().flatten() {
+        if same_file(out, &path) {
+            bail!("{}: is what is exported; give another file to write", out.display());
+        }
+    }
     let (source, set_path) = open_source(&path)?;
     let set = open_set(&set_path)?;
-    let page = match source {
-        Source::Set => scene_page(&set, None, &path, args)?,
-        Source::Scene(scene) => scene_page(&set, Some(&scene), &path, args)?,
-        Source::Lesson(lesson) => lesson_page(&set, &lesson, &path, args)?,
+    let (mut page, lesson) = match source {
+        Source::Set => (scene_page(&set, None, &path, args)?, None),
+        Source::Scene(scene) => (scene_page(&set, Some(&scene), &path, args)?, None),
+        Source::Lesson(lesson) => (lesson_page(&set, &lesson, &path, args)?, Some(lesson)),
     };
+    page.quiz = page_quiz(&set, lesson.as_ref(), &path, args)?;
+    if args.scorm.is_some() && page.quiz.is_none() {
+        bail!("{}: has no quiz to grade; --scorm needs a lesson with a quiz, or --quiz N", path.display());
+    }
     let mut summary = json!({});
     if let Some(out) = &args.gltf {
         // A lesson's file is its first step; a scene's or set's is what the page shows.
@@ -60,11 +84,104 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         }
         summary["web"] = json!({"out": dir, "bytes": bytes, "steps": page.views.len()});
     }
+    if let Some(out) = &args.scorm {
+        let bytes = vbrain::scorm::write(out, &page).map_err(|e| anyhow!(e))?;
+        let quiz = page.quiz.as_ref().map(|q| (q.questions.len(), q.pass_mark)).unwrap_or_default();
+        if !args.report.json {
+            println!(
+                "wrote {} (SCORM 1.2, {} questions, pass mark {} %, {:.1} MB)",
+                out.display(),
+                quiz.0,
+                quiz.1,
+                bytes as f64 / 1e6
+            );
+        }
+        summary["scorm"] = json!({"out": out, "bytes": bytes, "questions": quiz.0, "pass_mark": quiz.1});
+    }
     if args.report.json {
         println!("{summary}");
     }
     Ok(true)
 }
+
+/// Whether `a` and `b` name one file (both existing).
+fn same_file(a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
+}
+
+/// The page's quiz: a lesson's own (none where it has none), or `--quiz N` questions drawn from
+/// the set's shown organs; each question's view revealed with the organ-ID buffer.
+fn page_quiz(set: &OrganSet, lesson: Option<&Lesson>, path: &Path, args: &ExportArgs) -> Result<Option<PageQuiz>> {
+    let (questions, views, lesson_mark) = match (lesson, args.quiz) {
+        (Some(_), Some(_)) => bail!("{}: a lesson asks its own quiz; --quiz is for sets and scenes", path.display()),
+        (Some(l), None) if !l.quiz.is_empty() => {
+            let questions = l.questions(set).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+            let views = (0..questions.len()).map(|k| l.question_view(k, set)).collect();
+            (questions, views, l.pass_mark)
+        }
+        (None, Some(n)) => {
+            let scope = quiz::scope(set, None).map_err(|e| anyhow!(e))?;
+            let spec = quiz::Spec { scope, questions: n, mode: quiz::Mode::Mixed, seed: args.seed };
+            let generated = quiz::generate(set, &spec).map_err(|e| anyhow!(e))?;
+            if let Some(note) = &generated.note {
+                eprintln!("note: {note}");
+            }
+            let views = vec![None; generated.questions.len()];
+            (generated.questions, views, None)
+        }
+        _ => return Ok(None),
+    };
+    let gpu = GpuContext::headless()?;
+    let renderer = Renderer::new(&gpu.device, set)?;
+    let scout = Target::new(&gpu.device, SCOUT, SCOUT)?;
+    let ids = |camera: &vbrain::camera::Camera, layout: &Layout| {
+        let frame = FrameInput::new(set, camera, layout);
+        renderer.render_ids(&gpu.device, &gpu.queue, &scout, &frame, crate::annotate::PICK_OPACITY);
+        scout.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
+    };
+    let mut asked = Vec::new();
+    for (k, (q, from)) in questions.into_iter().zip(views).enumerate() {
+        let (base, nav, section) = match from {
+            Some(step) => (step.layout, step.navigator, step.section),
+            None => {
+                let base = Layout::new(set);
+                let nav = quiz::camera(set, &base, q.organ);
+                (base, nav, Section::default())
+            }
+        };
+        let cam = camera(set, &base, &nav);
+        let (layout, _) = quiz::reveal(q.organ, &base, |l| ids(&cam, l));
+        if !ids(&cam, &layout).contains(&(q.organ as u32 + 1)) {
+            eprintln!(
+                "warning: {}: question {}: {} does not show in its view; left out",
+                path.display(),
+                k + 1,
+                set.organs[q.organ].name
+            );
+            continue;
+        }
+        let highlight = if q.kind == quiz::Kind::Name { vec![q.organ] } else { Vec::new() };
+        let view = View {
+            title: String::new(),
+            caption: String::new(),
+            camera: camera(set, &layout, &nav),
+            layout,
+            highlight,
+            labels: Vec::new(),
+            selection: None,
+            section,
+        };
+        asked.push(PageQuestion { kind: q.kind, organ: q.organ, choices: q.choices, view });
+    }
+    if asked.is_empty() {
+        bail!("{}: no question of the quiz shows its structure", path.display());
+    }
+    let pass_mark = args.pass_mark.or(lesson_mark).unwrap_or(vbrain::lesson::DEFAULT_PASS_MARK);
+    Ok(Some(PageQuiz { questions: asked, pass_mark }))
+}
+
+/// The side of the square picture that decides what a question's view fades, in pixels.
+const SCOUT: u32 = 256;
 
 /// What `vbrain export` was given.
 enum Source {
@@ -124,7 +241,7 @@ fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, path: &Path, arg
         selection,
         section: Section::default(),
     };
-    Ok(Page { set, title: set.title.clone(), layout, section, views: vec![view], lesson: false })
+    Ok(Page { set, title: set.title.clone(), layout, section, views: vec![view], lesson: false, quiz: None })
 }
 
 /// A lesson: every organ in the model, uncut; each step shows, fades, colours, places and cuts

@@ -505,7 +505,7 @@ pub struct ScaleArgs {
 }
 
 #[derive(clap::Args)]
-#[command(group(clap::ArgGroup::new("output").required(true).multiple(true).args(["gltf", "web"])))]
+#[command(group(clap::ArgGroup::new("output").required(true).multiple(true).args(["gltf", "web", "scorm"])))]
 pub struct ExportArgs {
     /// A scene (.vbscene), a lesson (.vblesson) or an organ set (folder, manifest, mesh files)
     /// [default: the default brain]
@@ -517,7 +517,21 @@ pub struct ExportArgs {
     /// the model and the vendored three.js (a lesson's page has its steps)
     #[arg(long)]
     pub web: Option<PathBuf>,
-    /// Replace --gltf where it exists, or write into --web where it holds files
+    /// A SCORM 1.2 package (.zip) of the page and its quiz, for a course's learning platform
+    /// (Moodle, Canvas, Blackboard): the page reports the score and passed or failed
+    #[arg(long)]
+    pub scorm: Option<PathBuf>,
+    /// Ask a quiz of this many questions in the page (a set or scene; a lesson asks its own),
+    /// 1..=100
+    #[arg(long, value_parser = count(1, 100))]
+    pub quiz: Option<usize>,
+    /// The seed of --quiz's questions
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The share of the quiz that passes, in per cent, 0..=100 [default: the lesson's, else 70]
+    #[arg(long, value_parser = values::f32_in(0.0, 100.0))]
+    pub pass_mark: Option<f32>,
+    /// Replace --gltf or --scorm where it exists, or write into --web where it holds files
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]

@@ -42,8 +42,13 @@ fn open_page_at(dir: &Path, step: Option<usize>) -> Value {
     seen
 }
 
+/// One checker at a time: several headless Chromiums at once on a small machine run past the
+/// pages' timeouts.
+static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Runs a checker of `scripts/web` under Node.js and reads the JSON it prints.
-fn node(script: &str, args: &[&Path]) -> Value {
+pub(crate) fn node(script: &str, args: &[&Path]) -> Value {
+    let _turn = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scripts/web").join(script);
     let out = Command::new("node").arg(&script).args(args).output().unwrap_or_else(|e| {
         panic!("could not run node ({e}): install Node.js (Debian: nodejs npm), then run scripts/test.sh")

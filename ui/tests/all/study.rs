@@ -1,5 +1,7 @@
 //! Study material read by the programs students use: an Anki deck imported with Anki's own
-//! collection library (`scripts/anki_import.py`, PyPI package `anki`), as File > Import does.
+//! collection library (`scripts/anki_import.py`, PyPI package `anki`), as File > Import does;
+//! a SCORM package unpacked and read by Python, and played in Chromium inside a platform's page
+//! that records its SCORM 1.2 API calls (`scripts/web/scorm-test.mjs`).
 
 use crate::cli::{brain, json, vbrain};
 use std::path::Path;
@@ -81,4 +83,99 @@ fn an_anki_deck_imports_into_anki_and_updates_without_duplicates() {
     // The hostile name arrives as text, escaped, in every field it reaches.
     assert!(all.iter().any(|n| n["fields"]["Name"].as_str().is_some_and(|s| s.starts_with("&lt;script&gt;"))));
     assert!(!v["notes"].to_string().contains("<script"), "markup from a name reached a card");
+}
+
+/// Unpacks a zip with Python's zipfile into `dir`, and reads its manifest with Python's XML
+/// parser: (the manifest's title, its files' hrefs, the zip's entries, the mastery score).
+fn unpack_scorm(zip: &Path, dir: &Path) -> serde_json::Value {
+    let script = r#"
+import json, sys, zipfile, xml.etree.ElementTree as ET
+z = zipfile.ZipFile(sys.argv[1])
+z.extractall(sys.argv[2])
+root = ET.fromstring(z.read("imsmanifest.xml"))
+ns = {"cp": "http://www.imsproject.org/xsd/imscp_rootv1p1p2", "adlcp": "http://www.adlnet.org/xsd/adlcp_rootv1p2"}
+print(json.dumps({
+    "title": root.find("cp:organizations/cp:organization/cp:title", ns).text,
+    "files": sorted(f.get("href") for f in root.iter("{%s}file" % ns["cp"])),
+    "entries": sorted(n for n in z.namelist() if n != "imsmanifest.xml"),
+    "launch": root.find("cp:resources/cp:resource", ns).get("href"),
+    "mastery": root.find(".//adlcp:masteryscore", ns).text,
+}))
+"#;
+    let out = Command::new("python3").args(["-c", script]).arg(zip).arg(dir).output().unwrap();
+    assert!(out.status.success(), "the package or its manifest is broken: {}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// A shipped lesson as a SCORM package: its manifest is well-formed and names every file; a
+/// platform's page hosting it sees the quiz played with clicks reported as initialise, score,
+/// status and finish, in that order.
+#[test]
+fn a_lesson_as_a_scorm_package_reports_its_quiz_to_the_platform() {
+    let dir = tempfile::tempdir().unwrap();
+    let zip = dir.path().join("cortex.zip");
+    let lesson = Path::new(&brain()).join("lessons/cortex.vblesson");
+    let args = ["export", lesson.to_str().unwrap(), "--scorm", zip.to_str().unwrap(), "--pass-mark", "60", "--json"];
+    let summary = json(&vbrain(&args));
+    assert_eq!(summary["scorm"]["questions"], 6, "{summary}");
+    // Written once; not replaced without --force.
+    let again = vbrain(&args);
+    assert_eq!(again.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&again.stderr).contains("--force"));
+
+    let unpacked = dir.path().join("sco");
+    let manifest = unpack_scorm(&zip, &unpacked);
+    assert_eq!(manifest["files"], manifest["entries"], "{manifest}");
+    assert_eq!(manifest["launch"], "index.html");
+    assert_eq!(manifest["mastery"], "60");
+    assert!(manifest["files"].as_array().unwrap().len() >= 7, "{manifest}");
+
+    // Two questions answered wrongly, four rightly: 67 %, passed against 60 %.
+    let shot = dir.path().join("quiz.png");
+    let seen = crate::export::node("scorm-test.mjs", &[&unpacked, Path::new("2"), &shot]);
+    assert_eq!(seen["errors"], serde_json::json!([]), "{seen}");
+    let answers = seen["answers"].as_array().unwrap();
+    assert_eq!(answers.len(), 6, "{seen}");
+    assert!(answers[0]["feedback"].as_str().unwrap().starts_with("No: "), "{seen}");
+    assert!(answers[5]["feedback"].as_str().unwrap().starts_with("Right: "), "{seen}");
+    assert_eq!(seen["missed"].as_array().unwrap().len(), 2, "{seen}");
+    assert!(seen["score_line"].as_str().unwrap().starts_with("Score: 4 of 6 (67 %), passed"), "{seen}");
+    let calls: Vec<Vec<String>> = serde_json::from_value(seen["calls"].clone()).unwrap();
+    let at =
+        |call: &[&str]| calls.iter().position(|c| c == call).unwrap_or_else(|| panic!("no call {call:?} in {calls:?}"));
+    let init = at(&["LMSInitialize", ""]);
+    let raw = at(&["LMSSetValue", "cmi.core.score.raw", "67"]);
+    at(&["LMSSetValue", "cmi.core.score.min", "0"]);
+    at(&["LMSSetValue", "cmi.core.score.max", "100"]);
+    let status = at(&["LMSSetValue", "cmi.core.lesson_status", "passed"]);
+    let finish = at(&["LMSFinish", ""]);
+    assert!(init == 0 && init < raw && raw < status && status < finish && finish == calls.len() - 1, "{calls:?}");
+}
+
+/// Names with markup stay text in the manifest; a page without a quiz is no SCORM package.
+#[test]
+fn a_scorm_manifest_keeps_names_as_text_and_needs_a_quiz() {
+    let dir = tempfile::tempdir().unwrap();
+    let set = dir.path().join("set");
+    std::fs::create_dir(&set).unwrap();
+    let cube = "v 0 0 0\nv 30 0 0\nv 0 30 0\nv 0 0 30\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+    std::fs::write(set.join("a.obj"), cube).unwrap();
+    std::fs::write(set.join("b.obj"), cube.replace("v 0 0 0", "v 60 0 0")).unwrap();
+    let title = "<script>alert(\"x\")</script> & ]]> done";
+    let manifest = serde_json::json!({"format": "vbrain-organ-set/1", "title": title, "organs": [
+        {"id": "a", "name": "A <b>", "mesh": "a.obj", "colour": "#c08080"},
+        {"id": "b", "name": "B ]]>", "mesh": "b.obj", "colour": "#80c080"}]});
+    std::fs::write(set.join("organset.json"), manifest.to_string()).unwrap();
+    let zip = dir.path().join("p.zip");
+    let s = set.to_str().unwrap();
+    let refused = vbrain(&["export", s, "--scorm", zip.to_str().unwrap()]);
+    assert_eq!(refused.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("no quiz") && !zip.exists());
+    let o = vbrain(&["export", s, "--scorm", zip.to_str().unwrap(), "--quiz", "2"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let seen = unpack_scorm(&zip, &dir.path().join("sco"));
+    assert_eq!(seen["title"], title);
+    assert_eq!(seen["mastery"], "70");
+    let page = std::fs::read_to_string(dir.path().join("sco/index.html")).unwrap();
+    assert!(!page.contains("<script>alert"), "names stay data, never markup");
 }

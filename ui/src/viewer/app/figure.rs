@@ -185,6 +185,7 @@ impl App {
                         section: section.clone(),
                         views: vec![view],
                         lesson: false,
+                        quiz: None,
                     };
                     let bytes = vbrain::web_page::write(&dir, &page)?;
                     Ok((dir.join("index.html"), bytes))
