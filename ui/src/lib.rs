@@ -10,6 +10,7 @@ pub mod anki;
 pub mod annotate;
 pub mod cli;
 pub mod lab;
+pub mod page_quiz;
 pub mod viewer;
 
 pub use viewer::{App, AppOptions};

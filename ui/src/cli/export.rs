@@ -4,9 +4,8 @@
 //! as a self-contained web page (`--web DIR`, [`vbrain::web_page`]); a lesson's glTF file is its
 //! first step, its page every step. Cameras are framed as `vbrain render` frames them.
 //!
-//! - A page asks a quiz: a lesson's own, or `--quiz N` questions drawn from a set with `--seed`.
-//!   Each question's view fades what hides its structure, as the viewer's quiz does (the
-//!   organ-ID buffer of a headless render decides).
+//! - A page asks a quiz ([`crate::page_quiz`]): a lesson's own, or `--quiz N` questions drawn
+//!   from a set with `--seed`.
 //! - `--scorm OUT.zip` packages that page for a learning platform ([`vbrain::scorm`]).
 
 use super::common::{apply_layout_args, open_set, section, writable_folder};
@@ -20,10 +19,8 @@ use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::lesson::Lesson;
 use vbrain::organ_set::OrganSet;
-use vbrain::quiz;
-use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
 use vbrain::scene_file::SceneFile;
-use vbrain::web_page::{camera, labelled, Page, PageQuestion, PageQuiz, View};
+use vbrain::web_page::{camera, labelled, Page, PageQuiz, View};
 
 pub fn run(args: &ExportArgs) -> Result<bool> {
     if let Some(out) = &args.gltf {
@@ -110,78 +107,22 @@ fn same_file(a: &Path, b: &Path) -> bool {
 }
 
 /// The page's quiz: a lesson's own (none where it has none), or `--quiz N` questions drawn from
-/// the set's shown organs; each question's view revealed with the organ-ID buffer.
+/// the set's shown organs.
 fn page_quiz(set: &OrganSet, lesson: Option<&Lesson>, path: &Path, args: &ExportArgs) -> Result<Option<PageQuiz>> {
-    let (questions, views, lesson_mark) = match (lesson, args.quiz) {
+    let built = match (lesson, args.quiz) {
         (Some(_), Some(_)) => bail!("{}: a lesson asks its own quiz; --quiz is for sets and scenes", path.display()),
-        (Some(l), None) if !l.quiz.is_empty() => {
-            let questions = l.questions(set).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-            let views = (0..questions.len()).map(|k| l.question_view(k, set)).collect();
-            (questions, views, l.pass_mark)
+        (Some(l), None) => {
+            crate::page_quiz::of_lesson(set, l, args.pass_mark).map_err(|e| anyhow!("{}: {e:#}", path.display()))?
         }
-        (None, Some(n)) => {
-            let scope = quiz::scope(set, None).map_err(|e| anyhow!(e))?;
-            let spec = quiz::Spec { scope, questions: n, mode: quiz::Mode::Mixed, seed: args.seed };
-            let generated = quiz::generate(set, &spec).map_err(|e| anyhow!(e))?;
-            if let Some(note) = &generated.note {
-                eprintln!("note: {note}");
-            }
-            let views = vec![None; generated.questions.len()];
-            (generated.questions, views, None)
-        }
-        _ => return Ok(None),
+        (None, Some(n)) => Some(crate::page_quiz::drawn(set, n, args.seed, args.pass_mark)?),
+        (None, None) => None,
     };
-    let gpu = GpuContext::headless()?;
-    let renderer = Renderer::new(&gpu.device, set)?;
-    let scout = Target::new(&gpu.device, SCOUT, SCOUT)?;
-    let ids = |camera: &vbrain::camera::Camera, layout: &Layout| {
-        let frame = FrameInput::new(set, camera, layout);
-        renderer.render_ids(&gpu.device, &gpu.queue, &scout, &frame, crate::annotate::PICK_OPACITY);
-        scout.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
-    };
-    let mut asked = Vec::new();
-    for (k, (q, from)) in questions.into_iter().zip(views).enumerate() {
-        let (base, nav, section) = match from {
-            Some(step) => (step.layout, step.navigator, step.section),
-            None => {
-                let base = Layout::new(set);
-                let nav = quiz::camera(set, &base, q.organ);
-                (base, nav, Section::default())
-            }
-        };
-        let cam = camera(set, &base, &nav);
-        let (layout, _) = quiz::reveal(q.organ, &base, |l| ids(&cam, l));
-        if !ids(&cam, &layout).contains(&(q.organ as u32 + 1)) {
-            eprintln!(
-                "warning: {}: question {}: {} does not show in its view; left out",
-                path.display(),
-                k + 1,
-                set.organs[q.organ].name
-            );
-            continue;
-        }
-        let highlight = if q.kind == quiz::Kind::Name { vec![q.organ] } else { Vec::new() };
-        let view = View {
-            title: String::new(),
-            caption: String::new(),
-            camera: camera(set, &layout, &nav),
-            layout,
-            highlight,
-            labels: Vec::new(),
-            selection: None,
-            section,
-        };
-        asked.push(PageQuestion { kind: q.kind, organ: q.organ, choices: q.choices, view });
+    let Some(built) = built else { return Ok(None) };
+    for note in &built.notes {
+        eprintln!("note: {}: {note}", path.display());
     }
-    if asked.is_empty() {
-        bail!("{}: no question of the quiz shows its structure", path.display());
-    }
-    let pass_mark = args.pass_mark.or(lesson_mark).unwrap_or(vbrain::lesson::DEFAULT_PASS_MARK);
-    Ok(Some(PageQuiz { questions: asked, pass_mark }))
+    Ok(Some(built.quiz))
 }
-
-/// The side of the square picture that decides what a question's view fades, in pixels.
-const SCOUT: u32 = 256;
 
 /// What `vbrain export` was given.
 enum Source {

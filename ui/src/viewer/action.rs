@@ -140,6 +140,8 @@ pub enum ModelKind {
     Web,
     /// An Anki deck (.apkg) of the structures shown.
     Anki,
+    /// A SCORM 1.2 package (.zip) of the open lesson's page, asking its quiz.
+    Scorm,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.

@@ -485,6 +485,9 @@ impl App {
             actions.extend(self.dialogs.gltf.show(ctx, &scene.set().title, folder, None));
             actions.extend(self.dialogs.web.show(ctx, &scene.set().title, folder, lesson));
             actions.extend(self.dialogs.anki.show(ctx, &scene.set().title, folder, None));
+            let quizzed = self.lesson.lesson.as_ref().filter(|l| !l.quiz.is_empty());
+            let quizzed = quizzed.map(|l| (l.title.as_str(), l.quiz.len()));
+            actions.extend(self.dialogs.scorm.show(ctx, &scene.set().title, folder, quizzed));
             self.perform(ctx, actions);
         }
     }

@@ -17,6 +17,7 @@ pub struct Dialogs {
     pub gltf: ModelWindow,
     pub web: ModelWindow,
     pub anki: ModelWindow,
+    pub scorm: ModelWindow,
 }
 
 impl Default for Dialogs {
@@ -29,6 +30,7 @@ impl Default for Dialogs {
             gltf: ModelWindow::new(ModelKind::Gltf),
             web: ModelWindow::new(ModelKind::Web),
             anki: ModelWindow::new(ModelKind::Anki),
+            scorm: ModelWindow::new(ModelKind::Scorm),
         }
     }
 }
@@ -40,6 +42,7 @@ impl Dialogs {
             ModelKind::Gltf => &mut self.gltf,
             ModelKind::Web => &mut self.web,
             ModelKind::Anki => &mut self.anki,
+            ModelKind::Scorm => &mut self.scorm,
         }
     }
 }

@@ -114,6 +114,11 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
         ),
         (ModelKind::Web, "Export web page...", "The organs shown, as a web page students open in any browser"),
         (ModelKind::Anki, "Export Anki deck...", "Flashcards of the structures shown, to review in Anki"),
+        (
+            ModelKind::Scorm,
+            "Export SCORM package...",
+            "The open lesson's page and quiz, as a graded activity for a learning platform",
+        ),
     ];
     for (kind, label, hover) in models {
         if ui.add_enabled(scene.is_some(), egui::Button::new(label)).on_hover_text(hover).clicked() {

@@ -118,7 +118,7 @@ fn double_click_selects_the_faded_organ_in_front_and_a_click_passes_through() {
 }
 
 #[test]
-fn the_web_page_of_an_open_lesson_has_its_steps() {
+fn the_web_page_of_an_open_lesson_has_its_steps_and_quiz() {
     use vbrain_ui::viewer::action::{Action, ModelKind};
     let mut h = harness_of(egui::Vec2::new(900.0, 560.0));
     let file = super::viewer::brain().join("lessons/ventricles.vblesson");
@@ -139,8 +139,16 @@ fn the_web_page_of_an_open_lesson_has_its_steps() {
     for step in &lesson.steps {
         assert!(html.contains(&serde_json::to_string(&step.title).unwrap()), "step {:?} missing", step.title);
     }
+    assert!(html.contains("\"passMark\":70"), "the lesson's page asks its quiz");
     let html = std::fs::read_to_string(view.join("index.html")).unwrap();
     assert!(html.contains("\"lesson\":false"), "this view's page is a lesson's");
+    // The lesson's quiz as a SCORM package: a zip with the manifest first.
+    let zip = dir.path().join("quiz.zip");
+    let export = Action::ExportModel { kind: ModelKind::Scorm, path: zip.display().to_string(), lesson: true };
+    h.state_mut().perform(&ctx, vec![export]);
+    h.run_steps(1);
+    let bytes = std::fs::read(&zip).expect("the package is written");
+    assert!(bytes.starts_with(b"PK") && bytes[30..45] == *b"imsmanifest.xml", "a zip, its manifest first");
 }
 
 #[test]

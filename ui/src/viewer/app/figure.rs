@@ -162,7 +162,7 @@ impl App {
                         dir.display()
                     );
                     if let (true, Some(lesson)) = (lesson, &self.lesson.lesson) {
-                        let bytes = vbrain::web_page::write(&dir, &vbrain::web_page::Page::lesson(set, lesson))?;
+                        let bytes = vbrain::web_page::write(&dir, &lesson_page(set, lesson)?)?;
                         return Ok((dir.join("index.html"), bytes));
                     }
                     let labels = self.labels();
@@ -190,6 +190,14 @@ impl App {
                     let bytes = vbrain::web_page::write(&dir, &page)?;
                     Ok((dir.join("index.html"), bytes))
                 }
+                ModelKind::Scorm => {
+                    let lesson = self.lesson.lesson.as_ref().context("open a lesson with a quiz first")?;
+                    anyhow::ensure!(!lesson.quiz.is_empty(), "the lesson \"{}\" has no quiz", lesson.title);
+                    let path = export::file_path(typed, "zip")?;
+                    anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
+                    let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?)?;
+                    Ok((path, bytes))
+                }
                 // Written off the UI thread by `export_deck`.
                 ModelKind::Anki => anyhow::bail!("an Anki deck is written with progress, not here"),
             }
@@ -197,7 +205,7 @@ impl App {
         let (message, saved) = match written {
             Ok((path, bytes)) => {
                 let folder = match kind {
-                    ModelKind::Gltf | ModelKind::Anki => path.parent(),
+                    ModelKind::Gltf | ModelKind::Anki | ModelKind::Scorm => path.parent(),
                     ModelKind::Web => path.parent().and_then(Path::parent),
                 };
                 self.settings.export.folder = folder.map(Path::to_path_buf);
@@ -226,4 +234,14 @@ impl App {
         let name = |o: usize| scene.set().organs.get(o).map_or(String::new(), |x| x.name.clone());
         export::export((&rs.device, &rs.queue, scene.renderer()), &frame, size, &path, &labels, &name)
     }
+}
+
+/// A lesson's web page with its quiz, as `vbrain export` writes it.
+fn lesson_page<'a>(
+    set: &'a vbrain::organ_set::OrganSet,
+    lesson: &vbrain::lesson::Lesson,
+) -> Result<vbrain::web_page::Page<'a>> {
+    let mut page = vbrain::web_page::Page::lesson(set, lesson);
+    page.quiz = crate::page_quiz::of_lesson(set, lesson, None)?.map(|built| built.quiz);
+    Ok(page)
 }

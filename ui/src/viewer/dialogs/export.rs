@@ -110,7 +110,7 @@ impl ModelWindow {
 
     /// The window for a set titled `title`; proposes `<set>-<time>.glb` (or a folder
     /// `<set>-<time>-page`) in the screenshots' folder. `lesson` is the open lesson's title and
-    /// step count: a web page can be of it.
+    /// step count (a web page can be of it), or for a SCORM package its title and question count.
     pub fn show(
         &mut self,
         ctx: &egui::Context,
@@ -124,6 +124,7 @@ impl ModelWindow {
                 ModelKind::Gltf => name.replace(".png", ".glb"),
                 ModelKind::Web => name.replace(".png", "-page"),
                 ModelKind::Anki => name.replace(".png", ".apkg"),
+                ModelKind::Scorm => name.replace(".png", "-scorm.zip"),
             };
             self.path.text = folder.unwrap_or(Path::new("")).join(name).display().to_string();
         }
@@ -133,6 +134,7 @@ impl ModelWindow {
             ModelKind::Gltf => "Export glTF model",
             ModelKind::Web => "Export web page",
             ModelKind::Anki => "Export Anki deck",
+            ModelKind::Scorm => "Export SCORM package",
         };
         let window = egui::Window::new(title).open(&mut open).collapsible(false).default_width(520.0);
         window.show(ctx, |ui| {
@@ -165,9 +167,29 @@ impl ModelWindow {
                 }
                 ModelKind::Anki => {
                     ui.label(
-                        "Flashcards of every structure shown, from its best views: \"name it\" (outlined) and                          image occlusion (covered by a mask of its exact shape), with the Latin names and                          texts. Import the file in Anki (File > Import); exporting again updates the cards and                          keeps their reviews.",
+                        "Flashcards of every structure shown, from its best views: \"name it\" (outlined) and \
+                         image occlusion (covered by a mask of its exact shape), with the Latin names and \
+                         texts. Import the file in Anki (File > Import); exporting again updates the cards and \
+                         keeps their reviews.",
                     );
                     save |= self.path.ui(ui, "File:", Pick::Save, &[("Anki deck", &["apkg"])]);
+                }
+                ModelKind::Scorm => {
+                    ui.label(
+                        "The open lesson's web page, asking its quiz, packaged for a course's learning \
+                         platform (Moodle, Canvas, Blackboard: add it as a SCORM activity). The page reports \
+                         the score, and passed or failed against the lesson's pass mark (70 % unless it sets \
+                         one).",
+                    );
+                    match lesson {
+                        Some((title, questions)) => {
+                            ui.label(format!("Package of the lesson \"{title}\" ({questions} questions)."));
+                        }
+                        None => {
+                            ui.colored_label(ui.visuals().warn_fg_color, "Open a lesson with a quiz first.");
+                        }
+                    }
+                    save |= self.path.ui(ui, "File:", Pick::Save, &[("SCORM package", &["zip"])]);
                 }
             }
             save |= ui.button("Save").clicked();
