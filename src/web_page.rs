@@ -8,8 +8,9 @@
 //! the model, base64 in a `<script>` element; and a JSON description (title, camera, labels, for
 //! a lesson its steps, for a quiz its questions with their views and pass mark). Conventions of
 //! that JSON: positions and directions in glTF space (metres, +Y superior, +Z anterior:
-//! [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1, organs by id. Every text from the set reaches the page as JSON data and is shown as text, never
-//! parsed as HTML; the JSON is escaped so that no `</script>` can end its element.
+//! [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1, organs by id. Every text from the set
+//! reaches the page as JSON data and is shown as text, never parsed as HTML; the JSON is escaped
+//! so that no `</script>` can end its element.
 //!
 //! - A quiz's answers are in the page (it works offline, with no server): a page for graded
 //!   work trusts its students as a paper quiz with the key on its back does.
