@@ -16,6 +16,8 @@ const browser = await chromium.launch({
 const out = { errors: [] };
 try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 720 } });
+  // A software GPU on a busy 2-core machine can spend many seconds on one frame of the brain.
+  page.setDefaultTimeout(240000);
   page.on('pageerror', (e) => out.errors.push(String(e)));
   page.on('dialog', (d) => { out.errors.push('a dialog opened: ' + d.message()); d.dismiss(); });
   page.on('requestfailed', (r) => out.errors.push('request failed: ' + r.url().slice(0, 120)));
@@ -60,6 +62,7 @@ try {
   await page.mouse.click(box.x + box.width * 0.38, box.y + box.height * 0.45);
   out.clicked_name = await page.locator('#selected-name').textContent();
   out.clicked_info = await page.locator('#selected-info').textContent();
+  await settle();
   if (screenshot) await page.screenshot({ path: screenshot });
   if (await page.locator('#lesson').isVisible()) {
     const caption = () => page.locator('#caption').textContent();
@@ -79,6 +82,7 @@ try {
   }
   if (step) {
     await page.evaluate((k) => window.vbrain.step(k), Number(step) - 1);
+    await settle();
     if (screenshot) await page.screenshot({ path: screenshot.replace(/\.png$/, `-step${step}.png`) });
     out.cap_pixels = await page.evaluate(() => {
       const read = () => {

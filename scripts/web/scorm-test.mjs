@@ -32,6 +32,9 @@ const browser = await chromium.launch({
 const out = { errors: [], answers: [] };
 try {
   const page = await browser.newPage({ viewport: { width: 1100, height: 720 } });
+  // A software GPU on a busy 2-core machine can spend many seconds on one frame of the brain,
+  // so each action also waits for the view to settle.
+  page.setDefaultTimeout(240000);
   page.on('pageerror', (e) => out.errors.push(String(e)));
   page.on('dialog', (d) => { out.errors.push('a dialog opened: ' + d.message()); d.dismiss(); });
   await page.route(`${origin}/**`, (route) => {
@@ -48,6 +51,7 @@ try {
   await frame.locator('body[data-ready="1"]').waitFor({ timeout: 120000 });
   const sco = page.frames().find((f) => f.url().endsWith('/sco/index.html'));
   out.start_label = await frame.locator('#quiz-start').textContent();
+  await sco.evaluate(() => window.vbrain.settled());
   await frame.locator('#quiz-start').click();
   for (let k = 0; ; k++) {
     const q = await sco.evaluate(() => window.vbrain.question());
@@ -55,10 +59,10 @@ try {
     // The right answer, or for a wrong one the first other choice (that shows, to be clicked).
     const candidates = k >= wrong ? [q.organ] : q.choices.filter((c) => c.id !== q.organ.id);
     let pick = candidates[0];
+    await sco.evaluate(() => window.vbrain.settled());
     if (q.kind === 'name') {
       await frame.getByRole('button', { name: pick.name, exact: true }).click();
     } else {
-      await sco.evaluate(() => window.vbrain.settled());
       let at = null;
       for (const c of candidates) {
         at = await sco.evaluate((id) => window.vbrain.pointOn(id), c.id);
@@ -75,6 +79,7 @@ try {
     }
     out.answers.push({ kind: q.kind, organ: q.organ.id, clicked: pick.id,
       feedback: await frame.locator('#quiz-feedback').textContent() });
+    await sco.evaluate(() => window.vbrain.settled());
     if (k === 0 && screenshot) await page.screenshot({ path: screenshot });
     await frame.locator('#quiz-next').click();
   }
