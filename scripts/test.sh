@@ -38,6 +38,15 @@ if [ ! -x /usr/bin/chromium ] && [ -z "${CHROMIUM:-}" ]; then
         echo "warning: no Chromium found; the web page tests will fail. Install chromium (or set CHROMIUM)" >&2
     fi
 fi
+if ! command -v ffprobe >/dev/null || ! command -v pdftotext >/dev/null; then
+    if [ "$(id -u)" = 0 ] && command -v apt-get >/dev/null; then
+        echo "No ffmpeg or Poppler found: installing Debian's ffmpeg and poppler-utils"
+        apt-get update -qq
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq ffmpeg poppler-utils >/dev/null
+    else
+        echo "warning: no ffmpeg or Poppler found; the video and PDF tests will fail. Install ffmpeg and poppler-utils" >&2
+    fi
+fi
 if command -v npm >/dev/null && { [ ! -d scripts/web/node_modules/gltf-validator ] || [ ! -d scripts/web/node_modules/playwright-core ]; }; then
     npm ci --prefix scripts/web --no-audit --no-fund --silent
 fi

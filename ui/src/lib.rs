@@ -9,8 +9,11 @@
 pub mod anki;
 pub mod annotate;
 pub mod cli;
+pub mod handout;
 pub mod lab;
 pub mod page_quiz;
+pub mod studio;
+pub mod video;
 pub mod viewer;
 
 pub use viewer::{App, AppOptions};

@@ -17,11 +17,14 @@ fn main() -> std::process::ExitCode {
         Some(command) => {
             quiet_device_select();
             // Headless output piped into `head` and the like ends quietly, as other Unix tools do,
-            // instead of failing on the closed pipe.
+            // instead of failing on the closed pipe. Not for `video`, which pipes frames into an
+            // encoder: if that fails, vbrain must live to remove the partial file.
             #[cfg(unix)]
-            // SAFETY: restores the default action of one signal before any other thread runs output.
-            unsafe {
-                libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+            if !matches!(command, cli::Command::Video(_)) {
+                // SAFETY: restores the default action of one signal before any other thread runs.
+                unsafe {
+                    libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+                }
             }
             cli::run(command)
         }

@@ -168,3 +168,20 @@ pub fn progress_bar(len: u64) -> indicatif::ProgressBar {
     }
     bar
 }
+
+/// Refuses to write over a folder, or over an existing file unless `force`; `extension` names
+/// the kind of file wanted, for the message.
+pub fn writable_file(out: &Path, extension: &str, force: bool) -> Result<()> {
+    if out.is_dir() {
+        bail!("{}: is a folder; give a file name ending in .{extension}", out.display());
+    }
+    if out.exists() && !force {
+        bail!("{}: exists; give --force to replace it", out.display());
+    }
+    Ok(())
+}
+
+/// Do `a` and `b` name one existing file?
+pub fn same_file(a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+}

@@ -13,7 +13,7 @@ pub mod common;
 mod export;
 mod import;
 mod info;
-mod lesson;
+pub mod lesson;
 mod manual;
 mod masks;
 mod occluders;
@@ -22,8 +22,9 @@ mod render;
 mod scale;
 mod stand_ins;
 pub mod values;
+mod video;
 
-pub use lesson::FILL_LABELLED;
+pub use crate::studio::FILL_LABELLED;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -57,6 +58,9 @@ pub enum Command {
     /// An Anki deck (.apkg) of the set's structures: per structure and view a "name it" card and
     /// two image-occlusion cards with masks shaped like the structure
     Anki(AnkiArgs),
+    /// A video for slides (.gif, .mp4 or .webm): a set or scene turned around (--turntable), or a
+    /// lesson played step by step
+    Video(VideoArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -179,6 +183,30 @@ pub struct CameraArgs {
 pub enum LessonCommand {
     /// Write one PNG per step (DIR/01.png, ...) and DIR/lesson.md with the captions and images
     Render(LessonRenderArgs),
+    /// Write a PDF handout: a title page, then a page per step with its figure, title and caption
+    Pdf(LessonPdfArgs),
+}
+
+#[derive(clap::Args)]
+pub struct LessonPdfArgs {
+    /// Lesson file (.vblesson), or the name of one of the default brain's lessons (cortex,
+    /// deep-nuclei, ventricles)
+    pub lesson: PathBuf,
+    /// The PDF file to write
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out if it exists
+    #[arg(long)]
+    pub force: bool,
+    /// Paper size
+    #[arg(long, value_enum, default_value = "a4")]
+    pub paper: crate::handout::Paper,
+    /// Labels in every figure instead of each step's own: none, selected, all or ids and groups
+    /// separated by commas
+    #[arg(long)]
+    pub labels: Option<String>,
+    #[command(flatten)]
+    pub report: Report,
 }
 
 #[derive(clap::Args)]
@@ -203,6 +231,15 @@ pub struct QuizArgs {
     /// Image size, WxH
     #[arg(long, default_value = "1024x768", value_parser = values::size)]
     pub size: Size,
+    /// Also write the worksheet as a PDF, a page per question, then the answer key on its own page
+    #[arg(long)]
+    pub pdf: Option<PathBuf>,
+    /// The PDF's paper size
+    #[arg(long, value_enum, default_value = "a4")]
+    pub paper: crate::handout::Paper,
+    /// Replace --pdf if it exists
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }
@@ -226,6 +263,44 @@ pub struct AnkiArgs {
     /// Card picture size, WxH
     #[arg(long, default_value = "768x768", value_parser = values::size)]
     pub size: Size,
+    #[command(flatten)]
+    pub report: Report,
+}
+
+#[derive(clap::Args)]
+pub struct VideoArgs {
+    /// A scene (.vbscene), a lesson (.vblesson or the name of one of the default brain's lessons)
+    /// or an organ set [default: the default brain]
+    pub path: Option<PathBuf>,
+    /// The video to write: .gif, .mp4 (H.264) or .webm (VP9); MP4 and WebM need ffmpeg
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out if it exists
+    #[arg(long)]
+    pub force: bool,
+    /// Frame size, WxH (sides 16..=3840; even for MP4 and WebM)
+    #[arg(long, default_value = "1280x720", value_parser = values::size)]
+    pub size: Size,
+    /// Frames a second, 1..=60 (at most 50 for a GIF)
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=60))]
+    pub fps: u32,
+    /// Turn a set or scene this many degrees around the camera's target (toward the right when
+    /// positive), elevation kept
+    #[arg(long, allow_hyphen_values = true, value_parser = values::f32_in(-3600.0, 3600.0))]
+    pub turntable: Option<f32>,
+    /// The turntable's length in seconds, 0.1..=1200
+    #[arg(long, default_value_t = 8.0, value_parser = values::f32_in(0.1, 1200.0))]
+    pub seconds: f32,
+    /// Seconds a lesson's step is held once it has arrived, 0.1..=600
+    #[arg(long, default_value_t = 3.0, value_parser = values::f32_in(0.1, 600.0))]
+    pub hold: f32,
+    /// Burn each lesson step's title and caption into its frames, in a band below the figure
+    #[arg(long)]
+    pub captions: bool,
+    /// Labels: none, selected, all or ids and groups separated by commas [default: a step's or
+    /// scene's own]
+    #[arg(long)]
+    pub labels: Option<String>,
     #[command(flatten)]
     pub report: Report,
 }
@@ -617,8 +692,10 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Lesson(LessonCommand::Render(args)) => lesson::render(&args),
+        Command::Lesson(LessonCommand::Pdf(args)) => lesson::pdf(&args),
         Command::Quiz(args) => quiz::run(&args),
         Command::Anki(args) => anki::run(&args),
+        Command::Video(args) => video::run(&args),
         Command::Import(args) => import::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),

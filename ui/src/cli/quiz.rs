@@ -6,12 +6,13 @@
 //! letter it is.
 //!
 //! - Each picture frames the whole brain, centred, from the side of the question's structure,
-//!   with room beside it for the letters ([`super::lesson::FILL_LABELLED`]).
+//!   with room beside it for the letters ([`crate::studio::FILL_LABELLED`]).
 //! - Letters are [`LETTER_SHARE`] of the picture's height, larger than names, legible in class.
 
 use super::common::{database, open_set};
 use super::QuizArgs;
 use crate::annotate::Labels;
+use crate::handout::{Handout, Sheet};
 use anyhow::{anyhow, Result};
 use serde_json::json;
 use vbrain::cull::{CullSettings, Culler};
@@ -37,6 +38,9 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     if let Some(note) = &generated.note {
         eprintln!("note: {note}");
     }
+    if let Some(pdf) = &args.pdf {
+        super::common::writable_file(pdf, "pdf", args.force)?;
+    }
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
@@ -51,10 +55,11 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     let mut questions_md = format!("# Quiz: {title}\n\nSeed {}, {} questions.\n", args.seed, generated.questions.len());
     let mut answers_md = format!("# Answers: {title}\n\nSeed {}.\n\n", args.seed);
     let mut listed = Vec::new();
+    let mut sheets = Vec::new();
     for (k, q) in generated.questions.iter().enumerate() {
         let side = quiz::camera(&set, &base, q.organ);
         let nav =
-            Navigator::fitting(&home, side.azimuth, side.elevation, target.aspect(), super::lesson::FILL_LABELLED);
+            Navigator::fitting(&home, side.azimuth, side.elevation, target.aspect(), crate::studio::FILL_LABELLED);
         let camera = nav.camera(&home);
         let ids = |layout: &Layout| {
             let frame = FrameInput::new(&set, &camera, layout);
@@ -98,6 +103,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         let file = format!("q{:02}.png", k + 1);
         vbrain::atomic::write_png(&args.out.join(&file), &image, true)?;
         let answer = &set.organs[q.organ].name;
+        let question_start = questions_md.len();
         match q.kind {
             Kind::Name => {
                 questions_md.push_str(&format!(
@@ -130,6 +136,12 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                 answers_md.push_str(&format!("{}. {right}: {answer}\n", k + 1));
             }
         }
+        // The worksheet page: the question's Markdown less its picture line, which is the figure.
+        let added = questions_md[question_start..].to_string();
+        let mut lines = added.lines().filter(|l| !l.trim().is_empty());
+        let heading = lines.next().unwrap_or_default().trim_start_matches("## ").to_string();
+        let text: Vec<&str> = lines.filter(|l| !l.starts_with("![")).collect();
+        sheets.push(Sheet { heading, figure: Some(image), text: text.join("\n") });
         let kind = if q.kind == Kind::Name { "name" } else { "locate" };
         let choices: Vec<&str> = q.choices.iter().map(|&c| set.organs[c].id.as_str()).collect();
         listed.push(
@@ -141,6 +153,22 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     };
     write("questions.md", &questions_md)?;
     write("answers.md", &answers_md)?;
+    if let Some(pdf) = &args.pdf {
+        let key = answers_md.lines().filter(|l| l.starts_with(|c: char| c.is_ascii_digit()));
+        sheets.push(Sheet {
+            heading: "Answer key".into(),
+            figure: None,
+            text: key.map(|l| format!("- {l}")).collect::<Vec<_>>().join("\n"),
+        });
+        let mut subtitle = vec![format!(
+            "{} questions. Name the structure marked A, or give the letter that marks the structure named.",
+            listed.len()
+        )];
+        subtitle.extend(super::lesson::attribution(&set));
+        let handout = Handout { title: format!("Quiz: {title}"), subtitle, sheets };
+        let bytes = crate::handout::pdf(&handout, args.paper)?;
+        vbrain::atomic::write(pdf, |w| w.write_all(&bytes)).map_err(|e| anyhow!(e))?;
+    }
     if args.report.json {
         println!("{}", serde_json::to_string_pretty(&json!({"questions": listed, "note": generated.note}))?);
     } else {

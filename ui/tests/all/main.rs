@@ -13,6 +13,7 @@ mod export;
 mod first_hour;
 mod hardening;
 mod install;
+mod lecture;
 mod quiz;
 mod shortcuts;
 mod study;
