@@ -80,6 +80,44 @@ fn figure_points(paper: Paper, aspect: f32) -> [f32; 2] {
     }
 }
 
+/// The lines crediting a set's sources, for a title page.
+pub fn attribution(set: &vbrain::organ_set::OrganSet) -> Vec<String> {
+    let mut lines = vec![format!("*{}*", set.title)];
+    for s in &set.sources {
+        lines.push(format!("{} ({}): {}", s.name, s.licence, s.attribution));
+    }
+    lines.push("Made with vbrain".to_string());
+    lines
+}
+
+/// A lesson's handout: a title page with the set's attribution, then a page per step with its
+/// figure (labels `forced` or the step's own, drawn at print resolution), title and caption.
+/// `progress(done, steps)` after each step; false stops with an error.
+pub fn of_lesson(
+    studio: &mut crate::studio::Studio,
+    lesson: &vbrain::lesson::Lesson,
+    forced: Option<&vbrain::labels::Which>,
+    paper: Paper,
+    progress: &mut dyn FnMut(usize, usize) -> bool,
+) -> Result<Handout> {
+    let [width, height] = figure_pixels(paper, 4.0 / 3.0);
+    let size = crate::cli::values::Size { width, height };
+    let mut sheets = Vec::new();
+    for (k, step) in lesson.steps.iter().enumerate() {
+        let frame = crate::studio::StepFrame::new(studio, step, forced, size, None)?;
+        let (figure, _) = frame.draw(studio, None)?;
+        sheets.push(Sheet {
+            heading: format!("{}. {}", k + 1, step.title),
+            figure: Some(figure),
+            text: step.caption.clone(),
+        });
+        if !progress(k + 1, lesson.steps.len()) {
+            anyhow::bail!("cancelled");
+        }
+    }
+    Ok(Handout { title: lesson.title.clone(), subtitle: attribution(studio.set), sheets })
+}
+
 #[derive(Clone, Copy, PartialEq, Eq, Debug)]
 enum Style {
     Regular,

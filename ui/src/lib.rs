@@ -11,6 +11,7 @@ pub mod annotate;
 pub mod cli;
 pub mod handout;
 pub mod lab;
+pub mod lecture;
 pub mod page_quiz;
 pub mod studio;
 pub mod video;

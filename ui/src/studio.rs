@@ -12,6 +12,7 @@ use anyhow::Result;
 use image::RgbaImage;
 use std::path::Path;
 use vbrain::clip::Section;
+use vbrain::cull::database::Database;
 use vbrain::cull::{CullSettings, Culler};
 use vbrain::layout::Layout;
 use vbrain::lesson::{Step, StepView};
@@ -47,10 +48,15 @@ pub struct Studio<'s> {
 }
 
 impl<'s> Studio<'s> {
+    /// The set read from `set_path`, with its pre-computed occluders where they are there.
     pub fn new(set: &'s OrganSet, set_path: &Path) -> Result<Studio<'s>> {
+        Self::with_database(set, database(set_path, set))
+    }
+
+    pub fn with_database(set: &'s OrganSet, database: Option<Database>) -> Result<Studio<'s>> {
         let gpu = GpuContext::headless()?;
         let renderer = Renderer::new(&gpu.device, set)?;
-        let culler = Culler::new(database(set_path, set));
+        let culler = Culler::new(database);
         Ok(Studio { set, gpu, renderer, culler, home: Layout::new(set).bounds(set) })
     }
 

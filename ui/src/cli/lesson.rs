@@ -91,9 +91,7 @@ pub fn caption_lines(step: &Step, width: u32, height: u32) -> Vec<(String, bool)
     lines
 }
 
-/// `vbrain lesson pdf`: a handout of the lesson ([`crate::handout`]): a title page with the
-/// set's attribution, then a page per step with its figure (labels at print resolution), title
-/// and caption.
+/// `vbrain lesson pdf`: a handout of the lesson ([`crate::handout::of_lesson`]).
 pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
     super::common::writable_file(&args.out, "pdf", args.force)?;
     let forced = args.labels.as_deref().map(Which::parse);
@@ -104,21 +102,12 @@ pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
     let set = open_set(&set_path)?;
     warn_unknown(&lesson, &file, &set);
     let mut studio = Studio::new(&set, &set_path)?;
-    let [w, h] = crate::handout::figure_pixels(args.paper, 4.0 / 3.0);
-    let size = super::values::Size { width: w, height: h };
     let bar = super::common::progress_bar(lesson.steps.len() as u64);
-    let mut sheets = Vec::new();
-    for (k, step) in lesson.steps.iter().enumerate() {
-        let (figure, _) = StepFrame::new(&mut studio, step, forced.as_ref(), size, None)?.draw(&mut studio, None)?;
-        sheets.push(crate::handout::Sheet {
-            heading: format!("{}. {}", k + 1, step.title),
-            figure: Some(figure),
-            text: step.caption.clone(),
-        });
-        bar.inc(1);
-    }
+    let handout = crate::handout::of_lesson(&mut studio, &lesson, forced.as_ref(), args.paper, &mut |done, _| {
+        bar.set_position(done as u64);
+        true
+    })?;
     bar.finish_and_clear();
-    let handout = crate::handout::Handout { title: lesson.title.clone(), subtitle: attribution(&set), sheets };
     let bytes = crate::handout::pdf(&handout, args.paper)?;
     vbrain::atomic::write(&args.out, |w| w.write_all(&bytes)).map_err(|e| anyhow!(e))?;
     if args.report.json {
@@ -127,14 +116,4 @@ pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
         println!("{}: {} pages written to {}", lesson.title, lesson.steps.len() + 1, args.out.display());
     }
     Ok(true)
-}
-
-/// The lines crediting a set's sources, for a title page.
-pub fn attribution(set: &vbrain::organ_set::OrganSet) -> Vec<String> {
-    let mut lines = vec![format!("*{}*", set.title)];
-    for s in &set.sources {
-        lines.push(format!("{} ({}): {}", s.name, s.licence, s.attribution));
-    }
-    lines.push("Made with vbrain".to_string());
-    lines
 }

@@ -164,7 +164,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
             "{} questions. Name the structure marked A, or give the letter that marks the structure named.",
             listed.len()
         )];
-        subtitle.extend(super::lesson::attribution(&set));
+        subtitle.extend(crate::handout::attribution(&set));
         let handout = Handout { title: format!("Quiz: {title}"), subtitle, sheets };
         let bytes = crate::handout::pdf(&handout, args.paper)?;
         vbrain::atomic::write(pdf, |w| w.write_all(&bytes)).map_err(|e| anyhow!(e))?;

@@ -100,6 +100,8 @@ pub enum Action {
         path: String,
         lesson: bool,
     },
+    /// Stop the export running in the background; it leaves no file.
+    CancelJob,
     /// Camera to a standard view of the set.
     View(View),
     ResetCamera,
@@ -142,6 +144,10 @@ pub enum ModelKind {
     Anki,
     /// A SCORM 1.2 package (.zip) of the open lesson's page, asking its quiz.
     Scorm,
+    /// A video (.mp4, .webm or .gif): the view turned around, or the open lesson played.
+    Video,
+    /// A PDF handout: the view with its labels, or the open lesson's steps.
+    Pdf,
 }
 
 /// A label volume to import, with its label table, output folder and triangle budget.

@@ -39,6 +39,9 @@ mod quiz;
 mod scene_files;
 mod sets;
 
+/// An export written in the background: the file, and what to tell the user.
+type Export = Job<Result<(PathBuf, String)>>;
+
 /// How the viewer starts.
 #[derive(Clone, Debug, Default)]
 pub struct AppOptions {
@@ -68,8 +71,8 @@ pub struct App {
     dialogs: Dialogs,
     loading: Option<Job<Result<Opened>>>,
     importing: Option<Job<Result<PathBuf>>>,
-    /// An Anki deck being written: its file, and what it holds.
-    exporting: Option<Job<Result<(PathBuf, crate::anki::DeckReport)>>>,
+    /// A deck, video or handout being written, for which export window.
+    exporting: Option<(ModelKind, Export)>,
     /// The scene file: its path, whether it is saved, a scene waiting for its set.
     document: Document,
     /// The window title last set.
@@ -250,19 +253,24 @@ impl App {
         &mut self.document
     }
 
+    /// Is an export (a deck, video or handout) being written in the background?
+    pub fn is_exporting(&self) -> bool {
+        self.exporting.is_some()
+    }
+
     pub fn is_loading(&self) -> bool {
         self.loading.is_some() || self.importing.is_some()
     }
 
     /// The running job: title, progress (if known) and message.
     fn job(&self) -> Option<menus::Job> {
-        let (title, p) = match (&self.loading, &self.importing, &self.exporting) {
-            (Some(j), ..) => (&j.title, &j.progress),
-            (None, Some(j), _) => (&j.title, &j.progress),
-            (None, None, Some(j)) => (&j.title, &j.progress),
+        let (title, p, cancellable) = match (&self.loading, &self.importing, &self.exporting) {
+            (Some(j), ..) => (&j.title, &j.progress, false),
+            (None, Some(j), _) => (&j.title, &j.progress, false),
+            (None, None, Some((_, j))) => (&j.title, &j.progress, true),
             _ => return None,
         };
-        Some(menus::Job { title: title.clone(), fraction: p.fraction(), message: p.message() })
+        Some(menus::Job { title: title.clone(), fraction: p.fraction(), message: p.message(), cancellable })
     }
 
     pub fn notify(&mut self, text: impl Into<String>, error: bool) {
@@ -378,11 +386,19 @@ impl App {
                 },
                 Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
                 Action::Import(request) => {
-                    let title = format!("import {}", request.volume.display());
+                    let title = format!("importing {}", request.volume.display());
                     self.importing = Some(Job::spawn(title, ctx, move |progress| files::import(&request, progress)));
                 }
                 Action::Export { path, size } => self.export(&path, size),
                 Action::ExportModel { kind: ModelKind::Anki, path, .. } => self.export_deck(ctx, &path),
+                Action::ExportModel { kind: kind @ (ModelKind::Video | ModelKind::Pdf), path, lesson } => {
+                    self.export_lecture(ctx, kind, &path, lesson)
+                }
+                Action::CancelJob => {
+                    if let Some((_, job)) = &self.exporting {
+                        job.progress.cancel();
+                    }
+                }
                 Action::ExportModel { kind, path, lesson } => self.export_model(kind, &path, lesson),
                 Action::View(view) => self.viewport.set_view(view, self.scene.as_ref().map(Scene::home)),
                 Action::ResetCamera => {
@@ -488,6 +504,8 @@ impl App {
             let quizzed = self.lesson.lesson.as_ref().filter(|l| !l.quiz.is_empty());
             let quizzed = quizzed.map(|l| (l.title.as_str(), l.quiz.len()));
             actions.extend(self.dialogs.scorm.show(ctx, &scene.set().title, folder, quizzed));
+            actions.extend(self.dialogs.video.show(ctx, &scene.set().title, folder, lesson));
+            actions.extend(self.dialogs.pdf.show(ctx, &scene.set().title, folder, lesson));
             self.perform(ctx, actions);
         }
     }

@@ -1,5 +1,6 @@
 //! The viewer's file windows, kept together: open a set or mesh files, import a label volume,
-//! export a screenshot, a glTF model, a web page or an Anki deck.
+//! export a screenshot, a glTF model, a web page, an Anki deck, a SCORM package, a video or a
+//! PDF handout.
 
 use super::action::ModelKind;
 pub mod export;
@@ -18,6 +19,8 @@ pub struct Dialogs {
     pub web: ModelWindow,
     pub anki: ModelWindow,
     pub scorm: ModelWindow,
+    pub video: ModelWindow,
+    pub pdf: ModelWindow,
 }
 
 impl Default for Dialogs {
@@ -31,6 +34,8 @@ impl Default for Dialogs {
             web: ModelWindow::new(ModelKind::Web),
             anki: ModelWindow::new(ModelKind::Anki),
             scorm: ModelWindow::new(ModelKind::Scorm),
+            video: ModelWindow::new(ModelKind::Video),
+            pdf: ModelWindow::new(ModelKind::Pdf),
         }
     }
 }
@@ -43,6 +48,8 @@ impl Dialogs {
             ModelKind::Web => &mut self.web,
             ModelKind::Anki => &mut self.anki,
             ModelKind::Scorm => &mut self.scorm,
+            ModelKind::Video => &mut self.video,
+            ModelKind::Pdf => &mut self.pdf,
         }
     }
 }

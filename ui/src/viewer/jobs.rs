@@ -1,6 +1,7 @@
-//! Work off the UI thread (loading and importing sets) with progress the UI can show.
+//! Work off the UI thread (loading and importing sets, long exports) with progress the UI can
+//! show, and a Cancel the worker checks.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};
 
 /// Progress of a job: counts and a message, written by the worker, read by the UI.
@@ -9,6 +10,7 @@ pub struct Progress {
     done: AtomicUsize,
     total: AtomicUsize,
     message: Mutex<String>,
+    cancelled: AtomicBool,
 }
 
 impl Progress {
@@ -24,6 +26,15 @@ impl Progress {
     pub fn fraction(&self) -> Option<f32> {
         let total = self.total.load(Ordering::Relaxed);
         (total > 0).then(|| self.done.load(Ordering::Relaxed) as f32 / total as f32)
+    }
+
+    /// Asks the worker to stop.
+    pub fn cancel(&self) {
+        self.cancelled.store(true, Ordering::Relaxed);
+    }
+
+    pub fn is_cancelled(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
     }
 
     pub fn message(&self) -> String {

@@ -18,6 +18,8 @@ pub struct Job {
     pub title: String,
     pub fraction: Option<f32>,
     pub message: String,
+    /// It can be stopped (an export): a Cancel button beside its progress.
+    pub cancellable: bool,
 }
 
 /// What the menus read besides the settings they edit.
@@ -39,7 +41,9 @@ pub fn menu_bar(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings) -
         ui.menu_button("Lessons", |ui| lessons_menu(ui, state.scene, &mut out));
         ui.menu_button("Help", |ui| help_menu(ui, &mut out));
         if let Some(job) = &state.job {
-            progress(ui, job);
+            if progress(ui, job) {
+                out.push(Action::CancelJob);
+            }
         }
     });
     out
@@ -119,6 +123,8 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
             "Export SCORM package...",
             "The open lesson's page and quiz, as a graded activity for a learning platform",
         ),
+        (ModelKind::Video, "Export video...", "The view turned around, or the open lesson played, for slides"),
+        (ModelKind::Pdf, "Export PDF handout...", "The view with its labels, or the open lesson's steps, to print"),
     ];
     for (kind, label, hover) in models {
         if ui.add_enabled(scene.is_some(), egui::Button::new(label)).on_hover_text(hover).clicked() {
@@ -294,10 +300,11 @@ fn organs_menu(ui: &mut egui::Ui, scene: Option<&Scene>, settings: &mut Settings
     ui.add(egui::Slider::new(&mut settings.pick_min_opacity, 0.0..=1.0).text("click through below opacity"));
 }
 
-/// The running job: "loading TITLE" with a progress bar, or a spinner before its total is known.
-fn progress(ui: &mut egui::Ui, job: &Job) {
+/// The running job: its title ("loading ...", "writing ...") with a progress bar, or a spinner
+/// before its total is known; and Cancel where it can be stopped. True when Cancel was clicked.
+fn progress(ui: &mut egui::Ui, job: &Job) -> bool {
     ui.separator();
-    ui.label(format!("loading {}", job.title));
+    ui.label(&job.title);
     match job.fraction {
         Some(f) => {
             ui.add(egui::ProgressBar::new(f).desired_width(160.0).text(job.message.as_str()));
@@ -306,4 +313,5 @@ fn progress(ui: &mut egui::Ui, job: &Job) {
             ui.spinner();
         }
     }
+    job.cancellable && ui.button("Cancel").on_hover_text("Stop the export; no file is left").clicked()
 }

@@ -3,6 +3,8 @@
 //! poppler-utils).
 
 use crate::cli::{brain, json, vbrain};
+use eframe::egui;
+use egui_kittest::kittest::Queryable;
 use std::path::Path;
 use std::process::Command;
 
@@ -236,4 +238,48 @@ fn a_quiz_worksheet_pdf_has_a_page_per_question_then_the_answer_key() {
         assert!(page.starts_with(&format!("{}.", k + 1)), "page {}: {page}", k + 2);
         assert!(!page.contains("Answer key"));
     }
+}
+
+/// Runs the viewer until its background export has ended (at most two minutes).
+fn until_exported(h: &mut egui_kittest::Harness<'static, vbrain_ui::viewer::app::App>) {
+    let started = std::time::Instant::now();
+    while h.state().is_exporting() {
+        assert!(started.elapsed().as_secs() < 120, "the export did not end");
+        h.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    h.run_steps(1);
+}
+
+#[test]
+fn the_viewer_exports_handouts_of_the_lesson_and_the_view_and_cancels_a_video() {
+    use vbrain_ui::viewer::action::{Action, ModelKind};
+    let mut h = crate::viewer::harness_of(egui::Vec2::new(1280.0, 800.0));
+    let file = crate::viewer::brain().join("lessons/ventricles.vblesson");
+    let steps = vbrain::lesson::Lesson::load(&file).unwrap().steps.len();
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::OpenLesson(file)]);
+    h.run_steps(4);
+    let dir = tempfile::tempdir().unwrap();
+    let (lesson_pdf, view_pdf) = (dir.path().join("lesson.pdf"), dir.path().join("view.pdf"));
+    for (pdf, lesson, pages) in [(&lesson_pdf, true, steps + 1), (&view_pdf, false, 2)] {
+        let export = Action::ExportModel { kind: ModelKind::Pdf, path: pdf.display().to_string(), lesson };
+        h.state_mut().perform(&ctx, vec![export]);
+        until_exported(&mut h);
+        let info = run("pdfinfo", &[pdf.to_str().unwrap()], "poppler-utils");
+        assert!(info.contains(&format!("Pages:           {pages}\n")), "{info}");
+    }
+    let text = run("pdftotext", &[lesson_pdf.to_str().unwrap(), "-"], "poppler-utils");
+    assert!(text.contains("The ventricular system") && text.contains("foramen of Magendie"), "{text}");
+
+    // A video started from the menu, then cancelled with the Cancel beside its progress.
+    let gif = dir.path().join("turn.gif");
+    let export = Action::ExportModel { kind: ModelKind::Video, path: gif.display().to_string(), lesson: false };
+    h.state_mut().perform(&ctx, vec![export]);
+    h.run_steps(2);
+    assert!(h.state().is_exporting());
+    h.get_by_label("Cancel").click();
+    until_exported(&mut h);
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().map(|e| e.unwrap().file_name()).collect();
+    assert_eq!(left.len(), 2, "a cancelled video leaves no file: {left:?}");
 }

@@ -102,21 +102,27 @@ impl App {
     /// if missing; a new file, never one that exists), off the UI thread with progress.
     pub(super) fn export_deck(&mut self, ctx: &egui::Context, typed: &str) {
         let started = self.scene.as_ref().context("no organ set").and_then(|scene| {
-            anyhow::ensure!(self.exporting.is_none(), "a deck is being written already");
+            anyhow::ensure!(self.exporting.is_none(), "an export is running already");
             let path = export::file_path(typed, "apkg")?;
             anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
             let (set, layout) = (scene.set().clone(), scene.layout());
             let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| layout.organs[o].is_drawn()).collect();
             anyhow::ensure!(!scope.is_empty(), "no organ is shown");
             let opts = crate::anki::DeckOptions { scope, size: (768, 768), views: 2 };
-            let title = format!("Anki deck {}", path.display());
-            self.exporting = Some(Job::spawn(title, ctx, move |progress| {
+            let title = format!("writing {}", path.display());
+            let job = Job::spawn(title, ctx, move |progress| {
                 let (bytes, report) = crate::anki::build(&set, None, &opts, &mut |done, total| {
                     progress.set(done, total, &format!("{done} of {total} structures"));
                 })?;
+                anyhow::ensure!(!progress.is_cancelled(), "cancelled");
                 crate::anki::write(&path, &bytes, false)?;
-                Ok((path, report))
-            }));
+                let mut m = format!("saved {}: {} cards", path.display(), report.notes);
+                if !report.unseen.is_empty() {
+                    m.push_str(&format!(" (not seen from any view: {})", report.unseen.join(", ")));
+                }
+                Ok((path, m))
+            });
+            self.exporting = Some((ModelKind::Anki, job));
             Ok(())
         });
         if let Err(e) = started {
@@ -126,20 +132,63 @@ impl App {
         }
     }
 
-    /// After an Anki deck was written (or failed).
-    pub(super) fn deck_written(&mut self, result: Result<(PathBuf, crate::anki::DeckReport)>) {
+    /// Starts writing a video or a PDF handout into the file `typed` (`.mp4` or `.pdf` added if
+    /// missing; a new file): of the current view, or with `lesson` of the open lesson, off the UI
+    /// thread with progress and Cancel.
+    pub(super) fn export_lecture(&mut self, ctx: &egui::Context, kind: ModelKind, typed: &str, lesson: bool) {
+        let started = self.scene.as_ref().context("no organ set").and_then(|scene| {
+            anyhow::ensure!(self.exporting.is_none(), "an export is running already");
+            let video = kind == ModelKind::Video;
+            let path = export::file_path(typed, if video { "mp4" } else { "pdf" })?;
+            anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
+            if video {
+                crate::video::Format::of(&path)?;
+            }
+            let set = scene.set().clone();
+            let lesson = if lesson { self.lesson.lesson.clone() } else { None };
+            let view = crate::lecture::View {
+                navigator: self.viewport.navigator(),
+                layout: scene.layout().clone(),
+                highlight: self.highlight().to_vec(),
+                section: self.sections.current.clone(),
+                labels: self.labels(),
+                selected: self.selected,
+            };
+            let title = format!("writing {}", path.display());
+            let job = Job::spawn(title, ctx, move |progress| {
+                let mut report = |done: usize, total: usize| {
+                    progress.set(done, total, &format!("{done} of {total}"));
+                    !progress.is_cancelled()
+                };
+                let message = if video {
+                    crate::lecture::video(&set, lesson.as_ref(), &view, &path, &mut report)?
+                } else {
+                    crate::lecture::handout(&set, lesson.as_ref(), &view, &path, &mut report)?
+                };
+                Ok((path, message))
+            });
+            Ok(job)
+        });
+        match started {
+            Ok(job) => self.exporting = Some((kind, job)),
+            Err(e) => {
+                let message = format!("not saved: {e:#}");
+                self.dialogs.model(kind).finished(message.clone(), false);
+                self.notify(message, true);
+            }
+        }
+    }
+
+    /// After a background export was written (or failed, or was cancelled).
+    pub(super) fn exported(&mut self, kind: ModelKind, result: Result<(PathBuf, String)>) {
         let (message, saved) = match result {
-            Ok((path, report)) => {
+            Ok((path, message)) => {
                 self.settings.export.folder = path.parent().map(Path::to_path_buf);
-                let mut m = format!("saved {}: {} cards", path.display(), report.notes);
-                if !report.unseen.is_empty() {
-                    m.push_str(&format!(" (not seen from any view: {})", report.unseen.join(", ")));
-                }
-                (m, true)
+                (message, true)
             }
             Err(e) => (format!("not saved: {e:#}"), false),
         };
-        self.dialogs.model(ModelKind::Anki).finished(message.clone(), saved);
+        self.dialogs.model(kind).finished(message.clone(), saved);
         self.notify(message, !saved);
     }
 
@@ -198,15 +247,17 @@ impl App {
                     let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?)?;
                     Ok((path, bytes))
                 }
-                // Written off the UI thread by `export_deck`.
-                ModelKind::Anki => anyhow::bail!("an Anki deck is written with progress, not here"),
+                // Written off the UI thread by `export_deck` and `export_lecture`.
+                ModelKind::Anki | ModelKind::Video | ModelKind::Pdf => {
+                    anyhow::bail!("written with progress, not here")
+                }
             }
         });
         let (message, saved) = match written {
             Ok((path, bytes)) => {
                 let folder = match kind {
-                    ModelKind::Gltf | ModelKind::Anki | ModelKind::Scorm => path.parent(),
                     ModelKind::Web => path.parent().and_then(Path::parent),
+                    _ => path.parent(),
                 };
                 self.settings.export.folder = folder.map(Path::to_path_buf);
                 (format!("saved {} ({:.1} MB)", path.display(), bytes as f64 / 1e6), true)

@@ -29,7 +29,7 @@ impl App {
             [one] => one.display().to_string(),
             many => format!("{} files", many.len()),
         };
-        self.loading = Some(Job::spawn(title, ctx, move |progress| {
+        self.loading = Some(Job::spawn(format!("loading {title}"), ctx, move |progress| {
             progress.set(0, 1, "reading meshes");
             let mut loaded = match paths.as_slice() {
                 [one] => organ_set::open(one),
@@ -48,9 +48,10 @@ impl App {
     }
 
     pub(super) fn poll_jobs(&mut self, ctx: &egui::Context) {
-        if let Some(result) = self.exporting.as_ref().and_then(|j| j.poll()) {
-            self.exporting = None;
-            self.deck_written(result);
+        if let Some(result) = self.exporting.as_ref().and_then(|(_, j)| j.poll()) {
+            if let Some((kind, _)) = self.exporting.take() {
+                self.exported(kind, result);
+            }
         }
         if let Some(result) = self.importing.as_ref().and_then(|j| j.poll()) {
             self.importing = None;

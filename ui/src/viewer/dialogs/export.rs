@@ -125,6 +125,8 @@ impl ModelWindow {
                 ModelKind::Web => name.replace(".png", "-page"),
                 ModelKind::Anki => name.replace(".png", ".apkg"),
                 ModelKind::Scorm => name.replace(".png", "-scorm.zip"),
+                ModelKind::Video => name.replace(".png", ".mp4"),
+                ModelKind::Pdf => name.replace(".png", ".pdf"),
             };
             self.path.text = folder.unwrap_or(Path::new("")).join(name).display().to_string();
         }
@@ -135,6 +137,8 @@ impl ModelWindow {
             ModelKind::Web => "Export web page",
             ModelKind::Anki => "Export Anki deck",
             ModelKind::Scorm => "Export SCORM package",
+            ModelKind::Video => "Export video",
+            ModelKind::Pdf => "Export PDF handout",
         };
         let window = egui::Window::new(title).open(&mut open).collapsible(false).default_width(520.0);
         window.show(ctx, |ui| {
@@ -152,17 +156,7 @@ impl ModelWindow {
                          server, and turn the view, show, hide and fade organs, click one to read about it, \
                          and see the labels. The folder must be new or empty.",
                     );
-                    if let Some((lesson, steps)) = lesson {
-                        ui.horizontal(|ui| {
-                            ui.label("Page of:");
-                            ui.radio_value(
-                                &mut self.whole_lesson,
-                                true,
-                                format!("the lesson \"{lesson}\" ({steps} steps)"),
-                            );
-                            ui.radio_value(&mut self.whole_lesson, false, "this view");
-                        });
-                    }
+                    self.lesson_or_view(ui, lesson);
                     save |= self.path.ui(ui, "Folder:", Pick::Folder, &[]);
                 }
                 ModelKind::Anki => {
@@ -191,6 +185,27 @@ impl ModelWindow {
                     }
                     save |= self.path.ui(ui, "File:", Pick::Save, &[("SCORM package", &["zip"])]);
                 }
+                ModelKind::Video => {
+                    ui.label(
+                        "A video for slides, 1280x720 at 30 frames a second: the view turned once around \
+                         (8 seconds), or the open lesson played, each step eased in and held 3 seconds with \
+                         its caption. MP4 and WebM are encoded by ffmpeg, which must be installed; a GIF \
+                         needs nothing.",
+                    );
+                    self.lesson_or_view(ui, lesson);
+                    let formats: &[(&str, &[&str])] =
+                        &[("MP4 video", &["mp4"]), ("WebM video", &["webm"]), ("GIF", &["gif"])];
+                    save |= self.path.ui(ui, "File:", Pick::Save, formats);
+                }
+                ModelKind::Pdf => {
+                    ui.label(
+                        "A handout on A4 paper: a title page crediting the atlas, then the view with its labels \
+                         and the selected structure's text, or a page per step of the open lesson with its \
+                         figure, title and caption.",
+                    );
+                    self.lesson_or_view(ui, lesson);
+                    save |= self.path.ui(ui, "File:", Pick::Save, &[("PDF", &["pdf"])]);
+                }
             }
             save |= ui.button("Save").clicked();
             if let Some(last) = &self.last {
@@ -199,10 +214,22 @@ impl ModelWindow {
         });
         self.open = open;
         if save {
-            let lesson = self.kind == ModelKind::Web && lesson.is_some() && self.whole_lesson;
+            let of_lesson = matches!(self.kind, ModelKind::Web | ModelKind::Video | ModelKind::Pdf);
+            let lesson = of_lesson && lesson.is_some() && self.whole_lesson;
             vec![Action::ExportModel { kind: self.kind, path: self.path.text.clone(), lesson }]
         } else {
             Vec::new()
+        }
+    }
+
+    /// With a lesson open, the choice of the lesson or this view.
+    fn lesson_or_view(&mut self, ui: &mut egui::Ui, lesson: Option<(&str, usize)>) {
+        if let Some((lesson, steps)) = lesson {
+            ui.horizontal(|ui| {
+                ui.label("Of:");
+                ui.radio_value(&mut self.whole_lesson, true, format!("the lesson \"{lesson}\" ({steps} steps)"));
+                ui.radio_value(&mut self.whole_lesson, false, "this view");
+            });
         }
     }
 
