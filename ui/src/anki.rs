@@ -177,7 +177,7 @@ pub fn build(
         angles.extend(View::ALL.iter().map(|v| v.angles()));
         let mut ranked: Vec<(usize, (f32, f32), Layout)> = Vec::new();
         for &(az, el) in &angles {
-            let nav = Navigator::fitting(&home, az, el, scout.aspect(), crate::cli::FILL_LABELLED);
+            let nav = Navigator::fitting(&home, az, el, scout.aspect(), crate::studio::FILL_LABELLED);
             let camera = nav.camera(&home);
             let (layout, _) = vbrain::quiz::reveal(organ, &base, |l| ids_of(&scout, &camera, l));
             let shown = ids_of(&scout, &camera, &layout).iter().filter(|&&id| id as usize == organ + 1).count();
@@ -205,7 +205,7 @@ pub fn build(
             }
         };
         for (view, (_, (az, el), layout)) in ranked.into_iter().take(opts.views.max(1)).enumerate() {
-            let nav = Navigator::fitting(&home, az, el, target.aspect(), crate::cli::FILL_LABELLED);
+            let nav = Navigator::fitting(&home, az, el, target.aspect(), crate::studio::FILL_LABELLED);
             let camera = nav.camera(&home);
             let (draw, _) = culler.cull(set, &layout, &camera, target.aspect(), &CullSettings::default());
             let shot = |highlight: &[usize]| -> Result<(RgbaImage, Vec<u32>)> {

@@ -100,8 +100,7 @@ pub fn of_lesson(
     paper: Paper,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<Handout> {
-    let [width, height] = figure_pixels(paper, 4.0 / 3.0);
-    let size = crate::cli::values::Size { width, height };
+    let size = figure_pixels(paper, 4.0 / 3.0);
     let mut sheets = Vec::new();
     for (k, step) in lesson.steps.iter().enumerate() {
         let frame = crate::studio::StepFrame::new(studio, step, forced, size, None)?;

@@ -41,15 +41,14 @@ pub fn video(
     path: &Path,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<String> {
-    let mut studio = Studio::with_database(set, None)?;
+    let mut studio = Studio::new(set, None)?;
     let [w, h] = VIDEO_SIZE;
     let plan = match lesson {
         Some(lesson) => {
             let mut steps = Vec::new();
             for step in &lesson.steps {
-                let lines = crate::cli::lesson::caption_lines(step, w, h);
-                let size = crate::cli::values::Size { width: w, height: h };
-                steps.push(StepFrame::new(&mut studio, step, None, size, Some(lines))?);
+                let lines = crate::studio::caption_lines(step, w, h);
+                steps.push(StepFrame::new(&mut studio, step, None, VIDEO_SIZE, Some(lines))?);
             }
             Plan::Lesson(Played { steps, hold: HOLD_SECONDS })
         }
@@ -81,7 +80,7 @@ pub fn handout(
     path: &Path,
     progress: &mut dyn FnMut(usize, usize) -> bool,
 ) -> Result<String> {
-    let mut studio = Studio::with_database(set, None)?;
+    let mut studio = Studio::new(set, None)?;
     let paper = Paper::A4;
     let handout = match lesson {
         Some(lesson) => crate::handout::of_lesson(&mut studio, lesson, None, paper, progress)?,

@@ -3,14 +3,13 @@
 //! per picture a view (camera, layout, highlights, section, labels) rendered and labelled.
 //!
 //! - Images are sRGB RGBA, origin top left, y down; labels are drawn into them at `px` pixels high.
+//! - A step's caption band below its figure takes at most [`CAPTION_SHARE`] of the picture.
 //! - A lesson step seen from its angles (no camera of its own) frames the brain whole and centred
 //!   ([`step_navigator`]), so every command shows a step alike.
 
 use crate::annotate::Labels;
-use crate::cli::common::database;
 use anyhow::Result;
 use image::RgbaImage;
-use std::path::Path;
 use vbrain::clip::Section;
 use vbrain::cull::database::Database;
 use vbrain::cull::{CullSettings, Culler};
@@ -48,12 +47,8 @@ pub struct Studio<'s> {
 }
 
 impl<'s> Studio<'s> {
-    /// The set read from `set_path`, with its pre-computed occluders where they are there.
-    pub fn new(set: &'s OrganSet, set_path: &Path) -> Result<Studio<'s>> {
-        Self::with_database(set, database(set_path, set))
-    }
-
-    pub fn with_database(set: &'s OrganSet, database: Option<Database>) -> Result<Studio<'s>> {
+    /// A studio for `set`, culling with its pre-computed occluders `database` where given.
+    pub fn new(set: &'s OrganSet, database: Option<Database>) -> Result<Studio<'s>> {
         let gpu = GpuContext::headless()?;
         let renderer = Renderer::new(&gpu.device, set)?;
         let culler = Culler::new(database);
@@ -103,6 +98,26 @@ impl<'s> Studio<'s> {
     }
 }
 
+/// The most of a picture's height its caption band takes; longer captions end in "…".
+const CAPTION_SHARE: f32 = 0.45;
+
+/// A step's title and caption as the lines of its band in a picture `width` x `height` pixels,
+/// cut to [`CAPTION_SHARE`] of its height (the last line kept ending in "…").
+pub fn caption_lines(step: &Step, width: u32, height: u32) -> Vec<(String, bool)> {
+    let px = crate::annotate::text_px(height);
+    let mut lines = crate::annotate::caption_lines(&step.title, &step.caption, width as f32 - 2.0 * px, px);
+    let most = height as f32 * CAPTION_SHARE;
+    let mut cut = false;
+    while lines.len() > 1 && crate::annotate::caption_height(&lines, px) as f32 > most {
+        lines.pop();
+        cut = true;
+    }
+    if let (true, Some((last, _))) = (cut, lines.last_mut()) {
+        last.push('\u{2026}');
+    }
+    lines
+}
+
 /// The labels step view `view` asks for, or `forced` instead; a step's "selected" organs are the
 /// ones it highlights.
 pub fn step_labels(set: &OrganSet, view: &StepView, forced: Option<&vbrain::labels::Which>) -> Labels {
@@ -132,14 +147,15 @@ impl StepFrame {
         studio: &mut Studio,
         step: &Step,
         forced: Option<&vbrain::labels::Which>,
-        size: crate::cli::values::Size,
+        size: [u32; 2],
         lines: Option<Vec<(String, bool)>>,
     ) -> Result<StepFrame> {
+        let [width, height] = size;
         let view = step.view(studio.set);
         let labels = step_labels(studio.set, &view, forced);
-        let px = crate::annotate::text_px(size.height);
+        let px = crate::annotate::text_px(height);
         let band = lines.as_ref().map_or(0, |l| crate::annotate::caption_height(l, px));
-        let target = studio.target(size.width, size.height.saturating_sub(band).max(1))?;
+        let target = studio.target(width, height.saturating_sub(band).max(1))?;
         let navigator = studio.step_navigator(step, &view, target.aspect(), labels != Labels::None);
         Ok(StepFrame { view, labels, navigator, target, lines, px })
     }

@@ -230,6 +230,17 @@ pub fn write(
     Ok(Written { frames, render_s, total_s: started.elapsed().as_secs_f64() })
 }
 
+/// Renders `plan`'s frames and drops them: the seconds it took, the baseline that encoding's
+/// cost is measured against (`vbrain video --render-only`).
+pub fn render_only(studio: &mut Studio, plan: &Plan, size: [u32; 2], fps: u32, format: Format) -> Result<f64> {
+    let frames = plan.check(size, fps, format)?;
+    let started = std::time::Instant::now();
+    for k in 0..frames {
+        std::hint::black_box(plan.frame(studio, k, fps, size)?);
+    }
+    Ok(started.elapsed().as_secs_f64())
+}
+
 /// Where frames go.
 trait Sink {
     fn push(&mut self, frame: RgbaImage) -> Result<()>;

@@ -3,19 +3,15 @@
 //! caption and picture. Steps are drawn with their highlights, sections and labels (or `--labels`
 //! for all); `--caption` puts the title and caption in a band below the figure.
 //!
-//! - Each step is framed as [`crate::studio`] frames it; the caption band is [`caption_lines`]
-//!   cut to [`CAPTION_SHARE`] of the picture.
+//! - Each step is framed, and its caption band cut, as [`crate::studio`] does it.
 
-use super::common::open_set;
+use super::common::{database, open_set};
 use super::{LessonPdfArgs, LessonRenderArgs};
-use crate::studio::{StepFrame, Studio};
+use crate::studio::{caption_lines, StepFrame, Studio};
 use anyhow::{anyhow, Result};
 use serde_json::json;
 use vbrain::labels::Which;
-use vbrain::lesson::{Lesson, Step};
-
-/// The most of a picture's height its caption band takes; longer captions end in "…".
-const CAPTION_SHARE: f32 = 0.45;
+use vbrain::lesson::Lesson;
 
 /// A lesson file or name opened with its set: the lesson, its file and the set's path.
 pub fn open(name: &std::path::Path) -> Result<(Lesson, std::path::PathBuf, std::path::PathBuf)> {
@@ -39,13 +35,14 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     let set = open_set(&set_path)?;
     warn_unknown(&lesson, &file, &set);
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
-    let mut studio = Studio::new(&set, &set_path)?;
+    let mut studio = Studio::new(&set, database(&set_path, &set))?;
     let mut markdown = format!("# {}\n", lesson.title);
     let (mut files, mut labelled) = (Vec::new(), Vec::new());
     for (k, step) in lesson.steps.iter().enumerate() {
-        let lines = args.caption.then(|| caption_lines(step, args.size.width, args.size.height));
+        let [w, h] = [args.size.width, args.size.height];
+        let lines = args.caption.then(|| caption_lines(step, w, h));
         let (image, placed) =
-            StepFrame::new(&mut studio, step, forced.as_ref(), args.size, lines)?.draw(&mut studio, None)?;
+            StepFrame::new(&mut studio, step, forced.as_ref(), [w, h], lines)?.draw(&mut studio, None)?;
         labelled.push(placed);
         let name = format!("{:02}.png", k + 1);
         let file = args.out.join(&name);
@@ -74,23 +71,6 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     Ok(true)
 }
 
-/// A step's title and caption as the lines of its band in a picture `width` x `height` pixels,
-/// cut to [`CAPTION_SHARE`] of its height (the last line kept ending in "…").
-pub fn caption_lines(step: &Step, width: u32, height: u32) -> Vec<(String, bool)> {
-    let px = crate::annotate::text_px(height);
-    let mut lines = crate::annotate::caption_lines(&step.title, &step.caption, width as f32 - 2.0 * px, px);
-    let most = height as f32 * CAPTION_SHARE;
-    let mut cut = false;
-    while lines.len() > 1 && crate::annotate::caption_height(&lines, px) as f32 > most {
-        lines.pop();
-        cut = true;
-    }
-    if let (true, Some((last, _))) = (cut, lines.last_mut()) {
-        last.push('\u{2026}');
-    }
-    lines
-}
-
 /// `vbrain lesson pdf`: a handout of the lesson ([`crate::handout::of_lesson`]).
 pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
     super::common::writable_file(&args.out, "pdf", args.force)?;
@@ -101,7 +81,7 @@ pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
     }
     let set = open_set(&set_path)?;
     warn_unknown(&lesson, &file, &set);
-    let mut studio = Studio::new(&set, &set_path)?;
+    let mut studio = Studio::new(&set, database(&set_path, &set))?;
     let bar = super::common::progress_bar(lesson.steps.len() as u64);
     let handout = crate::handout::of_lesson(&mut studio, &lesson, forced.as_ref(), args.paper, &mut |done, _| {
         bar.set_position(done as u64);

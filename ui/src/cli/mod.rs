@@ -13,7 +13,7 @@ pub mod common;
 mod export;
 mod import;
 mod info;
-pub mod lesson;
+mod lesson;
 mod manual;
 mod masks;
 mod occluders;
@@ -23,8 +23,6 @@ mod scale;
 mod stand_ins;
 pub mod values;
 mod video;
-
-pub use crate::studio::FILL_LABELLED;
 
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -301,6 +299,10 @@ pub struct VideoArgs {
     /// scene's own]
     #[arg(long)]
     pub labels: Option<String>,
+    /// Render the frames and write nothing; print the seconds it took as JSON (the baseline for
+    /// the encoding benchmark)
+    #[arg(long, hide = true)]
+    pub render_only: bool,
     #[command(flatten)]
     pub report: Report,
 }

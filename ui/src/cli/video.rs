@@ -38,7 +38,7 @@ pub fn run(args: &VideoArgs) -> Result<bool> {
         (input.clone(), None)
     };
     let set = open_set(&set_path)?;
-    let mut studio = Studio::new(&set, &set_path)?;
+    let mut studio = Studio::new(&set, super::common::database(&set_path, &set))?;
     let plan = match (&lesson, args.turntable) {
         (Some(_), Some(_)) => bail!("--turntable turns a set or a scene; a lesson is played step by step"),
         (None, None) => bail!("give --turntable DEGREES (and --seconds) to turn a set or a scene"),
@@ -46,14 +46,20 @@ pub fn run(args: &VideoArgs) -> Result<bool> {
             super::lesson::warn_unknown(lesson, file, &set);
             let mut steps = Vec::new();
             for step in &lesson.steps {
-                let lines = args.captions.then(|| super::lesson::caption_lines(step, size[0], size[1]));
-                steps.push(StepFrame::new(&mut studio, step, forced.as_ref(), args.size, lines)?);
+                let lines = args.captions.then(|| crate::studio::caption_lines(step, size[0], size[1]));
+                steps.push(StepFrame::new(&mut studio, step, forced.as_ref(), size, lines)?);
             }
             Plan::Lesson(Played { steps, hold: args.hold })
         }
         (None, Some(degrees)) => Plan::Turntable(turntable(&set, &input, extension, forced.as_ref(), degrees, args)?),
     };
     let frames = plan.check(size, args.fps, format)?;
+    if args.render_only {
+        let seconds = crate::video::render_only(&mut studio, &plan, size, args.fps, format)?;
+        let report = json!({"frames": frames, "size": size, "render_s": seconds});
+        println!("{}", serde_json::to_string_pretty(&report)?);
+        return Ok(true);
+    }
     super::common::writable_file(&args.out, "gif, .mp4 or .webm", args.force)?;
     let bar = super::common::progress_bar(frames as u64);
     bar.set_message(format!("frames of {}", args.out.display()));
