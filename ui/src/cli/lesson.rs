@@ -6,10 +6,11 @@
 //! - Each step is framed, and its caption band cut, as [`crate::studio`] does it.
 
 use super::common::{database, open_set};
-use super::{LessonPdfArgs, LessonRenderArgs};
+use super::{LessonRenderArgs, Report};
 use crate::studio::{caption_lines, StepFrame, Studio};
 use anyhow::{anyhow, Result};
 use serde_json::json;
+use std::path::PathBuf;
 use vbrain::labels::Which;
 use vbrain::lesson::Lesson;
 
@@ -96,4 +97,27 @@ pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
         println!("{}: {} pages written to {}", lesson.title, lesson.steps.len() + 1, args.out.display());
     }
     Ok(true)
+}
+
+/// `vbrain lesson pdf`'s options.
+#[derive(clap::Args)]
+pub struct LessonPdfArgs {
+    /// Lesson file (.vblesson), or the name of one of the default brain's lessons (cortex,
+    /// deep-nuclei, ventricles)
+    pub lesson: PathBuf,
+    /// The PDF file to write
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out if it exists
+    #[arg(long)]
+    pub force: bool,
+    /// Paper size
+    #[arg(long, value_enum, default_value = "a4")]
+    pub paper: crate::handout::Paper,
+    /// Labels in every figure instead of each step's own: none, selected, all or ids and groups
+    /// separated by commas
+    #[arg(long)]
+    pub labels: Option<String>,
+    #[command(flatten)]
+    pub report: Report,
 }

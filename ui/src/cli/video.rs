@@ -5,13 +5,14 @@
 //!   camera; both around the camera's target, elevation kept.
 
 use super::common::{open_set, section};
-use super::{SectionArgs, VideoArgs};
+use super::values::{self, Size};
+use super::{Report, SectionArgs};
 use crate::annotate::Labels;
 use crate::studio::{StepFrame, Studio};
 use crate::video::{Plan, Played, Turntable};
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use vbrain::camera::View;
 use vbrain::labels::Which;
 use vbrain::layout::Layout;
@@ -122,4 +123,47 @@ fn turntable(
         degrees,
         seconds: args.seconds,
     })
+}
+
+/// `vbrain video`'s options.
+#[derive(clap::Args)]
+pub struct VideoArgs {
+    /// A scene (.vbscene), a lesson (.vblesson or the name of one of the default brain's lessons)
+    /// or an organ set [default: the default brain]
+    pub path: Option<PathBuf>,
+    /// The video to write: .gif, .mp4 (H.264) or .webm (VP9); MP4 and WebM need ffmpeg
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out if it exists
+    #[arg(long)]
+    pub force: bool,
+    /// Frame size, WxH (sides 16..=3840; even for MP4 and WebM)
+    #[arg(long, default_value = "1280x720", value_parser = values::size)]
+    pub size: Size,
+    /// Frames a second, 1..=60 (at most 50 for a GIF)
+    #[arg(long, default_value_t = 30, value_parser = clap::value_parser!(u32).range(1..=60))]
+    pub fps: u32,
+    /// Turn a set or scene this many degrees around the camera's target (toward the right when
+    /// positive), elevation kept
+    #[arg(long, allow_hyphen_values = true, value_parser = values::f32_in(-3600.0, 3600.0))]
+    pub turntable: Option<f32>,
+    /// The turntable's length in seconds, 0.1..=1200
+    #[arg(long, default_value_t = 8.0, value_parser = values::f32_in(0.1, 1200.0))]
+    pub seconds: f32,
+    /// Seconds a lesson's step is held once it has arrived, 0.1..=600
+    #[arg(long, default_value_t = 3.0, value_parser = values::f32_in(0.1, 600.0))]
+    pub hold: f32,
+    /// Burn each lesson step's title and caption into its frames, in a band below the figure
+    #[arg(long)]
+    pub captions: bool,
+    /// Labels: none, selected, all or ids and groups separated by commas [default: a step's or
+    /// scene's own]
+    #[arg(long)]
+    pub labels: Option<String>,
+    /// Render the frames and write nothing; print the seconds it took as JSON (the baseline for
+    /// the encoding benchmark)
+    #[arg(long, hide = true)]
+    pub render_only: bool,
+    #[command(flatten)]
+    pub report: Report,
 }
