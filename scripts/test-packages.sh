@@ -44,6 +44,7 @@ apt_need desktop-file-validate desktop-file-utils
 apt_need appstreamcli appstream
 apt_need xvfb-run xvfb
 apt_need import imagemagick
+apt_need xdotool xdotool
 apt_need strings binutils
 [ "$windows" = 1 ] && apt_need wine wine64
 

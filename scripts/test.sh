@@ -63,7 +63,8 @@ fi
 
 cargo fmt --all --check
 cargo clippy --workspace --all-targets --locked -- -D warnings
-cargo test --workspace --locked
+# In the release profile: the packages below reuse this build instead of compiling it all again.
+cargo test --workspace --locked --release
 # The packages, built and tested as a user installs them (the .deb, the archive, the Windows zip).
 scripts/package.sh
 scripts/test-packages.sh
