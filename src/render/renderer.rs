@@ -130,6 +130,18 @@ impl Renderer {
         self.draw_with(technique, device, queue, target, frame)
     }
 
+    /// Draws only the outlines of `frame`'s highlighted and selected organs over what `target`
+    /// holds: a frame drawn without them becomes the one [`Renderer::render`] draws with them, for
+    /// the price of the outline pass alone.
+    pub fn render_outlines(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target, frame: &FrameInput) {
+        if frame.highlight.is_empty() && frame.selection.is_none() {
+            return;
+        }
+        let mut encoder = device.create_command_encoder(&Default::default());
+        self.outline.record(device, queue, (&self.scene, &self.composite), (frame, target), &mut encoder);
+        queue.submit([encoder.finish()]);
+    }
+
     /// Each pixel's count of faded fragments in front of the opaque organs (rows top to bottom) in
     /// the last frame drawn into `target` with the k-buffer: the k that pixel needs for an exact
     /// result in any drawing order (Callahan 2005, Fig. 4.7). `None` if that frame was not drawn
@@ -174,12 +186,8 @@ impl Renderer {
             let frame = Frame { device, queue, scene: &self.scene, input, target };
             let stats = technique.record(&frame, &mut encoder)?;
             queue.submit([encoder.finish()]);
-            if !input.highlight.is_empty() || input.selection.is_some() {
-                // Its own submission: it rewrites the organ uniforms the technique drew with.
-                let mut encoder = device.create_command_encoder(&Default::default());
-                self.outline.record(device, queue, (&self.scene, &self.composite), (input, target), &mut encoder);
-                queue.submit([encoder.finish()]);
-            }
+            // Its own submission: it rewrites the organ uniforms the technique drew with.
+            self.render_outlines(device, queue, target, input);
             let gpu_ms = timer.map(|t| t.stop(device, queue)).transpose()?;
             Ok(RenderStats { gpu_ms, ..stats })
         })?;

@@ -8,12 +8,16 @@
 //! - *image occlusion, hide all, guess one*: the structure and its nearest neighbours in the
 //!   picture all covered, the one asked in red; the back uncovers it.
 //!
+//! - A lesson's quiz adds a note per question, drawn from the question's own view: *name it*
+//!   (the structure outlined) or *find it* (the name asked, the figure outlined on the back).
 //! - Identifiers are stable: note GUIDs derive from the set's title, the organ's id, the card kind
 //!   and the view; deck and model ids from their names. Importing a new export updates the notes
 //!   (and keeps their reviews) instead of adding duplicates.
 //! - Decks and tags follow the set's groups (`vbrain::TITLE::Cerebrum::Frontal lobe`, tag
 //!   `vbrain::Cerebrum::Frontal_lobe`); media names carry a hash of the set's title.
 //! - Text reaches the cards HTML-escaped ([`html`]); pictures are PNGs in screen pixels.
+//! - Views are chosen from small culled organ-ID renders; each chosen view is drawn once, faded
+//!   organs through the k-buffer (one pass however many are faded), its outline added after.
 
 use crate::annotate::{self, Labels};
 use anyhow::{anyhow, bail, Result};
@@ -21,11 +25,13 @@ use genanki_rs::{Deck, Field, Model, Note, Package, Template};
 use image::RgbaImage;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
+use vbrain::clip::Section;
 use vbrain::cull::{CullSettings, Culler};
 use vbrain::layout::Layout;
 use vbrain::navigation::Navigator;
 use vbrain::organ_set::OrganSet;
 use vbrain::render::{FrameInput, GpuContext, Renderer, Target};
+use vbrain::transparency::{TransparencyMode, TransparencySettings};
 
 /// The mask over the structure asked, and over the others in "hide all".
 const ASKED: [u8; 3] = [224, 68, 62];
@@ -43,6 +49,43 @@ pub struct DeckOptions {
     pub size: (u32, u32),
     /// Views per structure, 1..=4.
     pub views: usize,
+    /// A lesson's quiz, as cards from each question's own view: the lesson's title and questions.
+    pub lesson: Option<(String, Vec<LessonQuestion>)>,
+}
+
+/// A question of a lesson's quiz: what it asks and the view it starts from (a step's layout,
+/// camera and cut, or the default layout seen from the structure's side).
+pub struct LessonQuestion {
+    pub kind: vbrain::quiz::Kind,
+    pub organ: usize,
+    pub layout: Layout,
+    pub navigator: Navigator,
+    pub section: Section,
+}
+
+impl LessonQuestion {
+    /// The questions of `lesson`'s quiz over `set`.
+    pub fn of(lesson: &vbrain::lesson::Lesson, set: &OrganSet) -> Result<Vec<LessonQuestion>> {
+        let questions = lesson.questions(set).map_err(|e| anyhow!(e))?;
+        Ok(questions
+            .into_iter()
+            .enumerate()
+            .map(|(k, q)| match lesson.question_view(k, set) {
+                Some(step) => LessonQuestion {
+                    kind: q.kind,
+                    organ: q.organ,
+                    layout: step.layout,
+                    navigator: step.navigator,
+                    section: step.section,
+                },
+                None => {
+                    let layout = Layout::new(set);
+                    let navigator = vbrain::quiz::camera(set, &layout, q.organ);
+                    LessonQuestion { kind: q.kind, organ: q.organ, layout, navigator, section: Section::default() }
+                }
+            })
+            .collect())
+    }
 }
 
 /// What was written: notes per kind, and structures that no view shows.
@@ -50,6 +93,8 @@ pub struct DeckOptions {
 pub struct DeckReport {
     pub structures: usize,
     pub notes: usize,
+    /// Of the notes, those of a lesson's quiz questions.
+    pub questions: usize,
     pub media: usize,
     pub unseen: Vec<String>,
 }
@@ -103,7 +148,7 @@ pub fn tag(group: &str) -> String {
     format!("vbrain::{}", parts.join("::"))
 }
 
-fn models() -> (Model, Model) {
+fn models() -> (Model, Model, Model) {
     let css = ".card { font-family: sans-serif; font-size: 20px; text-align: center; color: #222; background: #fff; }\n\
                img { max-width: 100%; } .latin { font-style: italic; color: #555; } .info { text-align: left; font-size: 16px; margin: 1em auto; max-width: 40em; }";
     let name_it = Model::new(
@@ -124,7 +169,16 @@ fn models() -> (Model, Model) {
         )],
     )
     .css(css);
-    (name_it, occlusion)
+    let find_it = Model::new(
+        stable_id("vbrain find it"),
+        "vbrain find it",
+        ["Name", "Latin", "Info", "Plain", "Outlined"].map(Field::new).to_vec(),
+        vec![Template::new("Find it").qfmt("{{Plain}}<div>Where is the <b>{{Name}}</b>?</div>").afmt(
+            "{{Outlined}}<hr id=answer><b>{{Name}}</b><div class=latin>{{Latin}}</div><div class=info>{{Info}}</div>",
+        )],
+    )
+    .css(css);
+    (name_it, occlusion, find_it)
 }
 
 /// `image` with the pixels of each `(organ, colour)` in `ids` (organ + 1 per pixel) painted over.
@@ -138,6 +192,14 @@ pub fn cover(image: &RgbaImage, ids: &[u32], masks: &[(usize, [u8; 3])]) -> Rgba
     out
 }
 
+/// A view a structure may be shown from: its pixels seen as the set is laid out, and alone (0
+/// where not needed); its azimuth and elevation; its camera.
+struct Candidate {
+    shows: (usize, usize),
+    angles: (f32, f32),
+    camera: vbrain::camera::Camera,
+}
+
 /// Builds the deck of `opts.scope` and returns the .apkg's bytes; `progress(done, total)` hears
 /// of each structure.
 pub fn build(
@@ -146,7 +208,7 @@ pub fn build(
     opts: &DeckOptions,
     progress: &mut dyn FnMut(usize, usize),
 ) -> Result<(Vec<u8>, DeckReport)> {
-    if opts.scope.is_empty() {
+    if opts.scope.is_empty() && opts.lesson.as_ref().is_none_or(|(_, q)| q.is_empty()) {
         bail!("no structures in scope");
     }
     let gpu = GpuContext::headless()?;
@@ -159,33 +221,89 @@ pub fn build(
     let home = base.bounds(set);
     let media_dir = tempfile::tempdir()?;
     let set_key = format!("{:08x}", fnv(&set.title) as u32);
-    let (name_it, occlusion) = models();
+    let (name_it, occlusion, find_it) = models();
     let (mut decks, mut deck_names): (Vec<Deck>, Vec<String>) = (Vec::new(), Vec::new());
     let mut media: Vec<PathBuf> = Vec::new();
     let mut report = DeckReport { structures: opts.scope.len(), ..Default::default() };
+    // Pictures are PNG-encoded on a thread of their own while the next ones are drawn.
+    let (encode, pictures) = std::sync::mpsc::sync_channel::<(PathBuf, RgbaImage)>(8);
+    let encoder = std::thread::spawn(move || -> Result<()> {
+        for (path, image) in pictures {
+            image.save(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
+        }
+        Ok(())
+    });
+    // Organ IDs of a layout, culled (culling changes no pixel); faint organs are see-through.
     let ids_of = |target: &Target, camera: &vbrain::camera::Camera, layout: &Layout| {
-        let frame = FrameInput::new(set, camera, layout);
+        let (draw, _) = vbrain::cull::cull(set, layout, camera, target.aspect(), &CullSettings::default());
+        let frame = FrameInput { draw: Some(&draw), ..FrameInput::new(set, camera, layout) };
         renderer.render_ids(&gpu.device, &gpu.queue, target, &frame, annotate::PICK_OPACITY);
         target.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
     };
+    // One view of `organ`: the frame plain, then outlined (the outline drawn over it), and its
+    // organ IDs.
+    let mut draw = |camera: &vbrain::camera::Camera, layout: &Layout, section: &Section, organ: usize| {
+        let plain = FrameInput {
+            background: crate::background_linear(crate::background_srgb(), false),
+            transparency: TransparencySettings { mode: TransparencyMode::KBuffer, ..Default::default() },
+            section,
+            ..FrameInput::new(set, camera, layout)
+        };
+        let (draw, _) = culler.cull_frame(&renderer.cull_input(&plain, &target), &CullSettings::default());
+        let frame = |highlight| FrameInput { draw: Some(&draw), highlight, ..plain };
+        renderer.render(&gpu.device, &gpu.queue, &target, &frame(&[]))?;
+        let plain = target.read_color(&gpu.device, &gpu.queue)?;
+        let asked = [organ];
+        renderer.render_outlines(&gpu.device, &gpu.queue, &target, &frame(&asked));
+        let outlined = target.read_color(&gpu.device, &gpu.queue)?;
+        renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame(&[]), annotate::PICK_OPACITY);
+        anyhow::Ok((plain, outlined, target.read_ids(&gpu.device, &gpu.queue)?))
+    };
+    let mut at_rest: std::collections::HashMap<(u32, u32), Vec<u32>> = std::collections::HashMap::new();
     for (done, &organ) in opts.scope.iter().enumerate() {
         let o = &set.organs[organ];
-        // Candidate views: the quiz's side view, then the six standard ones; ranked by how many
-        // of the structure's pixels show once what hides it is faded.
+        // Candidate views: the quiz's side view, then the six standard ones; tried in the order
+        // of how much of the structure shows as the set is laid out, then of its size alone. The
+        // first `views` where it shows once what hides it is faded are its best.
         let side = vbrain::quiz::camera(set, &base, organ);
-        let mut angles = vec![(side.azimuth, side.elevation)];
-        angles.extend(View::ALL.iter().map(|v| v.angles()));
-        let mut ranked: Vec<(usize, (f32, f32), Layout)> = Vec::new();
+        let side = (side.azimuth, side.elevation);
+        let mut angles = vec![side];
+        angles.extend(View::ALL.iter().map(|v| v.angles()).filter(|&a| a != side));
+        let mut alone = base.clone();
+        for (k, s) in alone.organs.iter_mut().enumerate() {
+            s.visible = k == organ;
+            s.opacity = 1.0;
+        }
+        let count = |ids: &[u32]| ids.iter().filter(|&&id| id as usize == organ + 1).count();
+        let mut candidates: Vec<Candidate> = Vec::new();
         for &(az, el) in &angles {
-            let nav = Navigator::fitting(&home, az, el, scout.aspect(), crate::studio::FILL_LABELLED);
-            let camera = nav.camera(&home);
-            let (layout, _) = vbrain::quiz::reveal(organ, &base, |l| ids_of(&scout, &camera, l));
-            let shown = ids_of(&scout, &camera, &layout).iter().filter(|&&id| id as usize == organ + 1).count();
-            if shown > 0 && !ranked.iter().any(|r| r.1 == (az, el)) {
+            let camera = Navigator::fitting(&home, az, el, scout.aspect(), crate::studio::FILL_LABELLED).camera(&home);
+            let rest = at_rest.entry((az.to_bits(), el.to_bits())).or_insert_with(|| ids_of(&scout, &camera, &base));
+            candidates.push(Candidate { shows: (count(rest), 0), angles: (az, el), camera });
+        }
+        // Its size alone matters only where it shows in fewer views than are asked for.
+        if candidates.iter().filter(|c| c.shows.0 > 0).count() < opts.views.max(1) {
+            for c in &mut candidates {
+                c.shows.1 = count(&ids_of(&scout, &c.camera, &alone));
+            }
+        }
+        candidates.sort_by_key(|c| std::cmp::Reverse(c.shows));
+        let mut ranked: Vec<(usize, (f32, f32), Layout)> = Vec::new();
+        for Candidate { angles: (az, el), camera, .. } in candidates {
+            if ranked.len() == opts.views.max(1) {
+                break;
+            }
+            // The set as laid out was drawn above: reveals start there, and many end there.
+            let mut ids = |l: &Layout| match l == &base {
+                true => at_rest[&(az.to_bits(), el.to_bits())].clone(),
+                false => ids_of(&scout, &camera, l),
+            };
+            let (layout, _) = vbrain::quiz::reveal(organ, &base, &mut ids);
+            let shown = count(&ids(&layout));
+            if shown > 0 {
                 ranked.push((shown, (az, el), layout));
             }
         }
-        ranked.sort_by_key(|r| std::cmp::Reverse(r.0));
         if ranked.is_empty() {
             report.unseen.push(o.name.clone());
             progress(done + 1, opts.scope.len());
@@ -206,22 +324,7 @@ pub fn build(
         };
         for (view, (_, (az, el), layout)) in ranked.into_iter().take(opts.views.max(1)).enumerate() {
             let nav = Navigator::fitting(&home, az, el, target.aspect(), crate::studio::FILL_LABELLED);
-            let camera = nav.camera(&home);
-            let (draw, _) = culler.cull(set, &layout, &camera, target.aspect(), &CullSettings::default());
-            let shot = |highlight: &[usize]| -> Result<(RgbaImage, Vec<u32>)> {
-                let frame = FrameInput {
-                    draw: Some(&draw),
-                    background: crate::background_linear(crate::background_srgb(), false),
-                    highlight,
-                    ..FrameInput::new(set, &camera, &layout)
-                };
-                renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
-                let image = target.read_color(&gpu.device, &gpu.queue)?;
-                renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, annotate::PICK_OPACITY);
-                Ok((image, target.read_ids(&gpu.device, &gpu.queue)?))
-            };
-            let (plain, seen) = shot(&[])?;
-            let (outlined, _) = shot(&[organ])?;
+            let (plain, outlined, seen) = draw(&nav.camera(&home), &layout, &Section::default(), organ)?;
             let mut labelled = outlined.clone();
             let px = annotate::text_px(h) * 1.3;
             annotate::draw_sized(
@@ -247,10 +350,12 @@ pub fn build(
                 ("hide-all", cover(&plain, &seen, &all)),
             ];
             let file = |kind: &str| format!("vbrain-{set_key}-{}-v{}-{kind}.png", o.id, view + 1);
-            for (kind, image) in &images {
+            for (kind, image) in images {
                 let path = media_dir.path().join(file(kind));
-                image.save(&path).map_err(|e| anyhow!("{}: {e}", path.display()))?;
-                media.push(path);
+                media.push(path.clone());
+                if encode.send((path, image)).is_err() {
+                    break; // the encoder stopped on an error, returned below
+                }
             }
             let img = |kind: &str| format!("<img src=\"{}\">", html(&file(kind)));
             let (name, latin, info) = (html(&o.name), html(o.latin.as_deref().unwrap_or("")), html(&o.info));
@@ -273,6 +378,51 @@ pub fn build(
         }
         progress(done + 1, opts.scope.len());
     }
+    if let Some((title, questions)) = &opts.lesson {
+        let deck_title = deck_name(&set.title, &format!("Lessons/{}", title.replace('/', "-")));
+        let mut deck = Deck::new(stable_id(&deck_title), &deck_title, &format!("From vbrain: {}", html(title)));
+        let lesson_key = format!("{:08x}", fnv(title) as u32);
+        for (k, q) in questions.iter().enumerate() {
+            let o = &set.organs[q.organ];
+            let scout_camera = vbrain::web_page::camera(set, &q.layout, &q.navigator);
+            let (layout, _) = vbrain::quiz::reveal(q.organ, &q.layout, |l| ids_of(&scout, &scout_camera, l));
+            let camera = vbrain::web_page::camera(set, &layout, &q.navigator);
+            let (plain, outlined, seen) = draw(&camera, &layout, &q.section, q.organ)?;
+            if !seen.contains(&(q.organ as u32 + 1)) {
+                report.unseen.push(format!("{} (question {} of the lesson)", o.name, k + 1));
+                continue;
+            }
+            let file = |kind: &str| format!("vbrain-{set_key}-lesson-{lesson_key}-q{}-{kind}.png", k + 1);
+            let front = if q.kind == vbrain::quiz::Kind::Name { "outlined" } else { "plain" };
+            for (kind, image) in [("plain", plain), ("outlined", outlined)] {
+                let path = media_dir.path().join(file(kind));
+                media.push(path.clone());
+                if encode.send((path, image)).is_err() {
+                    break; // the encoder stopped on an error, returned below
+                }
+            }
+            let img = |kind: &str| format!("<img src=\"{}\">", html(&file(kind)));
+            let (name, latin, info) = (html(&o.name), html(o.latin.as_deref().unwrap_or("")), html(&o.info));
+            let note = match q.kind {
+                vbrain::quiz::Kind::Name => {
+                    let synonyms = html(&o.synonyms.join(", "));
+                    Note::new(name_it.clone(), vec![&name, &latin, &synonyms, &info, &img(front), &img("outlined")])?
+                }
+                vbrain::quiz::Kind::Locate => {
+                    Note::new(find_it.clone(), vec![&name, &latin, &info, &img(front), &img("outlined")])?
+                }
+            };
+            let id = format!("lesson {title} question {}", k + 1);
+            deck.add_note(note.guid(guid(&set.title, &id, &o.id, 0)).tags([tag(&o.group), "vbrain::lesson".into()]));
+            report.notes += 1;
+            report.questions += 1;
+        }
+        if report.questions > 0 {
+            decks.push(deck);
+        }
+    }
+    drop(encode);
+    encoder.join().map_err(|_| anyhow!("the picture encoder stopped"))??;
     if decks.is_empty() {
         bail!("no structure in scope shows from any view: {}", report.unseen.join(", "));
     }

@@ -1,19 +1,67 @@
-//! `vbrain anki`: an Anki deck of a set's structures ([`crate::anki`]), with a progress bar.
+//! `vbrain anki`: an Anki deck of a set's, a scene's or a lesson's structures ([`crate::anki`]),
+//! with a progress bar.
 
 use super::common::{database, open_set};
 use super::AnkiArgs;
 use crate::anki::{self, DeckOptions};
 use anyhow::{anyhow, bail, Result};
 use std::time::Instant;
+use vbrain::scene_file::SceneFile;
 
 pub fn run(args: &AnkiArgs) -> Result<bool> {
     if args.out.exists() && !args.force {
         bail!("{}: exists (use --force to replace it)", args.out.display());
     }
-    let path = vbrain::data_dir::set_or_default(args.set.as_deref())?;
-    let set = open_set(&path)?;
-    let scope = vbrain::quiz::scope(&set, args.group.as_deref()).map_err(|e| anyhow!(e))?;
-    let opts = DeckOptions { scope, size: (args.size.width, args.size.height), views: args.views };
+    let input = args.set.clone().map_or_else(|| vbrain::data_dir::default_set().map_err(|e| anyhow!(e)), Ok)?;
+    if super::common::same_file(&input, &args.out) {
+        bail!("{}: is the input; give another --out", args.out.display());
+    }
+    let extension = input.extension().and_then(|e| e.to_str()).unwrap_or("");
+    let is_lesson = extension == vbrain::lesson::EXTENSION || (!input.exists() && extension.is_empty());
+    // The structures in scope: the set's, or those the scene shows, or those the lesson highlights.
+    let (path, set, shown, lesson) = if is_lesson {
+        let (lesson, file, path) = super::lesson::open(&input)?;
+        let set = open_set(&path)?;
+        super::lesson::warn_unknown(&lesson, &file, &set);
+        let mut shown: Vec<usize> =
+            lesson.steps.iter().flat_map(|s| s.highlight.iter().flat_map(|h| set.select(h))).collect();
+        shown.sort_unstable();
+        shown.dedup();
+        (path, set, Some(shown), Some(lesson))
+    } else if extension == vbrain::scene_file::EXTENSION {
+        let scene = SceneFile::load(&input).map_err(|e| anyhow!(e))?;
+        let path = scene.set_path(&input);
+        let set = open_set(&path)?;
+        let applied = scene.apply(&set);
+        for w in &applied.warnings {
+            eprintln!("warning: {}: {w}", input.display());
+        }
+        let shown = (0..set.organs.len()).filter(|&o| applied.layout.organs[o].is_drawn()).collect();
+        (path, set, Some(shown), None)
+    } else {
+        let set = open_set(&input)?;
+        (input.clone(), set, None, None)
+    };
+    let mut scope = match (&shown, args.group.as_deref()) {
+        (None, group) => vbrain::quiz::scope(&set, group).map_err(|e| anyhow!(e))?,
+        (Some(shown), None) => shown.clone(),
+        (Some(shown), Some(group)) => {
+            let in_group = set.select(group);
+            if in_group.is_empty() {
+                bail!("no organ or group \"{group}\" in the set (see `vbrain info`)");
+            }
+            shown.iter().copied().filter(|o| in_group.contains(o)).collect()
+        }
+    };
+    scope.sort_unstable();
+    let questions = match &lesson {
+        Some(l) if !l.quiz.is_empty() => Some((l.title.clone(), anki::LessonQuestion::of(l, &set)?)),
+        _ => None,
+    };
+    if scope.is_empty() && questions.is_none() {
+        bail!("{}: no structure in scope (a lesson's steps highlight none, or the group has none)", input.display());
+    }
+    let opts = DeckOptions { scope, size: (args.size.width, args.size.height), views: args.views, lesson: questions };
     let started = Instant::now();
     let bar = indicatif::ProgressBar::new(opts.scope.len() as u64);
     let (bytes, report) =

@@ -224,7 +224,9 @@ pub struct QuizArgs {
 
 #[derive(clap::Args)]
 pub struct AnkiArgs {
-    /// Organ set [default: the default brain]
+    /// An organ set (its structures), a scene (.vbscene: those it shows), or a lesson (.vblesson
+    /// or the name of one of the default brain's lessons: those its steps highlight, and its
+    /// quiz's questions) [default: the default brain]
     pub set: Option<PathBuf>,
     /// Only this group's organs (an id or a group path such as "Basal ganglia")
     #[arg(long)]

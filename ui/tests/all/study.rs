@@ -85,6 +85,42 @@ fn an_anki_deck_imports_into_anki_and_updates_without_duplicates() {
     assert!(!v["notes"].to_string().contains("<script"), "markup from a name reached a card");
 }
 
+/// A shipped lesson's deck: the structures its steps highlight, and a note per question of its
+/// quiz (name it, or find it), in a deck of the lesson's own.
+#[test]
+fn a_lessons_deck_holds_its_structures_and_its_quiz() {
+    let dir = tempfile::tempdir().unwrap();
+    let deck = dir.path().join("ventricles.apkg");
+    let lesson = Path::new(&brain()).join("lessons/ventricles.vblesson");
+    let args = [
+        "anki",
+        lesson.to_str().unwrap(),
+        "--views",
+        "1",
+        "--size",
+        "160x160",
+        "--out",
+        deck.to_str().unwrap(),
+        "--json",
+    ];
+    let report = json(&vbrain(&args))["report"].clone();
+    let structures = report["structures"].as_u64().unwrap();
+    assert!((6..=8).contains(&structures), "the Ventricles group and the steps' highlights: {report}");
+    assert_eq!(report["questions"], 4, "{report}");
+    assert!(report["unseen"].as_array().unwrap().is_empty(), "{report}");
+    let v = anki_import(&[&deck]);
+    assert_eq!(v["note_count"].as_u64(), Some(3 * structures + 4), "{v}");
+    assert_eq!(v["missing_media"].as_array().unwrap().len(), 0, "{}", v["missing_media"]);
+    let all = v["notes"].as_array().unwrap();
+    let types = |t: &str| all.iter().filter(|n| n["type"] == t).count() as u64;
+    // Two locate questions become find-it notes, two name questions name-it notes.
+    assert_eq!((types("vbrain find it"), types("vbrain name it")), (2, structures + 2));
+    let find = all.iter().find(|n| n["type"] == "vbrain find it").unwrap();
+    assert!(find["fields"]["Plain"].as_str().unwrap().contains("-q1-plain.png"), "{find}");
+    let decks: Vec<&str> = v["decks"].as_array().unwrap().iter().filter_map(|d| d.as_str()).collect();
+    assert!(decks.iter().any(|d| d.contains("::Lessons::")), "{decks:?}");
+}
+
 /// Unpacks a zip with Python's zipfile into `dir`, and reads its manifest with Python's XML
 /// parser: (the manifest's title, its files' hrefs, the zip's entries, the mastery score).
 fn unpack_scorm(zip: &Path, dir: &Path) -> serde_json::Value {

@@ -98,8 +98,9 @@ impl App {
     /// Writes the scene as a glTF model or a web page: the organs drawn, cut by the current
     /// section; a page also has the camera, the labels, the outlines and the selection. With
     /// `lesson`, the page is the open lesson's, its steps and captions (as `vbrain export` makes it).
-    /// Starts writing an Anki deck of the structures shown into the file `typed` (`.apkg` added
-    /// if missing; a new file, never one that exists), off the UI thread with progress.
+    /// Starts writing an Anki deck of the structures shown (and of the open lesson's quiz) into
+    /// the file `typed` (`.apkg` added if missing; a new file, never one that exists), off the UI
+    /// thread with progress.
     pub(super) fn export_deck(&mut self, ctx: &egui::Context, typed: &str) {
         let started = self.scene.as_ref().context("no organ set").and_then(|scene| {
             anyhow::ensure!(self.exporting.is_none(), "an export is running already");
@@ -108,7 +109,12 @@ impl App {
             let (set, layout) = (scene.set().clone(), scene.layout());
             let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| layout.organs[o].is_drawn()).collect();
             anyhow::ensure!(!scope.is_empty(), "no organ is shown");
-            let opts = crate::anki::DeckOptions { scope, size: (768, 768), views: 2 };
+            // With a lesson open, its quiz's questions become cards too.
+            let lesson = match &self.lesson.lesson {
+                Some(l) if !l.quiz.is_empty() => Some((l.title.clone(), crate::anki::LessonQuestion::of(l, &set)?)),
+                _ => None,
+            };
+            let opts = crate::anki::DeckOptions { scope, size: (768, 768), views: 2, lesson };
             let title = format!("writing {}", path.display());
             let job = Job::spawn(title, ctx, move |progress| {
                 let (bytes, report) = crate::anki::build(&set, None, &opts, &mut |done, total| {
