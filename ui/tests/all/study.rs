@@ -119,6 +119,16 @@ fn a_lessons_deck_holds_its_structures_and_its_quiz() {
     assert!(find["fields"]["Plain"].as_str().unwrap().contains("-q1-plain.png"), "{find}");
     let decks: Vec<&str> = v["decks"].as_array().unwrap().iter().filter_map(|d| d.as_str()).collect();
     assert!(decks.iter().any(|d| d.contains("::Lessons::")), "{decks:?}");
+
+    // A scene's deck holds what the scene shows: its six ventricles less the one it hides.
+    let (scene, png) = (dir.path().join("s.vbscene"), dir.path().join("s.png"));
+    let p = |p: &Path| p.to_str().unwrap().to_string();
+    let args = ["render", &brain(), "--hide", "lateral_ventricle_l", "--save-scene", &p(&scene), "--out", &p(&png)];
+    assert!(vbrain(&[&args[..], &["--size", "32x32"]].concat()).status.success());
+    let deck = dir.path().join("scene.apkg");
+    let args = ["anki", &p(&scene), "--group", "Ventricles", "--views", "1", "--size", "96x96", "--out", &p(&deck)];
+    let report = json(&vbrain(&[&args[..], &["--json"]].concat()))["report"].clone();
+    assert_eq!(report["structures"], 5, "{report}");
 }
 
 /// Unpacks a zip with Python's zipfile into `dir`, and reads its manifest with Python's XML
