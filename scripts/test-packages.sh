@@ -163,6 +163,9 @@ if [ "$windows" = 1 ]; then
     "$checkout/target/release/vbrain" render "$checkout/organs/brain" --out "$work/linux.png" --size 128x128 >/dev/null
     check "windows: render under Wine gives the Linux render's bytes" cmp -s "$win/win.png" "$work/linux.png"
     if [ "$failed" != 0 ]; then head -5 "$work/win-info.err" "$work/win-export.out" "$work/win-render.out"; fi
+    # Wine's server outlives its programs for a while; stop it before the prefix is removed.
+    wineserver -k 2>/dev/null
+    wineserver -w 2>/dev/null
 fi
 
 echo "packages: $passed passed, $failed failed"
