@@ -233,6 +233,13 @@ pub fn build(
         }
         Ok(())
     });
+    // Queues a picture for the encoder and keeps its path; false once the encoder has stopped
+    // (its error comes back when it is joined, below).
+    let mut queue = |name: String, image: RgbaImage| {
+        let path = media_dir.path().join(name);
+        media.push(path.clone());
+        encode.send((path, image)).is_ok()
+    };
     // Organ IDs of a layout, culled (culling changes no pixel); faint organs are see-through.
     let ids_of = |target: &Target, camera: &vbrain::camera::Camera, layout: &Layout| {
         let (draw, _) = vbrain::cull::cull(set, layout, camera, target.aspect(), &CullSettings::default());
@@ -351,10 +358,8 @@ pub fn build(
             ];
             let file = |kind: &str| format!("vbrain-{set_key}-{}-v{}-{kind}.png", o.id, view + 1);
             for (kind, image) in images {
-                let path = media_dir.path().join(file(kind));
-                media.push(path.clone());
-                if encode.send((path, image)).is_err() {
-                    break; // the encoder stopped on an error, returned below
+                if !queue(file(kind), image) {
+                    break;
                 }
             }
             let img = |kind: &str| format!("<img src=\"{}\">", html(&file(kind)));
@@ -393,12 +398,9 @@ pub fn build(
                 continue;
             }
             let file = |kind: &str| format!("vbrain-{set_key}-lesson-{lesson_key}-q{}-{kind}.png", k + 1);
-            let front = if q.kind == vbrain::quiz::Kind::Name { "outlined" } else { "plain" };
             for (kind, image) in [("plain", plain), ("outlined", outlined)] {
-                let path = media_dir.path().join(file(kind));
-                media.push(path.clone());
-                if encode.send((path, image)).is_err() {
-                    break; // the encoder stopped on an error, returned below
+                if !queue(file(kind), image) {
+                    break;
                 }
             }
             let img = |kind: &str| format!("<img src=\"{}\">", html(&file(kind)));
@@ -406,10 +408,13 @@ pub fn build(
             let note = match q.kind {
                 vbrain::quiz::Kind::Name => {
                     let synonyms = html(&o.synonyms.join(", "));
-                    Note::new(name_it.clone(), vec![&name, &latin, &synonyms, &info, &img(front), &img("outlined")])?
+                    Note::new(
+                        name_it.clone(),
+                        vec![&name, &latin, &synonyms, &info, &img("outlined"), &img("outlined")],
+                    )?
                 }
                 vbrain::quiz::Kind::Locate => {
-                    Note::new(find_it.clone(), vec![&name, &latin, &info, &img(front), &img("outlined")])?
+                    Note::new(find_it.clone(), vec![&name, &latin, &info, &img("plain"), &img("outlined")])?
                 }
             };
             let id = format!("lesson {title} question {}", k + 1);
