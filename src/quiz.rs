@@ -220,6 +220,14 @@ pub fn lower_first(s: &str) -> String {
     }
 }
 
+/// Where a question about `organ` starts when no lesson step gives its view: the set as it is
+/// laid out at first, seen from [`camera`].
+pub fn side_view(set: &OrganSet, organ: usize) -> (Layout, Navigator) {
+    let layout = Layout::new(set);
+    let nav = camera(set, &layout, organ);
+    (layout, nav)
+}
+
 /// The camera for a question about `organ`: from the subject's left for a left-sided structure,
 /// from the right for a right-sided one, from the front left for one on the midline; at a distance
 /// that frames the organ with room around it (three times the framed distance, between 0.55 and 1

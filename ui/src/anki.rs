@@ -79,8 +79,7 @@ impl LessonQuestion {
                     section: step.section,
                 },
                 None => {
-                    let layout = Layout::new(set);
-                    let navigator = vbrain::quiz::camera(set, &layout, q.organ);
+                    let (layout, navigator) = vbrain::quiz::side_view(set, q.organ);
                     LessonQuestion { kind: q.kind, organ: q.organ, layout, navigator, section: Section::default() }
                 }
             })

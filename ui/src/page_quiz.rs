@@ -67,8 +67,7 @@ fn build(
         let (base, nav, section) = match from {
             Some(step) => (step.layout, step.navigator, step.section),
             None => {
-                let base = Layout::new(set);
-                let nav = quiz::camera(set, &base, q.organ);
+                let (base, nav) = quiz::side_view(set, q.organ);
                 (base, nav, Section::default())
             }
         };

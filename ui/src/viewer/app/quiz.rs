@@ -8,7 +8,6 @@
 use super::App;
 use crate::viewer::quiz_panel::{Run, Views};
 use eframe::egui;
-use vbrain::layout::Layout;
 use vbrain::quiz::{self, Kind, Question, Spec};
 
 impl App {
@@ -69,14 +68,7 @@ impl App {
     fn show_question_view(&mut self, k: usize) {
         let (Some(scene), Some(run)) = (&self.scene, &self.quiz.run) else { return };
         let Some(organ) = run.questions.get(k).map(|q| q.organ) else { return };
-        let (base, nav) = match run.views.get(k).cloned().flatten() {
-            Some(view) => view,
-            None => {
-                let base = Layout::new(scene.set());
-                let nav = quiz::camera(scene.set(), &base, organ);
-                (base, nav)
-            }
-        };
+        let (base, nav) = run.views.get(k).cloned().flatten().unwrap_or_else(|| quiz::side_view(scene.set(), organ));
         let input = self.viewport_input();
         let (layout, _) = quiz::reveal(organ, &base, |l| self.viewport.ids_of(&input, l, nav).unwrap_or_default());
         if let Some(scene) = &mut self.scene {
