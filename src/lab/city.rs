@@ -73,6 +73,7 @@ pub fn generate(seed: u64) -> OrganSet {
         }],
         organs,
         solids: Vec::new(),
+        mri: None,
     }
 }
 

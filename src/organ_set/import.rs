@@ -11,7 +11,7 @@ use crate::error::{Error, Result};
 use crate::mesh::Mesh;
 use crate::multi_surface;
 use crate::surface;
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Mat4, Vec3};
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
@@ -28,141 +28,29 @@ pub struct LabelVolume {
 /// passes through several masks while surfaces are extracted.
 pub const MAX_VOXELS: usize = 1 << 28;
 
-/// Reads a NIfTI-1 label volume (`.nii` or `.nii.gz`). The header is read and checked first (its
-/// rank and dimensions, naming the field), so a header claiming a huge volume is refused before
-/// its voxels are read.
+/// Reads a NIfTI-1 label volume (`.nii` or `.nii.gz`) through [`crate::nifti_file`]: the header
+/// is checked before any voxel is read. Stored values are scaled by the header's slope; a
+/// label must then be a whole number.
 pub fn read_volume(path: &Path) -> Result<LabelVolume> {
-    use nifti::{NiftiHeader, NiftiObject, NiftiVolume, ReaderOptions};
-    let bad = |m: String| Error::parse(path, None, m);
-    crate::input::check_file(path, crate::input::Kind::Volume)?;
-    let h =
-        NiftiHeader::from_file(path).map_err(|e| bad(format!("not a readable NIfTI header: {}", nifti_message(&e))))?;
-    let rank = h.dim[0] as usize;
-    if !(3..=4).contains(&rank) || (rank == 4 && h.dim[4] > 1) {
-        let dims = &h.dim[1..=rank.clamp(1, 7)];
-        return Err(bad(format!("header field dim: expected a 3-D label volume, found {rank} dimensions {dims:?}")));
-    }
-    if let Some(axis) = (1..=3).find(|&a| h.dim[a] == 0) {
-        return Err(bad(format!("header field dim[{axis}] is 0: the volume has no voxels")));
-    }
-    let dims = [h.dim[1] as usize, h.dim[2] as usize, h.dim[3] as usize];
-    let count = dims[0] * dims[1] * dims[2];
-    if count > MAX_VOXELS {
-        return Err(bad(format!(
-            "header field dim: {}x{}x{} voxels is more than vbrain imports ({MAX_VOXELS})",
-            dims[0], dims[1], dims[2]
-        )));
-    }
-    let obj = ReaderOptions::new()
-        .read_file(path)
-        .map_err(|e| bad(format!("not a readable NIfTI volume: {}", nifti_message(&e))))?;
-    let volume = obj.into_volume();
-    let labels = decode_labels(volume.raw_data(), volume.data_type(), h.endianness == nifti::Endianness::Big, count)
-        .map_err(bad)?;
-    let affine =
-        affine_of(&h).ok_or_else(|| bad("no usable voxel-to-world transform (sform, qform or pixel sizes)".into()))?;
-    Ok(LabelVolume { dims, labels, affine })
+    let raw = crate::nifti_file::read(path, "label volume", MAX_VOXELS)?;
+    let labels = decode_labels(&raw).map_err(|m| Error::parse(path, None, m))?;
+    Ok(LabelVolume { dims: raw.dims, labels, affine: raw.affine })
 }
 
-/// A NIfTI reader's error in words (its I/O errors have no message of their own).
-fn nifti_message(e: &nifti::NiftiError) -> String {
-    match e {
-        nifti::NiftiError::Io(io) if io.kind() == std::io::ErrorKind::UnexpectedEof => {
-            "the file ends before its header or voxel data do".into()
-        }
-        nifti::NiftiError::Io(io) => io.to_string(),
-        nifti::NiftiError::UnsupportedDataType(t) => format!("header field datatype: {t:?} is not supported"),
-        other => other.to_string(),
-    }
-}
-
-/// Decodes `count` voxels of raw NIfTI data into integer labels. A float volume must hold whole
-/// numbers (a probability or intensity map is not a label volume); non-finite voxels are refused.
-fn decode_labels(
-    raw: &[u8],
-    ty: nifti::NiftiType,
-    big_endian: bool,
-    count: usize,
-) -> std::result::Result<Vec<i64>, String> {
-    use nifti::NiftiType as T;
-    let size = match ty {
-        T::Uint8 | T::Int8 => 1,
-        T::Int16 | T::Uint16 => 2,
-        T::Int32 | T::Uint32 | T::Float32 => 4,
-        T::Int64 | T::Uint64 | T::Float64 => 8,
-        other => return Err(format!("voxel type {other:?} cannot hold labels")),
-    };
-    if raw.len() < count * size {
-        return Err(format!(
-            "voxel data has {} bytes, {count} voxels of {size} bytes need {}",
-            raw.len(),
-            count * size
-        ));
-    }
-    let word = |c: &[u8]| {
-        let mut b = [0u8; 8];
-        b[..size].copy_from_slice(c);
-        if big_endian {
-            b[..size].reverse();
-        }
-        b
-    };
-    let mut not_label: Option<(usize, f64)> = None;
-    let mut float = |i: usize, v: f64| {
+/// The voxels as integer labels. A float volume (or a scaled one) must hold whole numbers (a
+/// probability or intensity map is not a label volume); non-finite voxels are refused.
+fn decode_labels(raw: &crate::nifti_file::RawVolume) -> std::result::Result<Vec<i64>, String> {
+    let mut labels = Vec::new();
+    labels.try_reserve_exact(raw.len()).map_err(|_| format!("{} labels do not fit in memory", raw.len()))?;
+    for i in 0..raw.len() {
+        let v = raw.value(i);
         if !(v.is_finite() && (v - v.round()).abs() <= 1e-3 && v.abs() < 9e15) {
-            not_label.get_or_insert((i, v));
-            return 0;
+            let hint = if raw.is_float() { " (is this a probability or intensity map?)" } else { "" };
+            return Err(format!("voxel {i} holds {}: a label volume must hold whole-number labels{hint}", v as f32));
         }
-        v.round() as i64
-    };
-    let labels = raw[..count * size]
-        .chunks_exact(size)
-        .enumerate()
-        .map(|(i, c)| {
-            let b = word(c);
-            match ty {
-                T::Uint8 => b[0] as i64,
-                T::Int8 => b[0] as i8 as i64,
-                T::Int16 => i16::from_le_bytes([b[0], b[1]]) as i64,
-                T::Uint16 => u16::from_le_bytes([b[0], b[1]]) as i64,
-                T::Int32 => i32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
-                T::Uint32 => u32::from_le_bytes([b[0], b[1], b[2], b[3]]) as i64,
-                T::Float32 => float(i, f32::from_le_bytes([b[0], b[1], b[2], b[3]]) as f64),
-                T::Int64 | T::Uint64 => i64::from_le_bytes(b),
-                _ => float(i, f64::from_le_bytes(b)),
-            }
-        })
-        .collect();
-    match not_label {
-        Some((i, v)) => Err(format!(
-            "voxel {i} holds {v}: a float volume must hold whole-number labels (is this a probability or intensity map?)"
-        )),
-        None => Ok(labels),
+        labels.push(v.round() as i64);
     }
-}
-
-/// The voxel-to-world affine of a header: sform if set, else qform, else the pixel sizes.
-fn affine_of(h: &nifti::NiftiHeader) -> Option<Mat4> {
-    let m = if h.sform_code > 0 {
-        let r = [h.srow_x, h.srow_y, h.srow_z];
-        Mat4::from_cols(
-            Vec4::new(r[0][0], r[1][0], r[2][0], 0.0),
-            Vec4::new(r[0][1], r[1][1], r[2][1], 0.0),
-            Vec4::new(r[0][2], r[1][2], r[2][2], 0.0),
-            Vec4::new(r[0][3], r[1][3], r[2][3], 1.0),
-        )
-    } else {
-        let (b, c, d) = (h.quatern_b, h.quatern_c, h.quatern_d);
-        let a = (1.0 - (b * b + c * c + d * d)).max(0.0).sqrt();
-        let q = glam::Quat::from_xyzw(b, c, d, a);
-        let qfac = if h.pixdim[0] < 0.0 { -1.0 } else { 1.0 };
-        let scale = Vec3::new(h.pixdim[1].abs(), h.pixdim[2].abs(), h.pixdim[3].abs() * qfac);
-        let scale = Vec3::select(scale.abs().cmpgt(Vec3::ZERO), scale, Vec3::ONE);
-        let rot = if h.qform_code > 0 && q.is_finite() { q.normalize() } else { glam::Quat::IDENTITY };
-        let offset = if h.qform_code > 0 { Vec3::new(h.quatern_x, h.quatern_y, h.quatern_z) } else { Vec3::ZERO };
-        Mat4::from_translation(offset) * Mat4::from_quat(rot) * Mat4::from_scale(scale)
-    };
-    (m.is_finite() && m.determinant().abs() > 1e-12).then_some(m)
+    Ok(labels)
 }
 
 /// Options of [`import`].
@@ -391,10 +279,13 @@ mod tests {
 
     #[test]
     fn a_float_volume_must_hold_whole_numbers() {
-        let raw: Vec<u8> = [2.0f32, 17.0, 0.0].iter().flat_map(|v| v.to_le_bytes()).collect();
-        assert_eq!(decode_labels(&raw, nifti::NiftiType::Float32, false, 3), Ok(vec![2, 17, 0]));
-        let raw: Vec<u8> = [2.0f32, 0.37, f32::NAN].iter().flat_map(|v| v.to_le_bytes()).collect();
-        let e = decode_labels(&raw, nifti::NiftiType::Float32, false, 3).unwrap_err();
+        use crate::nifti_file::TestFile;
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("v.nii");
+        std::fs::write(&path, TestFile::float32([3, 1, 1], &[2.0, 17.0, 0.0])).unwrap();
+        assert_eq!(read_volume(&path).unwrap().labels, vec![2, 17, 0]);
+        std::fs::write(&path, TestFile::float32([3, 1, 1], &[2.0, 0.37, f32::NAN])).unwrap();
+        let e = read_volume(&path).err().unwrap().to_string();
         assert!(e.contains("voxel 1 holds 0.37") && e.contains("whole-number"), "{e}");
     }
 

@@ -27,6 +27,10 @@ pub struct Manifest {
     /// Groups of organs that together form one solid, for occlusion culling.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub solids: Vec<SolidEntry>,
+    /// The set's MRI (a 3-D NIfTI file inside the set's folder, registered to its organs), for cut
+    /// faces and slice views ([`crate::mri`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mri: Option<String>,
 }
 
 /// Organs that together fill one solid (their closed surfaces meet face to face, as a seamless

@@ -146,6 +146,8 @@ pub struct OrganSet {
     pub sources: Vec<Source>,
     pub organs: Vec<Organ>,
     pub solids: Vec<Solid>,
+    /// Its MRI, registered to the organs, where the manifest names one that loads.
+    pub mri: Option<std::sync::Arc<crate::mri::Mri>>,
 }
 
 /// Organs that together fill one solid ([`manifest::SolidEntry`]), and a stand-in inside their
@@ -269,6 +271,8 @@ impl OrganSet {
                     hidden: (!s.hidden.is_empty()).then(|| format!("meshes/{}.hidden.json", s.id)),
                 })
                 .collect(),
+            // The MRI file is not rewritten with the meshes: a set written from this has none.
+            mri: None,
         }
     }
 
@@ -489,6 +493,17 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     loaded.set.solids = load_solids(&manifest.solids, &loaded.set.organs, dir, &mut loaded.warnings);
     loaded.set.keep_hidden_faces_apart();
     loaded.set.index_hidden_faces();
+    if let Some(file) = &manifest.mri {
+        let bounds = loaded.set.bounds();
+        match manifest::mesh_path_ok(file)
+            .map_err(|e| Error::parse(path, None, format!("mri {file}: {e}")))
+            .and_then(|_| crate::input::inside(dir, file))
+            .and_then(|p| crate::mri::Mri::open(&p, &bounds))
+        {
+            Ok(mri) => loaded.set.mri = Some(std::sync::Arc::new(mri)),
+            Err(e) => loaded.errors.push(e),
+        }
+    }
     loaded.set.title = manifest.title;
     loaded.set.description = manifest.description;
     loaded.set.sources = manifest.sources;

@@ -12,6 +12,7 @@ mod culling;
 mod default_set;
 mod input_fuzz;
 mod loading;
+mod mri;
 mod occluders;
 mod quiz;
 mod render;
