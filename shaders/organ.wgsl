@@ -19,6 +19,10 @@ struct Frame {
     jitter: vec4<f32>,
     // Clip planes: xyz the unit normal, w the offset; a point p is removed where dot(n, p) > w.
     clip: array<vec4<f32>, 4>,
+    // Organ space (millimetres) -> the MRI texture's coordinates.
+    mri: mat4x4<f32>,
+    // What cut faces show: x 0 colour, 1 MRI, 2 MRI tinted by the organ; y window; z level.
+    cut_face: vec4<f32>,
 };
 
 struct Organ {
@@ -33,6 +37,9 @@ struct Organ {
 };
 
 @group(0) @binding(0) var<uniform> frame: Frame;
+// The set's MRI (normalised intensity in r; 1 voxel where the set has none), sampled trilinearly.
+@group(0) @binding(1) var mri_volume: texture_3d<f32>;
+@group(0) @binding(2) var mri_sampler: sampler;
 @group(1) @binding(0) var<storage, read> organs: array<Organ>;
 
 struct VsIn {
@@ -93,13 +100,58 @@ fn clip(in: VsOut) {
 }
 
 // The colour of a fragment: lit, or for a capped organ's face turned away (its inside, seen
-// through the cut) the flat colour of a cut face.
+// through the cut) the flat colour of a cut face, or the MRI where the cut face is.
 fn surface(in: VsOut, front: bool) -> vec3<f32> {
     let organ = organs[in.organ];
     if !front && (organ.id.y & CAPPED) != 0u {
-        return organ.colour.rgb * 0.82;
+        let flat = organ.colour.rgb * 0.82;
+        if frame.cut_face.x < 0.5 {
+            return flat;
+        }
+        let v = mri_on_cut(in);
+        if v < 0.0 {
+            return flat;
+        }
+        let grey = srgb_to_linear(clamp((v - frame.cut_face.z) / max(frame.cut_face.y, 0.001) + 0.5, 0.0, 1.0));
+        if frame.cut_face.x < 1.5 {
+            return vec3<f32>(grey);
+        }
+        return grey * (0.25 + 0.75 * organ.colour.rgb / max(max(organ.colour.r, organ.colour.g), max(organ.colour.b, 0.05)));
     }
     return shade(in);
+}
+
+// The MRI's intensity where the eye sees the cut face through this back face: the ray from the eye
+// enters the kept side at the farthest plane it crosses from the removed side. The point goes back
+// into organ space (the MRI moves with its organ), then into the volume; -1 outside it.
+fn mri_on_cut(in: VsOut) -> f32 {
+    let eye = frame.eye.xyz;
+    let ray = in.world - eye;
+    var t = 0.0;
+    for (var k = 0; k < 4; k++) {
+        let n = frame.clip[k].xyz;
+        let along = dot(n, ray);
+        if any(n != vec3<f32>(0.0)) && dot(n, eye) > frame.clip[k].w && along < 0.0 {
+            t = max(t, (frame.clip[k].w - dot(n, eye)) / along);
+        }
+    }
+    let world = eye + ray * t;
+    let organ = organs[in.organ];
+    let inverse = transpose(mat3x3<f32>(organ.normal_matrix[0].xyz, organ.normal_matrix[1].xyz, organ.normal_matrix[2].xyz));
+    let local = inverse * (world - organ.model[3].xyz);
+    let uvw = (frame.mri * vec4<f32>(local, 1.0)).xyz;
+    if any(uvw < vec3<f32>(0.0)) || any(uvw > vec3<f32>(1.0)) {
+        return -1.0;
+    }
+    return textureSampleLevel(mri_volume, mri_sampler, uvw, 0.0).r;
+}
+
+// An sRGB component (0..1) in linear light.
+fn srgb_to_linear(c: f32) -> f32 {
+    if c <= 0.04045 {
+        return c / 12.92;
+    }
+    return pow((c + 0.055) / 1.055, 2.4);
 }
 
 // Headlight: the light sits at the eye. Two-sided, so cut-open or inner faces are lit too.

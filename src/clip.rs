@@ -25,16 +25,70 @@ pub struct ClipPlane {
 }
 
 /// A cross-section: the planes (world space; the first [`MAX_PLANES`] apply), whether closed
-/// organs they cut show solid cut faces, and the organs (indices, sorted) the planes never cut.
+/// organs they cut show solid cut faces and what those faces show, and the organs (indices,
+/// sorted) the planes never cut.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
     pub planes: Vec<ClipPlane>,
     pub caps: bool,
+    pub faces: CutFace,
     pub whole: Vec<usize>,
 }
 
-/// No planes, cut faces on.
-pub static NO_SECTION: Section = Section { planes: Vec::new(), caps: true, whole: Vec::new() };
+/// No planes, cut faces on, in the organs' colours.
+pub static NO_SECTION: Section = Section { planes: Vec::new(), caps: true, faces: CutFace::COLOUR, whole: Vec::new() };
+
+/// What solid cut faces show: the organ's colour, the set's MRI (through a window), or the MRI
+/// tinted by the organ's colour. A set without an MRI shows colours whatever this says.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CutFace {
+    #[serde(default)]
+    pub show: CutFaceShows,
+    #[serde(default)]
+    pub window: crate::mri::Window,
+}
+
+impl CutFace {
+    /// The organs' colours with the default window (what files leave out).
+    pub fn is_default(&self) -> bool {
+        *self == CutFace::default()
+    }
+
+    pub const COLOUR: CutFace =
+        CutFace { show: CutFaceShows::Colour, window: crate::mri::Window { window: 0.9, level: 0.6 } };
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum CutFaceShows {
+    #[default]
+    Colour,
+    Mri,
+    Tinted,
+}
+
+impl CutFaceShows {
+    pub const ALL: [CutFaceShows; 3] = [CutFaceShows::Colour, CutFaceShows::Mri, CutFaceShows::Tinted];
+
+    /// The name on the command line and in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            CutFaceShows::Colour => "colour",
+            CutFaceShows::Mri => "mri",
+            CutFaceShows::Tinted => "tinted",
+        }
+    }
+
+    /// The name in the viewer.
+    pub fn label(self) -> &'static str {
+        match self {
+            CutFaceShows::Colour => "Organ colour",
+            CutFaceShows::Mri => "MRI",
+            CutFaceShows::Tinted => "MRI tinted by organ",
+        }
+    }
+}
 
 impl Default for Section {
     fn default() -> Self {
@@ -90,19 +144,25 @@ impl Section {
 pub struct SavedSection {
     pub planes: Vec<ClipPlane>,
     pub caps: bool,
+    pub faces: CutFace,
     pub whole: Vec<String>,
 }
 
 impl SavedSection {
     /// `section` as saved for `set`: its whole organs by id.
     pub fn of(section: &Section, set: &crate::organ_set::OrganSet) -> SavedSection {
-        SavedSection { planes: section.planes.clone(), caps: section.caps, whole: set.ids(&section.whole) }
+        SavedSection {
+            planes: section.planes.clone(),
+            caps: section.caps,
+            faces: section.faces,
+            whole: set.ids(&section.whole),
+        }
     }
 
     /// The section in `set`, and the names of `whole` that name no organ or group there.
     pub fn resolve(&self, set: &crate::organ_set::OrganSet) -> (Section, Vec<String>) {
         let (whole, unknown) = crate::labels::Which::chosen(&self.whole, set);
-        (Section { planes: self.planes.clone(), caps: self.caps, whole }, unknown)
+        (Section { planes: self.planes.clone(), caps: self.caps, faces: self.faces, whole }, unknown)
     }
 }
 

@@ -329,7 +329,12 @@ mod tests {
     fn a_cut_is_in_the_geometry_and_follows_a_moved_organ() {
         let set = set();
         let mut layout = Layout::new(&set);
-        let section = Section { planes: vec![ClipPlane::new(Vec3::Z, 0.0).unwrap()], caps: true, whole: vec![1] };
+        let section = Section {
+            planes: vec![ClipPlane::new(Vec3::Z, 0.0).unwrap()],
+            caps: true,
+            whole: vec![1],
+            ..Default::default()
+        };
         // Organ a moved 10 mm up: the plane z = 0 lies below it, nothing of it is cut.
         layout.organs[0].transform.translation = Vec3::new(0.0, 0.0, 10.0);
         let doc = json_of(&glb(&set, &layout, &section, Encoding::Float).bytes);

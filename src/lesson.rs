@@ -100,6 +100,9 @@ pub struct Step {
     /// Solid cut faces where planes cut closed organs.
     #[serde(default = "crate::json_file::yes", skip_serializing_if = "crate::json_file::is_true")]
     pub caps: bool,
+    /// What cut faces show: the organs' colours (absent), the set's MRI or the MRI tinted.
+    #[serde(default, skip_serializing_if = "crate::clip::CutFace::is_default")]
+    pub cut_face: crate::clip::CutFace,
     /// Ids or groups the planes do not cut.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub whole: Vec<String>,
@@ -392,6 +395,7 @@ impl Step {
             highlight: set.ids(highlight),
             clip: saved.planes,
             caps: saved.caps,
+            cut_face: saved.faces,
             whole: saved.whole,
             labels: labels.key(),
         }
@@ -399,7 +403,7 @@ impl Step {
 
     /// The step's section as saved (its `clip`, `caps` and `whole`).
     pub fn section(&self) -> SavedSection {
-        SavedSection { planes: self.clip.clone(), caps: self.caps, whole: self.whole.clone() }
+        SavedSection { planes: self.clip.clone(), caps: self.caps, faces: self.cut_face, whole: self.whole.clone() }
     }
 
     /// This step over `set`: the default layout changed as it says, the camera framing the set's
@@ -533,11 +537,13 @@ mod tests {
         let section = Section {
             planes: vec![crate::clip::ClipPlane::parse("coronal=-4:flip").unwrap()],
             caps: false,
+            faces: crate::clip::CutFace { show: crate::clip::CutFaceShows::Tinted, ..Default::default() },
             whole: vec![1],
         };
         let labels = Which::Chosen(vec!["c".into()]);
         let step = Step::capture(&set, &layout, orbit, "t", &[2], &section, &labels);
         assert_eq!((step.whole.clone(), step.labels.as_deref()), (vec!["b".to_string()], Some("c")));
+        assert_eq!(step.section().resolve(&set).0, section, "the cut faces' setting too");
         assert_eq!(step.hide, vec!["G".to_string()], "a whole group is named once");
         assert_eq!(step.opacity.keys().collect::<Vec<_>>(), ["c"]);
         assert!(step.camera.is_none() && step.view == [40.0, -15.0]);

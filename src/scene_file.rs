@@ -40,6 +40,9 @@ pub struct SceneFile {
     /// Solid cut faces where planes cut closed organs.
     #[serde(default = "crate::json_file::yes", skip_serializing_if = "crate::json_file::is_true")]
     pub caps: bool,
+    /// What cut faces show: the organs' colours (absent), the set's MRI or the MRI tinted.
+    #[serde(default, skip_serializing_if = "crate::clip::CutFace::is_default")]
+    pub cut_face: crate::clip::CutFace,
     /// Ids or groups the planes do not cut.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub whole: Vec<String>,
@@ -144,12 +147,18 @@ pub struct Applied {
 impl SceneFile {
     /// The scene's section as saved (its `clip`, `caps` and `whole`).
     pub fn section(&self) -> crate::clip::SavedSection {
-        crate::clip::SavedSection { planes: self.clip.clone(), caps: self.caps, whole: self.whole.clone() }
+        crate::clip::SavedSection {
+            planes: self.clip.clone(),
+            caps: self.caps,
+            faces: self.cut_face,
+            whole: self.whole.clone(),
+        }
     }
 
     /// Keeps `section` as the scene's.
     pub fn set_section(&mut self, section: crate::clip::SavedSection) {
-        (self.clip, self.caps, self.whole) = (section.planes, section.caps, section.whole);
+        (self.clip, self.caps, self.cut_face, self.whole) =
+            (section.planes, section.caps, section.faces, section.whole);
     }
 
     /// The scene of `layout` over `set` (opened from `set_path`), to be saved at `scene_path`.
@@ -187,6 +196,7 @@ impl SceneFile {
             selection: selection.and_then(|i| set.organs.get(i)).map(|o| o.id.clone()),
             clip: Vec::new(),
             caps: true,
+            cut_face: Default::default(),
             whole: Vec::new(),
             labels: None,
             organs,

@@ -6,14 +6,16 @@
 The set's meshes come from FreeSurfer's fsaverage and aparc+aseg; the template is a different
 average a few millimetres away. So the template is registered to the set itself (all millimetres,
 RAS, on the template's own 1 mm grid):
- 1. The set's cerebral white matter (meshes/white_matter_{l,r}.vbo, closed solids) is voxelised
-    by ray parity along x through every voxel centre.
+ 1. The set's white matter (cerebral: meshes/white_matter_{l,r}.vbo; and the brainstem and the
+    cerebellar white matter, which the template's map also holds) is voxelised by ray parity
+    along x through every voxel centre (closed solids).
  2. The template's white-matter probability map is registered to that mask with dipy: a
     centre-of-mass start, an affine fit (mutual information), then a symmetric diffeomorphic
     warp (SyN, cross-correlation). The same transform carries the T1 and the map.
- 3. Written, cropped to the set's bounds plus a margin: mri/t1.nii.gz (uint8) and
+ 3. Written, cropped to the brain's bounds plus a margin: mri/t1.nii.gz (uint8) and
     mri/white_matter.nii.gz (probability x 255, uint8). The Dice overlap between the set's
-    white matter and the map (> 0.5) is printed; vbrain's tests recompute it from these files.
+    cerebral white matter and the map (> 0.5) outside the set's brainstem and cerebellum is
+    printed; vbrain's tests recompute it from these files.
 
 Needs: pip download --no-deps nilearn==0.14.1 (its wheel is only read for the template files:
 set NILEARN_WHEEL to the .whl, or have nilearn installed); pip install nibabel numpy scipy
@@ -116,47 +118,61 @@ def record_in_manifest():
     path.write_text(json.dumps(manifest, indent=2, ensure_ascii=False) + "\n")
 
 
-def dice(a, b):
-    return 2 * np.logical_and(a, b).sum() / (a.sum() + b.sum())
+CEREBRAL_WHITE_MATTER = ["white_matter_l", "white_matter_r"]
+OTHER_WHITE_MATTER = ["brainstem", "cerebellum_white_matter_l", "cerebellum_white_matter_r"]
+# Not the cerebrum: the map's white matter there is not the cerebral white matter's.
+NOT_CEREBRUM = ["brainstem", "cerebellum_l", "cerebellum_r", "cerebellum_white_matter_l", "cerebellum_white_matter_r"]
+
+
+def dice_in_cerebrum(cerebral, wm_map, outside):
+    """Dice overlap of the set's cerebral white matter and the map (> 0.5) outside the set's
+    brainstem and cerebellum (the same as vbrain's test)."""
+    theirs = (wm_map > 0.5) & ~outside
+    return 2 * np.logical_and(cerebral, theirs).sum() / (cerebral.sum() + theirs.sum())
 
 
 def main():
     from dipy.align import affine_registration
+    from dipy.align.imaffine import AffineMap
     from dipy.align.imwarp import SymmetricDiffeomorphicRegistration
     from dipy.align.metrics import CCMetric
+    from scipy import ndimage
 
     t1, wm = template("t1"), template("wm")
     shape, affine = t1.shape, t1.affine
-    mask = np.zeros(shape, bool)
-    for side in "lr":
-        v, f = read_vbo(HERE / "meshes" / f"white_matter_{side}.vbo")
-        mask |= voxelise(v, f, shape, affine)
-    wm_map = wm.get_fdata() / 255.0
-    print(f"set white matter: {mask.sum()} voxels; Dice before registration: {dice(mask, wm_map > 0.5):.3f}")
 
-    static = mask.astype(np.float64)
-    # The mask is hard-edged; blur it a little so the metrics see a gradient.
-    from scipy import ndimage
-    static = ndimage.gaussian_filter(static, 1.0)
+    def organs(ids):
+        mask = np.zeros(shape, bool)
+        for oid in ids:
+            v, f = read_vbo(HERE / "meshes" / f"{oid}.vbo")
+            mask |= voxelise(v, f, shape, affine)
+        return mask
+
+    cerebral = organs(CEREBRAL_WHITE_MATTER)
+    outside = organs(NOT_CEREBRUM)
+    wm_map = wm.get_fdata() / 255.0
+    print(f"set cerebral white matter: {cerebral.sum()} voxels; Dice before registration: "
+          f"{dice_in_cerebrum(cerebral, wm_map, outside):.3f}")
+
+    # The template's white-matter map holds the brainstem's and cerebellum's white matter too: the
+    # target holds them as well, so the warp has something to match there.
+    static = ndimage.gaussian_filter((cerebral | organs(OTHER_WHITE_MATTER)).astype(np.float64), 1.0)
     _, fit = affine_registration(wm_map, static, moving_affine=affine, static_affine=affine, nbins=32,
                                  pipeline=["center_of_mass", "translation", "rigid", "affine"],
                                  level_iters=[1000, 100, 10], sigmas=[3.0, 1.0, 0.0], factors=[4, 2, 1])
-    from dipy.align.imaffine import AffineMap
     affine_map = AffineMap(fit, domain_grid_shape=shape, domain_grid2world=affine,
                            codomain_grid_shape=shape, codomain_grid2world=affine)
-    wm_affine = affine_map.transform(wm_map)
-    print(f"Dice after the affine fit: {dice(mask, wm_affine > 0.5):.3f}")
+    print(f"Dice after the affine fit: {dice_in_cerebrum(cerebral, affine_map.transform(wm_map), outside):.3f}")
     syn = SymmetricDiffeomorphicRegistration(CCMetric(3, sigma_diff=1.0, radius=3), level_iters=[60, 40, 20])
     mapping = syn.optimize(static, wm_map, static_grid2world=affine, moving_grid2world=affine, prealign=fit)
     wm_reg = mapping.transform(wm_map)
     t1_reg = mapping.transform(t1.get_fdata().astype(np.float64))
-    score = dice(mask, wm_reg > 0.5)
-    print(f"Dice after the nonlinear warp: {score:.3f} (target >= 0.80)")
+    print(f"Dice after the nonlinear warp: {dice_in_cerebrum(cerebral, wm_reg, outside):.3f} (target >= 0.80)")
 
-    # Crop to the set's meshes' bounds plus a margin.
+    # Crop to the brain's meshes' bounds plus a margin (the template has no skull or scalp).
     lo, hi = np.full(3, np.inf), np.full(3, -np.inf)
     for path in (HERE / "meshes").glob("*.vbo"):
-        if "solid" in path.name:
+        if any(part in path.name for part in ("solid", "occluder", "scalp", "skull")):
             continue
         v, _ = read_vbo(path)
         lo, hi = np.minimum(lo, v.min(0)), np.maximum(hi, v.max(0))

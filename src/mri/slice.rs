@@ -251,11 +251,13 @@ pub fn greys(mri: &Mri, pane: &Pane, window: Window) -> Vec<Option<f32>> {
         .collect()
 }
 
-/// Pixels on an organ's outline: inside an organ (id > 0) with a 4-neighbour of another id.
-pub fn outline(ids: &[u32], width: u32) -> Vec<bool> {
+/// Pixels on an organ's outline: inside an organ (id > 0) and within `radius` pixels (a square)
+/// of one of its pixels with a 4-neighbour of another id. Radius 0 gives a line one pixel wide on
+/// each side of a border.
+pub fn outline(ids: &[u32], width: u32, radius: usize) -> Vec<bool> {
     let w = width as usize;
     let h = ids.len().checked_div(w).unwrap_or(0);
-    (0..ids.len())
+    let border: Vec<bool> = (0..w * h)
         .map(|i| {
             let (x, y, id) = (i % w, i / w, ids[i]);
             id != 0
@@ -263,6 +265,21 @@ pub fn outline(ids: &[u32], width: u32) -> Vec<bool> {
                     || (x + 1 < w && ids[i + 1] != id)
                     || (y > 0 && ids[i - w] != id)
                     || (y + 1 < h && ids[i + w] != id))
+        })
+        .collect();
+    if radius == 0 {
+        return border;
+    }
+    (0..w * h)
+        .map(|i| {
+            let (x, y, id) = (i % w, i / w, ids[i]);
+            id != 0
+                && (y.saturating_sub(radius)..(y + radius + 1).min(h)).any(|yy| {
+                    (x.saturating_sub(radius)..(x + radius + 1).min(w)).any(|xx| {
+                        let j = yy * w + xx;
+                        border[j] && ids[j] == id
+                    })
+                })
         })
         .collect()
 }
@@ -341,7 +358,8 @@ mod tests {
         assert_eq!(at(centre.x, centre.y), 1, "the inner organ wins at the centre");
         assert_eq!(at(centre.x + 8.0, centre.y), 2, "the outer organ around it");
         assert_eq!(at(0.0, 0.0), 0);
-        let line = outline(&ids, 40);
+        let line = outline(&ids, 40, 0);
+        assert!(outline(&ids, 40, 1).iter().filter(|&&l| l).count() > line.iter().filter(|&&l| l).count());
         assert!(!line[(centre.y as usize) * 40 + centre.x as usize]);
         assert!(line.iter().filter(|&&l| l).count() > 20);
     }

@@ -60,6 +60,52 @@ pub(super) struct GpuScene {
     pub organ_layout: wgpu::BindGroupLayout,
     /// The pipeline layout of organ pipelines: frame, then organ.
     pub layout: wgpu::PipelineLayout,
+    mri: GpuMri,
+}
+
+/// The set's MRI as a 3-D texture (frame group, bindings 1 and 2), written on the first frame
+/// (making the scene has no queue). A set without one, or with one larger than the device's 3-D
+/// textures, gets a single black voxel and cut faces in colour.
+struct GpuMri {
+    texture: wgpu::Texture,
+    /// The voxels still to write, and organ space -> texture coordinates.
+    pending: std::sync::Mutex<Option<std::sync::Arc<crate::mri::Mri>>>,
+    to_texture: Option<Mat4>,
+}
+
+impl GpuMri {
+    fn new(device: &wgpu::Device, mri: Option<&std::sync::Arc<crate::mri::Mri>>) -> GpuMri {
+        let max = device.limits().max_texture_dimension_3d as usize;
+        let mri = mri.filter(|m| m.dims().iter().all(|&d| d <= max));
+        let [x, y, z] = mri.map_or([1, 1, 1], |m| m.dims().map(|d| d as u32));
+        let texture = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("mri"),
+            size: wgpu::Extent3d { width: x, height: y, depth_or_array_layers: z },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D3,
+            format: wgpu::TextureFormat::R8Unorm,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+            view_formats: &[],
+        });
+        let to_texture = mri.map(|m| {
+            let dims = Vec3::new(x as f32, y as f32, z as f32);
+            Mat4::from_scale(dims.recip()) * Mat4::from_translation(Vec3::splat(0.5)) * m.to_world().inverse()
+        });
+        GpuMri { texture, pending: std::sync::Mutex::new(mri.cloned()), to_texture }
+    }
+
+    /// Writes the voxels once.
+    fn upload(&self, queue: &wgpu::Queue) {
+        let Some(mri) = self.pending.lock().ok().and_then(|mut p| p.take()) else { return };
+        let [x, y, z] = mri.dims().map(|d| d as u32);
+        queue.write_texture(
+            self.texture.as_image_copy(),
+            mri.voxels(),
+            wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(x), rows_per_image: Some(y) },
+            wgpu::Extent3d { width: x, height: y, depth_or_array_layers: z },
+        );
+    }
 }
 
 /// What an upload of the organs' uniforms decided for the draws that follow: per organ, whether it
@@ -152,7 +198,35 @@ impl GpuScene {
                 }],
             })
         };
-        let frame_layout = layout_of("frame", wgpu::BufferBindingType::Uniform);
+        let frame_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("frame"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: true,
+                        min_binding_size: None,
+                    },
+                    ..uniform_entry(wgpu::ShaderStages::VERTEX_FRAGMENT)
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D3,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
         let organ_layout = layout_of("organ", wgpu::BufferBindingType::Storage { read_only: true });
         let buffer = |label, size, usage| {
             device.create_buffer(&wgpu::BufferDescriptor {
@@ -181,7 +255,30 @@ impl GpuScene {
                 }],
             })
         };
-        let frame_bind = bind(&frame_layout, &frame_buffer, std::mem::size_of::<FrameUniform>());
+        let mri = GpuMri::new(device, set.mri.as_ref());
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("mri"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let mri_view = mri.texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let frame_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("frame"),
+            layout: &frame_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &frame_buffer,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(std::mem::size_of::<FrameUniform>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry { binding: 1, resource: wgpu::BindingResource::TextureView(&mri_view) },
+                wgpu::BindGroupEntry { binding: 2, resource: wgpu::BindingResource::Sampler(&sampler) },
+            ],
+        });
         let organ_bind = bind(&organ_layout, &organ_buffer, section_bytes as usize);
         let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("organ"),
@@ -199,6 +296,7 @@ impl GpuScene {
             frame_layout,
             organ_layout,
             layout,
+            mri,
         })
     }
 
@@ -228,11 +326,20 @@ impl GpuScene {
     pub fn write_frame(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32, slot: u64, jitter: [f32; 4]) {
         debug_assert!(slot < FRAME_SLOTS);
         let vp = frame.camera.view_projection(aspect);
+        self.mri.upload(queue);
+        let faces = frame.section.faces;
+        let show = match (self.mri.to_texture, faces.show) {
+            (None, _) | (_, crate::clip::CutFaceShows::Colour) => 0.0,
+            (_, crate::clip::CutFaceShows::Mri) => 1.0,
+            (_, crate::clip::CutFaceShows::Tinted) => 2.0,
+        };
         let fu = FrameUniform {
             view_proj: vp.to_cols_array_2d(),
             eye: frame.camera.eye.extend(1.0).to_array(),
             jitter,
             clip: crate::clip::uniform(&frame.section.planes),
+            mri: self.mri.to_texture.unwrap_or(Mat4::ZERO).to_cols_array_2d(),
+            cut_face: [show, faces.window.window, faces.window.level, 0.0],
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));
     }

@@ -26,6 +26,12 @@ pub(super) struct FrameUniform {
     pub jitter: [f32; 4],
     /// Clip planes (normal, offset), removing `n . p > d`; unused ones remove nothing.
     pub clip: [[f32; 4]; crate::clip::MAX_PLANES],
+    /// Organ space (millimetres) -> the MRI texture's coordinates (0..1 across its voxel centres'
+    /// cells).
+    pub mri: [[f32; 4]; 4],
+    /// What cut faces show: x 0 colour, 1 MRI, 2 MRI tinted (0 where the set has no MRI on the
+    /// GPU); y window; z level.
+    pub cut_face: [f32; 4],
 }
 
 /// The frame's `jitter` that leaves the image where it is.

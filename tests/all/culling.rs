@@ -11,7 +11,7 @@
 use crate::common::{cube, default_database, default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::Camera;
-use vbrain::clip::{ClipPlane, Section};
+use vbrain::clip::{ClipPlane, CutFace, CutFaceShows, Section};
 use vbrain::cull::database::Database;
 use vbrain::cull::{CullInput, CullMode, CullSettings, Culler, Selection};
 use vbrain::layout::Layout;
@@ -208,7 +208,9 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 (layout, camera, Vec::new(), false, Vec::new())
             }
         };
-        let section = Section { planes: planes.to_vec(), caps, whole: whole.clone() };
+        // Cut faces in colour, MRI and tinted MRI by turns (the default set has an MRI).
+        let faces = CutFace { show: CutFaceShows::ALL[pose % 3], ..Default::default() };
+        let section = Section { planes: planes.to_vec(), caps, faces, whole: whole.clone() };
         let exact_cuts = renderer.cuts_geometry();
         let input =
             CullInput { section: &section, exact_cuts, ..CullInput::new(set, &layout, &camera, target.aspect()) };

@@ -193,6 +193,15 @@ fn text(image: &mut RgbaImage, fonts: &[FontRef], s: &str, at: [f32; 2], px: f32
     }
 }
 
+/// A short mark (a side letter of a slice, "R"), `px` high, centred on `centre`: light on a dark
+/// disc, legible on any image.
+pub fn letter(image: &mut RgbaImage, mark: &str, centre: [f32; 2], px: f32) {
+    let fonts = fonts();
+    let (_, width) = shape(&fonts, mark, px);
+    disc(image, centre, px * 0.75, [20, 22, 28], 0.8);
+    text(image, &fonts, mark, [centre[0] - width / 2.0, centre[1] + px * 0.36], px, [255, 235, 120]);
+}
+
 /// A caption's text as lines `width` pixels wide at `px`: the title's lines (`true`), then the
 /// caption's, its Markdown (`**bold**`, `*italics*`, `- ` items, blank lines between paragraphs)
 /// turned into plain text.

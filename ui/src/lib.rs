@@ -13,6 +13,7 @@ pub mod handout;
 pub mod lab;
 pub mod lecture;
 pub mod page_quiz;
+pub mod slice_figure;
 pub mod studio;
 pub mod video;
 pub mod viewer;

@@ -81,13 +81,17 @@ pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hi
     Ok(())
 }
 
-/// The cross-section `--clip`, `--caps` and `--whole` give, each else the scene's (caps default
-/// on), with at most [`vbrain::clip::MAX_PLANES`] planes: in the set, and as a scene file keeps it.
+/// The cross-section `--clip`, `--caps`, `--cut-face`, `--window` and `--whole` give, each else
+/// the scene's (caps default on), with at most [`vbrain::clip::MAX_PLANES`] planes: in the set, and as a scene file keeps it.
 pub fn section(set: &OrganSet, args: &SectionArgs, scene: Option<&SceneFile>) -> Result<(Section, SavedSection)> {
     let saved = scene.map(SceneFile::section).unwrap_or(SavedSection { caps: true, ..Default::default() });
     let saved = SavedSection {
         planes: if args.clip.is_empty() { saved.planes } else { args.clip.clone() },
         caps: args.caps.unwrap_or(saved.caps),
+        faces: vbrain::clip::CutFace {
+            show: args.cut_face.unwrap_or(saved.faces.show),
+            window: args.window.unwrap_or(saved.faces.window),
+        },
         whole: if args.whole.is_empty() { saved.whole } else { args.whole.clone() },
     };
     if saved.planes.len() > vbrain::clip::MAX_PLANES {

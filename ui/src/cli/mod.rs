@@ -20,6 +20,7 @@ mod occluders;
 mod quiz;
 mod render;
 mod scale;
+mod slice;
 mod stand_ins;
 pub mod values;
 mod video;
@@ -61,6 +62,9 @@ pub enum Command {
     /// A video for slides (.gif, .mp4 or .webm): a set or scene turned around (--turntable), or a
     /// lesson played step by step
     Video(VideoArgs),
+    /// A slice of the set as radiology shows it: its MRI with each organ's outline in its
+    /// colour, side letters and labels, as a PNG (a set without MRI shows its organs filled)
+    Slice(SliceArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -158,6 +162,14 @@ pub struct SectionArgs {
     /// Solid cut faces where a plane cuts a closed organ: on or off [default: the scene's, else on]
     #[arg(long, value_parser = values::on_off)]
     pub caps: Option<bool>,
+    /// What solid cut faces show: colour (the organ's), mri (the set's MRI) or tinted (the MRI
+    /// tinted by the organ's colour) [default: the scene's, else colour]
+    #[arg(long, value_parser = values::cut_face())]
+    pub cut_face: Option<vbrain::clip::CutFaceShows>,
+    /// The MRI's window and level on cut faces, WINDOW,LEVEL, on its intensities normalised to
+    /// 0..1 [default: the scene's, else 0.9,0.6]
+    #[arg(long, value_parser = values::window)]
+    pub window: Option<vbrain::mri::Window>,
     /// Organs (ids or groups, separated by commas) the clip planes do not cut [default: the
     /// scene's, else none]
     #[arg(long, value_delimiter = ',')]
@@ -333,6 +345,42 @@ pub struct RenderArgs {
     /// Draw the organs in an order shuffled by this seed (screen-door gives the same image)
     #[arg(long)]
     pub draw_order_seed: Option<u64>,
+    #[command(flatten)]
+    pub report: Report,
+}
+
+#[derive(clap::Args)]
+pub struct SliceArgs {
+    /// Organ set [default: the default brain]
+    pub path: Option<PathBuf>,
+    /// The slice: axial=MM, coronal=MM or sagittal=MM (world RAS, millimetres)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::slice_plane)]
+    pub plane: vbrain::mri::slice::SlicePlane,
+    /// Output PNG file
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out even where it is not a PNG image
+    #[arg(long)]
+    pub force: bool,
+    /// Image size, WxH, at most 4096x4096
+    #[arg(long, default_value = "1024x1024", value_parser = values::size)]
+    pub size: Size,
+    /// Draw each organ's outline in its colour
+    #[arg(long)]
+    pub outlines: bool,
+    /// Name organs with leader-line labels: none, all (the largest on the slice) or ID,ID,... (ids
+    /// or groups) [default: none]
+    #[arg(long)]
+    pub labels: Option<String>,
+    /// Neurological display (the patient's right on the right) instead of radiological
+    #[arg(long)]
+    pub neurological: bool,
+    /// The MRI's window and level, WINDOW,LEVEL, on its intensities normalised to 0..1
+    /// [default: 0.9,0.6]
+    #[arg(long, value_parser = values::window)]
+    pub window: Option<vbrain::mri::Window>,
+    #[command(flatten)]
+    pub layout: LayoutArgs,
     #[command(flatten)]
     pub report: Report,
 }
@@ -633,6 +681,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
     match command {
         Command::Info(args) => info::run(&args),
         Command::Render(args) => render::run(&args),
+        Command::Slice(args) => slice::run(&args),
         Command::Lesson(LessonCommand::Render(args)) => lesson::render(&args),
         Command::Lesson(LessonCommand::Pdf(args)) => lesson::pdf(&args),
         Command::Quiz(args) => quiz::run(&args),

@@ -57,6 +57,11 @@ value_enum!(
     /// A camera path: the orbit or a city walkthrough route.
     RouteArg(Route)
 );
+value_enum!(
+    /// What solid cut faces show.
+    CutFaceArg(vbrain::clip::CutFaceShows),
+    aliases: [(vbrain::clip::CutFaceShows::Colour, "color")]
+);
 
 /// The parser of a core enum by name, giving the core's value.
 fn core<W: clap::ValueEnum + Clone + Send + Sync + 'static, T: Clone + Send + Sync + 'static>(
@@ -80,6 +85,10 @@ pub fn cull_mode_in_list() -> impl TypedValueParser<Value = CullMode> {
 
 pub fn transparency_mode() -> impl TypedValueParser<Value = TransparencyMode> {
     core(|v: TransparencyArg| v.0)
+}
+
+pub fn cut_face() -> impl TypedValueParser<Value = vbrain::clip::CutFaceShows> {
+    core(|v: CutFaceArg| v.0)
 }
 
 pub fn selection() -> impl TypedValueParser<Value = Selection> {
@@ -246,6 +255,18 @@ pub fn on_off(s: &str) -> Result<bool> {
 /// A quiz mode: locate, name or mixed.
 pub fn quiz_mode(s: &str) -> Result<vbrain::quiz::Mode> {
     vbrain::quiz::Mode::parse(s).ok_or_else(|| anyhow::anyhow!("\"{s}\": give locate, name or mixed"))
+}
+
+/// A slice plane, `axial=MM`, `coronal=MM` or `sagittal=MM`.
+pub fn slice_plane(s: &str) -> Result<vbrain::mri::slice::SlicePlane> {
+    vbrain::mri::slice::SlicePlane::parse(s).map_err(|e| anyhow!(e))
+}
+
+/// An MRI window and level, `WINDOW,LEVEL` (normalised intensities).
+pub fn window(s: &str) -> Result<vbrain::mri::Window> {
+    let (w, l) = s.split_once(',').ok_or_else(|| anyhow!("\"{s}\" is not WINDOW,LEVEL, e.g. 0.8,0.45"))?;
+    let number = |v: &str| v.trim().parse::<f32>().map_err(|_| anyhow!("\"{v}\" in \"{s}\" is not a number"));
+    vbrain::mri::Window::new(number(w)?, number(l)?).map_err(|e| anyhow!(e))
 }
 
 #[cfg(test)]

@@ -99,7 +99,7 @@ fn turntable(
     degrees: f32,
     args: &VideoArgs,
 ) -> Result<Turntable> {
-    let no_section = SectionArgs { clip: Vec::new(), caps: None, whole: Vec::new() };
+    let no_section = SectionArgs { clip: Vec::new(), caps: None, cut_face: None, window: None, whole: Vec::new() };
     let (layout, navigator, selection, scene) = if extension == vbrain::scene_file::EXTENSION {
         let scene = SceneFile::load(input).map_err(|e| anyhow!(e))?;
         let applied = scene.apply(set);

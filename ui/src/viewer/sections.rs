@@ -70,7 +70,7 @@ impl Sections {
                 ClipPlane::new(self.normal(k), p.mm).map(|c| if p.flip { c.flipped() } else { c })
             })
             .collect();
-        Section { planes, caps: self.current.caps, whole: self.current.whole.clone() }
+        Section { planes, caps: self.current.caps, faces: self.current.faces, whole: self.current.whole.clone() }
     }
 
     fn changed(&mut self) {
@@ -82,7 +82,8 @@ impl Sections {
     /// out (a second oblique one, or a second plane on one axis).
     pub fn set_section(&mut self, section: &Section) -> usize {
         self.planes.iter_mut().for_each(|p| p.on = false);
-        (self.current.caps, self.current.whole) = (section.caps, section.whole.clone());
+        (self.current.caps, self.current.faces, self.current.whole) =
+            (section.caps, section.faces, section.whole.clone());
         self.current.whole.sort_unstable();
         self.current.whole.dedup();
         let mut left_out = 0;
@@ -161,16 +162,19 @@ impl Sections {
     }
 
     /// The panel (a tab of the dock) over a set with these world bounds (positions are kept within
-    /// them); `forward` is the camera's view direction, for "Align to view"; `name` names organs
-    /// kept whole. Returns whether the section changed.
+    /// them); `forward` is the camera's view direction, for "Align to view"; `has_mri`: whether the
+    /// set has an MRI to show on cut faces; `name` names organs kept whole. Returns whether the
+    /// section changed.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         bounds: Option<Bounds>,
         forward: Vec3,
+        has_mri: bool,
         name: impl Fn(usize) -> String,
     ) -> bool {
-        let before = (self.planes, self.oblique_normal, self.current.caps, self.current.whole.clone());
+        let before =
+            (self.planes, self.oblique_normal, self.current.caps, self.current.faces, self.current.whole.clone());
         ui.vertical(|ui| {
             let Some(b) = bounds.filter(|b| !b.is_empty()) else {
                 ui.label("Open an organ set to cut it.");
@@ -209,8 +213,14 @@ impl Sections {
             });
             ui.label(egui::RichText::new("Drag a plane's handle in the view to move it.").weak());
             ui.separator();
-            ui.checkbox(&mut self.current.caps, "Solid cut faces")
-                .on_hover_text("Fill the cut faces of closed organs in their colour");
+            ui.checkbox(&mut self.current.caps, "Solid cut faces").on_hover_text("Fill the cut faces of closed organs");
+            ui.add_enabled_ui(self.current.caps && has_mri, |ui| cut_faces(ui, &mut self.current.faces))
+                .response
+                .on_disabled_hover_text(if has_mri {
+                    "Turn solid cut faces on to choose what they show"
+                } else {
+                    "This organ set has no MRI: cut faces show the organs' colours"
+                });
             if self.current.whole.is_empty() {
                 ui.label(egui::RichText::new("No organ kept whole (see the inspector's \"Do not cut\").").weak());
             } else {
@@ -228,11 +238,38 @@ impl Sections {
                 }
             }
         });
-        let changed = before != (self.planes, self.oblique_normal, self.current.caps, self.current.whole.clone());
+        let changed = before
+            != (self.planes, self.oblique_normal, self.current.caps, self.current.faces, self.current.whole.clone());
         if changed {
             self.changed();
         }
         changed
+    }
+}
+
+/// What cut faces show, and the MRI's window and level.
+fn cut_faces(ui: &mut egui::Ui, faces: &mut vbrain::clip::CutFace) {
+    use vbrain::clip::CutFaceShows;
+    ui.horizontal(|ui| {
+        ui.label("Cut faces:");
+        egui::ComboBox::from_id_salt("cut faces").selected_text(faces.show.label()).show_ui(ui, |ui| {
+            for show in CutFaceShows::ALL {
+                ui.selectable_value(&mut faces.show, show, show.label());
+            }
+        });
+    })
+    .response
+    .on_hover_text("What the cut faces of closed organs show: their colour, the set's MRI, or the MRI tinted by organ");
+    if faces.show != CutFaceShows::Colour {
+        let w = &mut faces.window;
+        ui.horizontal(|ui| {
+            let r = ui.add(egui::Slider::new(&mut w.window, 0.05..=2.0).text("window"));
+            super::widgets::accessible(&r, "MRI window".to_string());
+            r.on_hover_text("The range of MRI intensities from black to white (narrower: more contrast)");
+            let r = ui.add(egui::Slider::new(&mut w.level, 0.0..=1.0).text("level"));
+            super::widgets::accessible(&r, "MRI level".to_string());
+            r.on_hover_text("The MRI intensity shown as middle grey");
+        });
     }
 }
 

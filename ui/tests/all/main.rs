@@ -16,5 +16,6 @@ mod install;
 mod lecture;
 mod quiz;
 mod shortcuts;
+mod slice;
 mod study;
 mod viewer;

@@ -77,7 +77,8 @@ impl App {
         });
         let scene = self.scene.as_ref();
         let name = |o: usize| scene.and_then(|s| s.set().organs.get(o)).map_or(String::new(), |x| x.name.clone());
-        if self.sections.show(ui, home, forward, name) {
+        let has_mri = scene.is_some_and(|s| s.set().mri.is_some());
+        if self.sections.show(ui, home, forward, has_mri, name) {
             self.touch_scene();
         }
     }

@@ -98,8 +98,8 @@ impl App {
                 self.selected = None;
                 // Organ indices of the last set mean nothing in this one.
                 let planes = self.sections.current.planes.clone();
-                let caps = self.sections.current.caps;
-                self.sections.set_section(&vbrain::clip::Section { planes, caps, whole: Vec::new() });
+                let (caps, faces) = (self.sections.current.caps, self.sections.current.faces);
+                self.sections.set_section(&vbrain::clip::Section { planes, caps, faces, whole: Vec::new() });
                 self.chosen_labels.clear();
                 self.document.opened_set(&scene);
                 self.scene = Some(scene);

@@ -1,0 +1,68 @@
+//! `vbrain slice`: one axis-aligned slice of a set as a radiology-style figure (PNG): the set's
+//! MRI with organ outlines, side letters and labels ([`crate::slice_figure`]).
+
+use super::common::{apply_layout_args, open_set, organs, writable_png};
+use super::SliceArgs;
+use crate::annotate::Labels;
+use anyhow::{anyhow, bail, Result};
+use serde_json::json;
+use std::path::PathBuf;
+use vbrain::labels::Which;
+use vbrain::layout::Layout;
+use vbrain::mri::slice::{Pane, MAX_PIXELS};
+
+pub fn run(args: &SliceArgs) -> Result<bool> {
+    writable_png(&args.out, args.force)?;
+    let (width, height) = (args.size.width, args.size.height);
+    if width as usize * height as usize > MAX_PIXELS {
+        bail!("--size {width}x{height}: a slice figure has at most {MAX_PIXELS} pixels (4096x4096)");
+    }
+    let path: PathBuf = match &args.path {
+        Some(p) => p.clone(),
+        None => vbrain::data_dir::default_set()?,
+    };
+    let set = open_set(&path)?;
+    let mut layout = Layout::new(&set);
+    apply_layout_args(&set, &mut layout, &args.layout)?;
+    let which = Which::parse(args.labels.as_deref().unwrap_or(""));
+    if let Which::Chosen(names) = &which {
+        for key in names {
+            organs(&set, key).map_err(|e| anyhow!("--labels: {e}"))?;
+        }
+    }
+    if set.mri.is_none() {
+        eprintln!("note: {} has no MRI; the slice shows its organs filled in their colours", path.display());
+    }
+    // The pane frames the organs shown, at rest, so slices of one layout line up.
+    let bounds = crate::slice_figure::shown(&layout)
+        .iter()
+        .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    if bounds.is_empty() {
+        bail!("no organ is shown: nothing to frame (see --show)");
+    }
+    let pane = Pane::fit(args.plane, &bounds, width, height, !args.neurological);
+    let options = crate::slice_figure::Options {
+        outlines: args.outlines,
+        labels: Labels::of(&which, &set, None),
+        window: args.window.unwrap_or_default(),
+        letters: true,
+    };
+    let (image, ids) = crate::slice_figure::draw(&set, &layout, &pane, &options);
+    vbrain::atomic::write_png(&args.out, &image, true)?;
+    let mut seen: Vec<usize> = ids.iter().filter(|&&i| i > 0).map(|&i| i as usize - 1).collect();
+    seen.sort_unstable();
+    seen.dedup();
+    let caption = crate::slice_figure::caption(&pane);
+    if args.report.json {
+        let organs: Vec<&str> = seen.iter().map(|&o| set.organs[o].id.as_str()).collect();
+        let out = json!({
+            "out": args.out, "width": width, "height": height, "plane": pane.plane.axis.name(),
+            "at_mm": pane.plane.at, "radiological": pane.radiological, "mri": set.mri.is_some(),
+            "mm_per_pixel": pane.mm_per_px, "centre_mm": pane.centre, "organs": organs, "caption": caption,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        println!("{}: {width}x{height}, {caption}, {} organs cut", args.out.display(), seen.len());
+    }
+    Ok(true)
+}
