@@ -73,6 +73,9 @@ pub enum Action {
         organ: usize,
         on: bool,
     },
+    /// Move the slice panes' crosshair to this point (world millimetres); the section planes that
+    /// are on follow it.
+    SlicePoint(glam::Vec3),
     /// Move a clip plane of the Sections window (its slot) along its normal, millimetres.
     MovePlane {
         slot: usize,

@@ -81,6 +81,8 @@ pub struct App {
     lesson: LessonPanel,
     /// The Sections window: clip planes, cut faces and organs kept whole.
     sections: Sections,
+    /// The slice panes' crosshair and images (View > Layout).
+    slices: super::slice_panes::SlicePanes,
     /// The organs labelled in the chosen-labels mode (indices, sorted).
     chosen_labels: Vec<usize>,
     /// The Quiz panel and the quiz under way.
@@ -121,6 +123,7 @@ impl App {
             title: String::new(),
             lesson: LessonPanel::default(),
             sections: Sections::default(),
+            slices: Default::default(),
             chosen_labels: Vec::new(),
             quiz: QuizPanel::default(),
             quiz_history: options.quiz_history.clone(),
@@ -181,6 +184,10 @@ impl App {
     }
 
     /// The Sections window: planes, cut faces, organs kept whole.
+    pub fn slices(&self) -> &super::slice_panes::SlicePanes {
+        &self.slices
+    }
+
     pub fn sections(&self) -> &Sections {
         &self.sections
     }
@@ -356,6 +363,15 @@ impl App {
                 Action::Label { organ, on } => {
                     self.label_organ(organ, on);
                     self.touch_scene();
+                }
+                Action::SlicePoint(point) => {
+                    if let Some(scene) = &mut self.scene {
+                        let home = scene.home();
+                        let inside = point.clamp(glam::Vec3::from(home.min), glam::Vec3::from(home.max));
+                        self.slices.point = Some(inside);
+                        self.sections.move_to(inside, &home);
+                        scene.touch();
+                    }
                 }
                 Action::MovePlane { slot, mm } => {
                     if let Some(scene) = &mut self.scene {
@@ -572,11 +588,33 @@ impl eframe::App for App {
             }
         }
         CentralPanel::no_frame().show(ui, |ui| {
-            let (rect, response) = self.viewport.allocate(ui);
-            let actions = self.with_viewport(|v, input| v.input(ui, &response, input));
-            self.perform(&ctx, actions);
-            let actions = self.with_viewport(|v, input| v.draw(ui, rect, input));
-            self.perform(&ctx, actions);
+            use super::slice_panes::ViewLayout;
+            let full = ui.available_rect_before_wrap();
+            let layout = if self.scene.is_some() { self.settings.view_layout } else { ViewLayout::ThreeD };
+            let (three_d, slices) = match layout {
+                ViewLayout::ThreeD => (Some(full), None),
+                ViewLayout::ThreeDWithSlices => {
+                    let split = full.left() + full.width() * 0.64;
+                    let (a, b) = full.split_left_right_at_x(split);
+                    (Some(a), Some(b.shrink2(egui::vec2(2.0, 0.0))))
+                }
+                ViewLayout::Slices => (None, Some(full)),
+            };
+            if let Some(r) = three_d {
+                ui.scope_builder(egui::UiBuilder::new().max_rect(r), |ui| {
+                    let (rect, response) = self.viewport.allocate(ui);
+                    let actions = self.with_viewport(|v, input| v.input(ui, &response, input));
+                    self.perform(&ctx, actions);
+                    let actions = self.with_viewport(|v, input| v.draw(ui, rect, input));
+                    self.perform(&ctx, actions);
+                });
+            }
+            if let (Some(r), Some(scene)) = (slices, &self.scene) {
+                self.slices.radiological = !self.settings.neurological;
+                self.slices.window = self.sections.current.faces.window;
+                let actions = self.slices.show(ui, r, scene.set(), scene.shown(), self.selected);
+                self.perform(&ctx, actions);
+            }
         });
         self.windows(&ctx);
         let actions = status::notifications(&ctx, &self.notifications);

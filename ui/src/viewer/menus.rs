@@ -160,6 +160,17 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
     if ui.button("Sections...").on_hover_text("Cut the set along the axial, coronal and sagittal planes").clicked() {
         out.push(Action::Show(Window::Sections));
     }
+    ui.menu_button("Layout", |ui| {
+        for layout in super::slice_panes::ViewLayout::ALL {
+            ui.radio_value(&mut settings.view_layout, layout, layout.name());
+        }
+        ui.separator();
+        ui.checkbox(&mut settings.neurological, "Neurological display (right on the right)").on_hover_text(
+            "Slices show the patient's right on the left (radiological, as on the ward) unless this is on",
+        );
+    })
+    .response
+    .on_hover_text("The 3-D view, axial, coronal and sagittal slices through one point, or both");
     ui.menu_button("Labels", |ui| {
         for mode in super::settings::LabelMode::ALL {
             ui.radio_value(&mut settings.labels, mode, mode.name());

@@ -31,6 +31,7 @@ pub mod scene;
 pub mod sections;
 pub mod settings;
 pub mod shortcuts;
+pub mod slice_panes;
 pub mod status;
 pub mod viewport;
 pub mod welcome;

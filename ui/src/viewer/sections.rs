@@ -125,6 +125,21 @@ impl Sections {
         (lo.floor(), hi.ceil())
     }
 
+    /// Moves the axial, coronal and sagittal planes that are on through `point` (world
+    /// millimetres), within `bounds`.
+    pub fn move_to(&mut self, point: Vec3, bounds: &Bounds) {
+        for slot in 0..3 {
+            if self.planes[slot].on {
+                let (lo, hi) = self.range(slot, bounds);
+                let at = self.normal(slot).dot(point);
+                if at.is_finite() {
+                    self.planes[slot].mm = at.clamp(lo, hi);
+                }
+            }
+        }
+        self.changed();
+    }
+
     /// Moves plane `slot` by `mm` along its normal, within `bounds`.
     pub fn move_plane(&mut self, slot: Slot, mm: f32, bounds: &Bounds) {
         let (lo, hi) = self.range(slot.min(3), bounds);

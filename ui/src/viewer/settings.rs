@@ -37,6 +37,12 @@ pub struct Settings {
     pub transparency: vbrain::transparency::TransparencySettings,
     /// Which organs are named with labels, in the viewport and in exports.
     pub labels: LabelMode,
+    /// The 3-D view, slice panes, or both (View > Layout).
+    #[serde(default)]
+    pub view_layout: super::slice_panes::ViewLayout,
+    /// Slice panes in neurological display (the patient's right on the right).
+    #[serde(default)]
+    pub neurological: bool,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -131,6 +137,8 @@ impl Default for Settings {
             cull_debug: false,
             transparency: Default::default(),
             labels: LabelMode::None,
+            view_layout: Default::default(),
+            neurological: false,
         }
     }
 }

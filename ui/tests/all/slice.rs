@@ -168,3 +168,54 @@ fn bad_slice_requests_are_refused_with_the_reason() {
     }
     assert!(!out.exists());
 }
+
+/// The viewer's slice panes: a click in the coronal pane moves the axial and sagittal panes, the
+/// 3-D view's section planes and the selection there.
+#[test]
+fn a_click_in_the_coronal_pane_moves_the_other_panes_the_planes_and_the_selection() {
+    use crate::viewer::{harness_of, organ};
+    use eframe::egui;
+    use egui_kittest::kittest::Queryable;
+    use vbrain::mri::slice::Axis;
+    use vbrain_ui::viewer::action::{Action, Window};
+    use vbrain_ui::viewer::slice_panes::ViewLayout;
+    let mut h = harness_of(egui::Vec2::new(1000.0, 640.0));
+    h.state_mut().settings_mut().view_layout = ViewLayout::ThreeDWithSlices;
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::Show(Window::Sections)]);
+    h.run_steps(2);
+    h.get_by_label("Axial").click();
+    h.get_by_label("Sagittal").click();
+    h.run_steps(3);
+    assert_eq!(h.state().sections().current.planes.len(), 2);
+    let (rect, pane) = h.state().slices().shown(Axis::Coronal).expect("the coronal pane is drawn");
+    let y = pane.plane.at;
+    // The left thalamus's middle on this coronal plane: x -11, z 7 (world millimetres).
+    let target = glam::Vec3::new(-11.0, y, 7.0);
+    let px = pane.pixel(target) / ctx.pixels_per_point();
+    let at = rect.min + egui::vec2(px.x, px.y);
+    assert!(rect.contains(at), "{at:?} in {rect:?}");
+    crate::viewer::click(&h, at);
+    h.run_steps(3);
+    let point = h.state().slices().point.unwrap();
+    assert!((point - target).length() < 1.5, "the crosshair moved to {point}, not {target}");
+    let (_, axial) = h.state().slices().shown(Axis::Axial).unwrap();
+    let (_, sagittal) = h.state().slices().shown(Axis::Sagittal).unwrap();
+    assert!((axial.plane.at - 7.0).abs() < 1.5 && (sagittal.plane.at + 11.0).abs() < 1.5);
+    let planes = &h.state().sections().planes;
+    assert!((planes[0].mm - point.z).abs() < 0.01 && (planes[2].mm - point.x).abs() < 0.01, "{planes:?}");
+    assert_eq!(h.state().selected(), Some(organ(&h, "thalamus_l")), "the organ under the click is selected");
+    // The wheel over the axial pane steps its plane 1 mm.
+    let (rect, _) = h.state().slices().shown(Axis::Axial).unwrap();
+    h.event(egui::Event::PointerMoved(rect.center()));
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Line,
+        delta: egui::vec2(0.0, 1.0),
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers: egui::Modifiers::NONE,
+    });
+    h.run_steps(2);
+    let moved = h.state().slices().point.unwrap();
+    assert!((moved.z - point.z - 1.0).abs() < 0.01, "{moved} after {point}");
+}

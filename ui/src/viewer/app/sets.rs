@@ -101,6 +101,7 @@ impl App {
                 let (caps, faces) = (self.sections.current.caps, self.sections.current.faces);
                 self.sections.set_section(&vbrain::clip::Section { planes, caps, faces, whole: Vec::new() });
                 self.chosen_labels.clear();
+                self.slices.new_set();
                 self.document.opened_set(&scene);
                 self.scene = Some(scene);
                 if let Some((path, file)) = self.document.pending.take() {
