@@ -208,9 +208,8 @@ impl SlicePanes {
         let under = |pos: egui::Pos2| {
             let p = (pos - rect.min) * ppp;
             let (x, y) = (p.x as usize, p.y as usize);
-            let id = (x < size[0] as usize && y < size[1] as usize)
-                .then(|| image.ids.get(y * size[0] as usize + x).copied().unwrap_or(0))
-                .unwrap_or(0);
+            let inside = x < size[0] as usize && y < size[1] as usize;
+            let id = if inside { image.ids.get(y * size[0] as usize + x).copied().unwrap_or(0) } else { 0 };
             (pane.world(p.x, p.y), id.checked_sub(1).map(|o| o as usize))
         };
         if let Some(pos) = response.hover_pos() {
