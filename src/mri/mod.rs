@@ -107,7 +107,16 @@ impl Mri {
 
     /// The intensity (0..=1) at world point `p`, trilinear; `None` outside the voxel centres' box.
     pub fn sample(&self, p: Vec3) -> Option<f32> {
-        let v = self.to_voxel.transform_point3(p);
+        self.sample_voxel(self.to_voxel.transform_point3(p))
+    }
+
+    /// World -> voxel coordinates (voxel centres at whole numbers).
+    pub fn to_voxel(&self) -> Mat4 {
+        self.to_voxel
+    }
+
+    /// [`Mri::sample`] at voxel coordinates `v`.
+    pub fn sample_voxel(&self, v: Vec3) -> Option<f32> {
         let [nx, ny, nz] = self.dims;
         let max = Vec3::new((nx - 1) as f32, (ny - 1) as f32, (nz - 1) as f32);
         if !(v.cmpge(Vec3::ZERO).all() && v.cmple(max).all()) {
@@ -116,15 +125,15 @@ impl Mri {
         let i = v.floor().min(max);
         let f = v - i;
         let (x, y, z) = (i.x as usize, i.y as usize, i.z as usize);
-        let at = |dx: usize, dy: usize, dz: usize| {
-            let (x, y, z) = ((x + dx).min(nx - 1), (y + dy).min(ny - 1), (z + dz).min(nz - 1));
-            self.values[x + nx * (y + ny * z)] as f32
-        };
+        // The next voxel along each axis, or this one at the far face.
+        let (sx, sy, sz) = (usize::from(x + 1 < nx), nx * usize::from(y + 1 < ny), nx * ny * usize::from(z + 1 < nz));
+        let base = x + nx * (y + ny * z);
+        let at = |o: usize| self.values[base + o] as f32;
         let lerp = |a: f32, b: f32, t: f32| a + (b - a) * t;
-        let c00 = lerp(at(0, 0, 0), at(1, 0, 0), f.x);
-        let c10 = lerp(at(0, 1, 0), at(1, 1, 0), f.x);
-        let c01 = lerp(at(0, 0, 1), at(1, 0, 1), f.x);
-        let c11 = lerp(at(0, 1, 1), at(1, 1, 1), f.x);
+        let c00 = lerp(at(0), at(sx), f.x);
+        let c10 = lerp(at(sy), at(sy + sx), f.x);
+        let c01 = lerp(at(sz), at(sz + sx), f.x);
+        let c11 = lerp(at(sz + sy), at(sz + sy + sx), f.x);
         Some(lerp(lerp(c00, c10, f.y), lerp(c01, c11, f.y), f.z) / 255.0)
     }
 }

@@ -160,8 +160,27 @@ impl Pane {
 /// The pixels of `pane` whose centres lie inside the closed `mesh` (row-major).
 pub fn inside(mesh: &Mesh, pane: &Pane) -> Vec<bool> {
     let mut mask = vec![false; pane.pixels()];
-    fill(mesh, pane, &mut Vec::new(), |i| mask[i] = true);
+    fill(mesh, 0..mesh.triangle_count() as u32, pane, &mut Vec::new(), |i| mask[i] = true);
     mask
+}
+
+/// The triangles of `organ` whose hierarchy nodes reach the plane `world[axis] = at`.
+fn near_plane(organ: &crate::organ_set::Organ, axis: usize, at: f32) -> Vec<u32> {
+    let nodes = &organ.bvh.nodes;
+    let mut out = Vec::new();
+    let mut stack = vec![0u32];
+    while let Some(n) = stack.pop() {
+        let Some(node) = nodes.get(n as usize) else { continue };
+        if node.bounds.min[axis] > at || node.bounds.max[axis] < at {
+            continue;
+        }
+        if node.is_leaf() {
+            out.extend(node.first..node.first + node.count);
+        } else {
+            stack.extend(node.children);
+        }
+    }
+    out
 }
 
 /// Per pixel of `pane`, the organ whose surface holds its centre, as index + 1 (0 for none), over
@@ -172,22 +191,32 @@ pub fn organ_ids(set: &OrganSet, organs: &[usize], pane: &Pane) -> Vec<u32> {
         return ids;
     }
     let (axis, at) = (pane.plane.axis.normal(), pane.plane.at);
+    // The hierarchy's root holds the organ's bounds.
+    let bounds = |o: &crate::organ_set::Organ| o.bvh.nodes.first().map_or(Bounds::EMPTY, |n| n.bounds);
     let mut order: Vec<(usize, Bounds)> = organs
         .iter()
-        .filter_map(|&o| set.organs.get(o).map(|organ| (o, organ.mesh().bounds())))
+        .filter_map(|&o| set.organs.get(o).map(|organ| (o, bounds(organ))))
         .filter(|(_, b)| b.min[axis] <= at && at <= b.max[axis])
         .collect();
     let volume = |b: &Bounds| b.size().x * b.size().y * b.size().z;
     order.sort_by(|a, b| volume(&b.1).total_cmp(&volume(&a.1)));
     let mut toggles = Vec::new();
     for (o, _) in order {
-        fill(set.organs[o].mesh(), pane, &mut toggles, |i| ids[i] = o as u32 + 1);
+        let organ = &set.organs[o];
+        fill(organ.mesh(), near_plane(organ, axis, at).into_iter(), pane, &mut toggles, |i| ids[i] = o as u32 + 1);
     }
     ids
 }
 
-/// Calls `paint` with each pixel inside `mesh` ([`inside`]'s rule); `toggles` is scratch space.
-fn fill(mesh: &Mesh, pane: &Pane, toggles: &mut Vec<u8>, mut paint: impl FnMut(usize)) {
+/// Calls `paint` with each pixel inside `mesh` ([`inside`]'s rule), given `triangles` that hold
+/// every triangle crossing the plane; `toggles` is scratch space.
+fn fill(
+    mesh: &Mesh,
+    triangles: impl Iterator<Item = u32>,
+    pane: &Pane,
+    toggles: &mut Vec<u8>,
+    mut paint: impl FnMut(usize),
+) {
     let (w, h) = (pane.width as usize, pane.height as usize);
     if w * h == 0 || w * h > MAX_PIXELS {
         return;
@@ -196,8 +225,8 @@ fn fill(mesh: &Mesh, pane: &Pane, toggles: &mut Vec<u8>, mut paint: impl FnMut(u
     toggles.clear();
     toggles.resize(h * (w + 1), 0);
     let (mut first, mut last) = (h, 0);
-    for t in 0..mesh.triangle_count() {
-        let p = mesh.triangle(t);
+    for t in triangles {
+        let p = mesh.triangle(t as usize);
         let above = p.map(|q| q[axis] > at);
         if above[0] == above[1] && above[1] == above[2] {
             continue;
@@ -239,14 +268,22 @@ fn fill(mesh: &Mesh, pane: &Pane, toggles: &mut Vec<u8>, mut paint: impl FnMut(u
 }
 
 /// The MRI's grey (0..=1, through `window`) at each pixel of `pane`; `None` outside the volume.
+/// Rows in parallel; along a row the voxel position steps by a constant.
 pub fn greys(mri: &Mri, pane: &Pane, window: Window) -> Vec<Option<f32>> {
+    use rayon::prelude::*;
     if pane.pixels() > MAX_PIXELS {
         return Vec::new();
     }
-    (0..pane.pixels())
-        .map(|i| {
-            let (x, y) = ((i % pane.width as usize) as f32 + 0.5, (i / pane.width as usize) as f32 + 0.5);
-            mri.sample(pane.world(x, y)).map(|v| window.grey(v))
+    let m = mri.to_voxel();
+    let origin = m.transform_point3(pane.world(0.5, 0.5));
+    let dx = m.transform_vector3(pane.world(1.5, 0.5) - pane.world(0.5, 0.5));
+    let dy = m.transform_vector3(pane.world(0.5, 1.5) - pane.world(0.5, 0.5));
+    let w = pane.width as usize;
+    (0..pane.height as usize)
+        .into_par_iter()
+        .flat_map_iter(|y| {
+            let row = origin + dy * y as f32;
+            (0..w).map(move |x| mri.sample_voxel(row + dx * x as f32).map(|v| window.grey(v)))
         })
         .collect()
 }

@@ -74,6 +74,9 @@ pub enum Command {
     /// Compare the transparency modes against the exact reference on views with 4 to 99
     /// transparent organs; also time mask regeneration at 1920x1080
     BenchTransparency(BenchTransparencyArgs),
+    /// What sectional anatomy costs: a 512x512 slice pane's redraw, and a frame with the MRI on
+    /// its cut faces against one with coloured cut faces
+    BenchSections(BenchSectionsArgs),
     /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
     /// layout into occluders.json beside it, or with --experiment compare occluder selections
     Occluders(OccludersArgs),
@@ -510,6 +513,20 @@ pub struct BenchTransparencyArgs {
 }
 
 #[derive(clap::Args)]
+pub struct BenchSectionsArgs {
+    /// Organ set with an MRI [default: the default brain]
+    pub path: Option<PathBuf>,
+    /// Slice positions, and frames of each kind of cut face, 3..=1000
+    #[arg(long, default_value_t = 30, value_parser = count(3, 1000))]
+    pub frames: usize,
+    /// The 3-D frames' size, WxH
+    #[arg(long, default_value = "1024x768", value_parser = values::size)]
+    pub size: Size,
+    #[command(flatten)]
+    pub report: Report,
+}
+
+#[derive(clap::Args)]
 pub struct OccludersArgs {
     pub path: PathBuf,
     /// Directions of the viewpoint grid on a sphere around the set (each at two distances),
@@ -691,6 +708,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),
         Command::BenchTransparency(args) => bench_transparency::run(&args),
+        Command::BenchSections(args) => bench_transparency::sections(&args),
         Command::Occluders(args) => occluders::run(&args),
         Command::City(args) => city::run(&args),
         Command::Scale(args) => scale::run(&args),

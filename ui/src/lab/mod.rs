@@ -9,6 +9,7 @@ pub mod lod;
 pub mod masks;
 pub mod occluders;
 pub mod plot;
+pub mod sections_bench;
 pub mod transparency_bench;
 
 use anyhow::{anyhow, Result};

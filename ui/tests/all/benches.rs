@@ -189,3 +189,38 @@ fn bench_lod_compares_each_render_scale_with_full_size() {
     // The smallest scale loses the most detail.
     assert!(rmse("scale-35") > rmse("scale-71"));
 }
+
+#[test]
+fn bench_sections_times_a_slice_pane_and_both_kinds_of_cut_face() {
+    let v = crate::cli::json(&crate::cli::vbrain(&[
+        "bench-sections",
+        &crate::cli::brain(),
+        "--frames",
+        "3",
+        "--size",
+        "128x96",
+        "--json",
+    ]));
+    assert_eq!(v["pane_px"], 512);
+    for key in ["slice_ms_median", "slice_ms_max", "colour_faces_ms", "mri_faces_ms", "mri_over_colour"] {
+        assert!(v[key].as_f64().is_some_and(|x| x > 0.0 && x.is_finite()), "{key}: {v}");
+    }
+    assert!(v["slice_ms_max"].as_f64() >= v["slice_ms_median"].as_f64());
+    // A set without an MRI is refused with the reason.
+    let dir = tempfile::tempdir().unwrap();
+    let vol = crate::cli::two_blobs(dir.path(), "seg.nii");
+    let csv = dir.path().join("labels.csv");
+    std::fs::write(&csv, "index,name\n17,A\n53,B\n").unwrap();
+    let set = dir.path().join("set");
+    crate::cli::json(&crate::cli::vbrain(&[
+        "import",
+        vol.to_str().unwrap(),
+        "--labels",
+        csv.to_str().unwrap(),
+        "--out",
+        set.to_str().unwrap(),
+        "--json",
+    ]));
+    let out = crate::cli::vbrain(&["bench-sections", set.to_str().unwrap()]);
+    assert!(!out.status.success() && String::from_utf8_lossy(&out.stderr).contains("has no MRI"));
+}
