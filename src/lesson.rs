@@ -252,7 +252,7 @@ impl Lesson {
                 rng.shuffle(&mut c);
                 c
             };
-            out.push(crate::quiz::Question { kind: q.kind, organ, choices });
+            out.push(crate::quiz::Question { kind: q.kind, organ, choices, slice: None });
         }
         Ok(out)
     }

@@ -11,6 +11,7 @@
 //! small misspelling allowed, and a side word ("left", "right") checked only where one is typed.
 
 use crate::layout::Layout;
+use crate::mri::slice::SlicePlane;
 use crate::navigation::Navigator;
 use crate::organ_set::{names, OrganSet};
 use crate::rng::XorShift;
@@ -34,10 +35,13 @@ pub enum Mode {
     Name,
     #[default]
     Mixed,
+    /// Name and locate by turns, each on an axial, coronal or sagittal slice through the structure
+    /// (the set's MRI with outlines) instead of the 3-D view.
+    Mri,
 }
 
 impl Mode {
-    pub const ALL: [Mode; 3] = [Mode::Locate, Mode::Name, Mode::Mixed];
+    pub const ALL: [Mode; 4] = [Mode::Locate, Mode::Name, Mode::Mixed, Mode::Mri];
 
     pub fn parse(s: &str) -> Option<Mode> {
         Mode::ALL.into_iter().find(|m| m.name() == s.trim().to_ascii_lowercase())
@@ -48,17 +52,49 @@ impl Mode {
             Mode::Locate => "locate",
             Mode::Name => "name",
             Mode::Mixed => "mixed",
+            Mode::Mri => "mri",
         }
     }
 }
 
 /// One question: its kind, the organ it is about (index) and four choices (indices, distinct, the
-/// organ among them) for picking a name, or for a worksheet's letters.
+/// organ among them) for picking a name, or for a worksheet's letters; asked on a slice through
+/// the organ where `slice` is set ([`Mode::Mri`]), else in the 3-D view.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Question {
     pub kind: Kind,
     pub organ: usize,
     pub choices: Vec<usize>,
+    pub slice: Option<SlicePlane>,
+}
+
+/// The least pixels of its own a structure shows on a question's slice, in a 160 x 160 pane over
+/// the organs shown by default (so it is outlined and can be clicked).
+pub const SLICE_PIXELS: usize = 24;
+
+/// A plane through `organ` on which it shows at least [`SLICE_PIXELS`] pixels of its own among the
+/// organs the set shows by default: through its middle along an axis (in an order drawn from
+/// `rng`), else a quarter of the way in either side. `None` where no such plane shows it.
+pub fn slice_through(set: &OrganSet, organ: usize, rng: &mut XorShift) -> Option<SlicePlane> {
+    use crate::mri::slice::{organ_ids, Axis, Pane};
+    let shown: Vec<usize> = (0..set.organs.len()).filter(|&o| set.organs[o].visible || o == organ).collect();
+    let home = shown.iter().fold(crate::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let b = set.organs.get(organ)?.mesh().bounds();
+    let mut axes = Axis::ALL.to_vec();
+    rng.shuffle(&mut axes);
+    for share in [0.5, 0.25, 0.75] {
+        for &axis in &axes {
+            let n = axis.normal();
+            let at = (b.min[n] + (b.max[n] - b.min[n]) * share).round();
+            let plane = SlicePlane { axis, at };
+            let pane = Pane::fit(plane, &home, 160, 160, true);
+            let own = organ_ids(set, &shown, &pane).iter().filter(|&&id| id as usize == organ + 1).count();
+            if own >= SLICE_PIXELS {
+                return Some(plane);
+            }
+        }
+    }
+    None
 }
 
 /// What to ask: the organs in scope (indices), how many questions, which kinds, the seed.
@@ -111,19 +147,39 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
     let n = spec.questions.min(order.len());
     let note = (spec.questions > n)
         .then(|| format!("{} questions asked but only {n} structures in scope: the quiz stops at {n}", spec.questions));
-    let questions = order[..n]
-        .iter()
-        .enumerate()
-        .map(|(k, &organ)| {
-            let kind = match spec.mode {
-                Mode::Locate => Kind::Locate,
-                Mode::Name => Kind::Name,
-                Mode::Mixed if k % 2 == 0 => Kind::Locate,
-                Mode::Mixed => Kind::Name,
-            };
-            Question { kind, organ, choices: choices(set, organ, &scope, &mut rng) }
+    let mut questions = Vec::with_capacity(n);
+    let mut unsliced = 0;
+    for &organ in &order {
+        if questions.len() == n {
+            break;
+        }
+        let k = questions.len();
+        let kind = match spec.mode {
+            Mode::Locate => Kind::Locate,
+            Mode::Name => Kind::Name,
+            Mode::Mixed | Mode::Mri if k % 2 == 0 => Kind::Locate,
+            Mode::Mixed | Mode::Mri => Kind::Name,
+        };
+        let slice = match spec.mode {
+            Mode::Mri => match slice_through(set, organ, &mut rng) {
+                Some(plane) => Some(plane),
+                None => {
+                    unsliced += 1;
+                    continue;
+                }
+            },
+            _ => None,
+        };
+        questions.push(Question { kind, organ, choices: choices(set, organ, &scope, &mut rng), slice });
+    }
+    if questions.is_empty() {
+        return Err("no structure in scope shows on a slice: an MRI quiz needs organs with volume".into());
+    }
+    let note = note.or_else(|| {
+        (questions.len() < n).then(|| {
+            format!("{unsliced} structures show too little on any slice: the quiz stops at {}", questions.len())
         })
-        .collect();
+    });
     Ok(Quiz { questions, note })
 }
 

@@ -45,3 +45,34 @@ fn every_shipped_lesson_has_a_quiz_over_real_organs() {
     }
     assert_eq!(lessons, 3);
 }
+
+/// An MRI quiz over every structure: seeded, each question on a slice through its structure where
+/// the structure shows (so it is outlined and can be clicked), one right answer among distinct
+/// choices.
+#[test]
+fn an_mri_quiz_asks_every_structure_on_a_slice_that_shows_it() {
+    use vbrain::mri::slice::{organ_ids, Pane};
+    let set = default_set();
+    let scope = quiz::scope(set, None).unwrap();
+    let spec = quiz::Spec { scope: scope.clone(), questions: scope.len(), mode: quiz::Mode::Mri, seed: 11 };
+    let q = quiz::generate(set, &spec).unwrap();
+    assert_eq!(q, quiz::generate(set, &spec).unwrap(), "the same seed asks the same quiz");
+    assert_ne!(q, quiz::generate(set, &quiz::Spec { seed: 12, ..spec.clone() }).unwrap());
+    assert!(q.questions.len() * 10 >= scope.len() * 9, "{} of {} structures asked", q.questions.len(), scope.len());
+    let shown: Vec<usize> = (0..set.organs.len()).filter(|&o| set.organs[o].visible).collect();
+    let home = shown.iter().fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let mut kinds = [0, 0];
+    for question in &q.questions {
+        let plane = question.slice.expect("an MRI question has its slice");
+        let ids = organ_ids(set, &shown, &Pane::fit(plane, &home, 160, 160, true));
+        let own = ids.iter().filter(|&&id| id as usize == question.organ + 1).count();
+        assert!(own >= quiz::SLICE_PIXELS, "{} shows {own} pixels on its slice", set.organs[question.organ].id);
+        let right = question.choices.iter().filter(|&&c| c == question.organ).count();
+        let mut distinct = question.choices.clone();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert!(right == 1 && distinct.len() == question.choices.len(), "{:?}", question);
+        kinds[usize::from(question.kind == quiz::Kind::Name)] += 1;
+    }
+    assert!(kinds[0] > 0 && kinds[1] > 0, "locate and name by turns: {kinds:?}");
+}

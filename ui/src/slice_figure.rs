@@ -21,8 +21,10 @@ pub struct Options {
     pub outlines: bool,
     pub labels: Labels,
     pub window: Window,
-    /// The side letters (R/L, A/P) at the edges.
+    /// The side letters (R/L, A/P) in the top corners.
     pub letters: bool,
+    /// An organ outlined boldly in yellow, over the other outlines (a quiz's structure).
+    pub highlight: Option<usize>,
 }
 
 /// The organs a slice shows: those the layout draws.
@@ -60,6 +62,15 @@ pub fn draw(set: &OrganSet, layout: &Layout, pane: &Pane, options: &Options) -> 
                 let (c, a) = organ_colour(ids[i]);
                 let c = if greys.is_none() { c.map(|v| v / 2) } else { c };
                 *p = Rgba([mix(p[0], c[0], a), mix(p[1], c[1], a), mix(p[2], c[2], a), 255]);
+            }
+        }
+    }
+    if let Some(target) = options.highlight {
+        let bold: Vec<u32> = ids.iter().map(|&id| u32::from(id == target as u32 + 1)).collect();
+        let line = slice::outline(&bold, w, (h / 400).max(1) as usize);
+        for (i, p) in image.pixels_mut().enumerate() {
+            if line[i] {
+                *p = Rgba([255, 225, 40, 255]);
             }
         }
     }

@@ -57,39 +57,52 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     let mut listed = Vec::new();
     let mut sheets = Vec::new();
     for (k, q) in generated.questions.iter().enumerate() {
-        let side = quiz::camera(&set, &base, q.organ);
-        let nav =
-            Navigator::fitting(&home, side.azimuth, side.elevation, target.aspect(), crate::studio::FILL_LABELLED);
-        let camera = nav.camera(&home);
-        let ids = |layout: &Layout| {
-            let frame = FrameInput::new(&set, &camera, layout);
-            renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
-            target.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
-        };
-        let (layout, _) = quiz::reveal(q.organ, &base, ids);
-        // A locate question's letters go on the structure and the nearest others seen beside it.
         let mut q = q.clone();
-        if q.kind == Kind::Locate {
-            let seen = ids(&layout);
-            let mut shown: Vec<usize> = seen.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
-            shown.sort_unstable();
-            shown.dedup();
-            let mut rng = vbrain::rng::XorShift::seeded(args.seed ^ (k as u64 + 1));
-            q.choices = quiz::choices(&set, q.organ, &shown, &mut rng);
-            q.choices.retain(|o| shown.contains(o));
-        }
-        let (draw, _) = culler.cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
-        let highlight = if q.kind == Kind::Name { vec![q.organ] } else { Vec::new() };
-        let frame = FrameInput {
-            draw: Some(&draw),
-            background: crate::background_linear(crate::background_srgb(), false),
-            highlight: &highlight,
-            ..FrameInput::new(&set, &camera, &layout)
+        let (mut image, seen) = match q.slice {
+            Some(plane) => {
+                slice_picture(&set, &mut q, plane, [args.size.width, args.size.height], args.seed ^ (k as u64 + 1))
+            }
+            None => {
+                let side = quiz::camera(&set, &base, q.organ);
+                let nav = Navigator::fitting(
+                    &home,
+                    side.azimuth,
+                    side.elevation,
+                    target.aspect(),
+                    crate::studio::FILL_LABELLED,
+                );
+                let camera = nav.camera(&home);
+                let ids = |layout: &Layout| {
+                    let frame = FrameInput::new(&set, &camera, layout);
+                    renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
+                    target.read_ids(&gpu.device, &gpu.queue).unwrap_or_default()
+                };
+                let (layout, _) = quiz::reveal(q.organ, &base, ids);
+                // A locate question's letters go on the structure and the nearest others seen beside it.
+                if q.kind == Kind::Locate {
+                    let seen = ids(&layout);
+                    let mut shown: Vec<usize> = seen.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
+                    shown.sort_unstable();
+                    shown.dedup();
+                    let mut rng = vbrain::rng::XorShift::seeded(args.seed ^ (k as u64 + 1));
+                    q.choices = quiz::choices(&set, q.organ, &shown, &mut rng);
+                    q.choices.retain(|o| shown.contains(o));
+                }
+                let (draw, _) = culler.cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
+                let highlight = if q.kind == Kind::Name { vec![q.organ] } else { Vec::new() };
+                let frame = FrameInput {
+                    draw: Some(&draw),
+                    background: crate::background_linear(crate::background_srgb(), false),
+                    highlight: &highlight,
+                    ..FrameInput::new(&set, &camera, &layout)
+                };
+                renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+                let image = target.read_color(&gpu.device, &gpu.queue)?;
+                renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
+                let seen = target.read_ids(&gpu.device, &gpu.queue)?;
+                (image, seen)
+            }
         };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
-        let mut image = target.read_color(&gpu.device, &gpu.queue)?;
-        renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
-        let seen = target.read_ids(&gpu.device, &gpu.queue)?;
         let (labels, name): (Labels, Box<dyn Fn(usize) -> String>) = match q.kind {
             Kind::Name => (Labels::Chosen(vec![q.organ]), Box::new(|_| "A".to_string())),
             Kind::Locate => {
@@ -107,8 +120,9 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         match q.kind {
             Kind::Name => {
                 questions_md.push_str(&format!(
-                    "\n## {}. Name structure A\n\n![Question {}]({file})\n\n",
+                    "\n## {}. Name structure A{}\n\n![Question {}]({file})\n\n",
                     k + 1,
+                    on_slice(&q),
                     k + 1
                 ));
                 for (c, &o) in q.choices.iter().enumerate() {
@@ -126,9 +140,10 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                     .map(|(c, _)| letter(c))
                     .collect();
                 questions_md.push_str(&format!(
-                    "\n## {}. Which letter marks the {}?\n\n![Question {}]({file})\n\nLetters: {}\n",
+                    "\n## {}. Which letter marks the {}{}?\n\n![Question {}]({file})\n\nLetters: {}\n",
                     k + 1,
                     vbrain::quiz::lower_first(answer),
+                    on_slice(&q),
                     k + 1,
                     shown.join(", ")
                 ));
@@ -144,9 +159,11 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         sheets.push(Sheet { heading, figure: Some(image), text: text.join("\n") });
         let kind = if q.kind == Kind::Name { "name" } else { "locate" };
         let choices: Vec<&str> = q.choices.iter().map(|&c| set.organs[c].id.as_str()).collect();
-        listed.push(
-            json!({"kind": kind, "organ": set.organs[q.organ].id, "choices": choices, "image": args.out.join(&file)}),
-        );
+        let slice = q.slice.map(|p| json!({"plane": p.axis.name(), "at_mm": p.at}));
+        listed.push(json!({
+            "kind": kind, "organ": set.organs[q.organ].id, "choices": choices, "image": args.out.join(&file),
+            "slice": slice,
+        }));
     }
     let write = |name: &str, text: &str| {
         vbrain::atomic::write(&args.out.join(name), |w| w.write_all(text.as_bytes())).map_err(|e| anyhow!(e))
@@ -175,4 +192,49 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         println!("{} questions written to {}", listed.len(), args.out.display());
     }
     Ok(true)
+}
+
+/// " on this coronal slice (y = -10 mm)" for a slice question, else nothing.
+fn on_slice(q: &quiz::Question) -> String {
+    q.slice.map_or(String::new(), |p| {
+        let side = match p.axis {
+            vbrain::mri::slice::Axis::Sagittal => "anterior on the left",
+            _ => "the patient's right on the left",
+        };
+        format!(" on this {} slice ({} = {} mm, {side})", p.axis.name(), p.axis.coordinate(), p.at)
+    })
+}
+
+/// A slice question's picture ([`crate::slice_figure`]): the MRI with every organ shown by default
+/// outlined, a name question's structure outlined boldly; a locate question's choices become the
+/// structure and the three nearest others on the slice. Returns the picture and its ID buffer.
+fn slice_picture(
+    set: &vbrain::organ_set::OrganSet,
+    q: &mut quiz::Question,
+    plane: vbrain::mri::slice::SlicePlane,
+    size: [u32; 2],
+    seed: u64,
+) -> (image::RgbaImage, Vec<u32>) {
+    let layout = Layout::new(set);
+    let bounds = crate::slice_figure::shown(&layout)
+        .iter()
+        .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let pane = vbrain::mri::slice::Pane::fit(plane, &bounds, size[0], size[1], true);
+    let options = crate::slice_figure::Options {
+        outlines: true,
+        labels: Labels::None,
+        window: Default::default(),
+        letters: true,
+        highlight: (q.kind == Kind::Name).then_some(q.organ),
+    };
+    let (image, ids) = crate::slice_figure::draw(set, &layout, &pane, &options);
+    if q.kind == Kind::Locate {
+        let mut shown: Vec<usize> = ids.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
+        shown.sort_unstable();
+        shown.dedup();
+        let mut rng = vbrain::rng::XorShift::seeded(seed);
+        q.choices = quiz::choices(set, q.organ, &shown, &mut rng);
+        q.choices.retain(|o| shown.contains(o));
+    }
+    (image, ids)
 }

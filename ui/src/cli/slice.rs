@@ -46,6 +46,7 @@ pub fn run(args: &SliceArgs) -> Result<bool> {
         labels: Labels::of(&which, &set, None),
         window: args.window.unwrap_or_default(),
         letters: true,
+        highlight: None,
     };
     let (image, ids) = crate::slice_figure::draw(&set, &layout, &pane, &options);
     vbrain::atomic::write_png(&args.out, &image, true)?;

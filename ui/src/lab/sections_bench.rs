@@ -45,8 +45,13 @@ pub fn run(set: &OrganSet, frames: usize, size: [u32; 2]) -> Result<Report> {
     let bounds = slice_figure::shown(&layout)
         .iter()
         .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
-    let options =
-        Options { outlines: true, labels: crate::annotate::Labels::None, window: Default::default(), letters: true };
+    let options = Options {
+        outlines: true,
+        labels: crate::annotate::Labels::None,
+        window: Default::default(),
+        letters: true,
+        highlight: None,
+    };
     let mut slice_ms = Vec::with_capacity(frames);
     for k in 0..frames {
         let t = (k as f32 + 0.5) / frames as f32;

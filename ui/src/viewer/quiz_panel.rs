@@ -220,8 +220,13 @@ fn setup(ui: &mut egui::Ui, s: &mut Setup, groups: &[String], history: &[String]
         r.on_hover_text("The same seed asks the same questions");
     });
     ui.horizontal(|ui| {
-        for (mode, text) in [(Mode::Locate, "Locate"), (Mode::Name, "Name"), (Mode::Mixed, "Mixed")] {
-            ui.radio_value(&mut s.mode, mode, text);
+        for (mode, text) in
+            [(Mode::Locate, "Locate"), (Mode::Name, "Name"), (Mode::Mixed, "Mixed"), (Mode::Mri, "MRI slices")]
+        {
+            let r = ui.radio_value(&mut s.mode, mode, text);
+            if mode == Mode::Mri {
+                r.on_hover_text("Name and locate by turns on axial, coronal and sagittal slices of the MRI");
+            }
         }
     });
     ui.horizontal(|ui| {
@@ -349,7 +354,7 @@ mod tests {
 
     #[test]
     fn marks_keep_score_streak_and_the_missed() {
-        let q = |organ| Question { kind: Kind::Locate, organ, choices: vec![organ] };
+        let q = |organ| Question { kind: Kind::Locate, organ, choices: vec![organ], slice: None };
         let mut run = Run::new("t".into(), vec![q(1), q(2), q(3)], 0.0, 1);
         assert!(run.mark(true, "a".into(), "ok".into(), 2.0));
         assert!(!run.mark(false, "b".into(), "no".into(), 3.0), "one mark per question");

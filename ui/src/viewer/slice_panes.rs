@@ -8,6 +8,8 @@
 //! - A click in a pane moves the crosshair there (the other panes and the 3-D view's section planes
 //!   that are on follow) and selects the organ under it; the wheel or the arrow keys step the
 //!   hovered pane's plane 1 mm; hovering names the structure.
+//! - While a quiz asks, hovering names nothing, and a "name it" question's structure is outlined
+//!   boldly; a click answers a "click it" question.
 //! - Panes are redrawn only when what they show changed (plane, size, layout, window, display).
 
 use super::action::Action;
@@ -45,6 +47,7 @@ struct Drawn {
     pane: Pane,
     layout: Layout,
     window: vbrain::mri::Window,
+    highlight: Option<usize>,
     title: String,
 }
 
@@ -62,6 +65,10 @@ pub struct SlicePanes {
     pub point: Option<Vec3>,
     pub radiological: bool,
     pub window: vbrain::mri::Window,
+    /// An organ outlined boldly in yellow (a quiz's "name it" structure).
+    pub highlight: Option<usize>,
+    /// Hovering names the structure (not while a quiz asks).
+    pub names: bool,
     images: [Option<PaneImage>; 3],
     /// Where each pane was drawn last (points) and what it showed.
     shown: [Option<(egui::Rect, Pane)>; 3],
@@ -73,6 +80,8 @@ impl Default for SlicePanes {
             point: None,
             radiological: true,
             window: Default::default(),
+            highlight: None,
+            names: true,
             images: [None, None, None],
             shown: [None, None, None],
         }
@@ -159,13 +168,14 @@ impl SlicePanes {
         let Some(pane) = self.pane(axis, set, layout, size) else { return out };
         self.shown[k] = Some((rect, pane));
         let title = format!("{} {} = {:.0} mm", axis.name(), axis.coordinate(), pane.plane.at);
-        let drawn = Drawn { pane, layout: layout.clone(), window: self.window, title };
+        let drawn = Drawn { pane, layout: layout.clone(), window: self.window, highlight: self.highlight, title };
         if self.images[k].as_ref().is_none_or(|i| i.drawn != drawn) {
             let options = crate::slice_figure::Options {
                 outlines: true,
                 labels: crate::annotate::Labels::None,
                 window: self.window,
                 letters: true,
+                highlight: self.highlight,
             };
             let (image, ids) = crate::slice_figure::draw(set, layout, &pane, &options);
             let colour = egui::ColorImage::from_rgba_unmultiplied([size[0] as usize, size[1] as usize], image.as_raw());
@@ -213,7 +223,7 @@ impl SlicePanes {
             (pane.world(p.x, p.y), id.checked_sub(1).map(|o| o as usize))
         };
         if let Some(pos) = response.hover_pos() {
-            if let (_, Some(o)) = under(pos) {
+            if let (true, (_, Some(o))) = (self.names, under(pos)) {
                 response.clone().on_hover_text_at_pointer(&set.organs[o].name);
             }
             let (scroll, keys) = ui.input(|i| {

@@ -119,3 +119,41 @@ fn take_a_lessons_quiz_from_its_steps() {
     let white = organ(&h, "white_matter_l");
     assert!(!shown.organs[white].visible, "question 2 starts from step 2, the cerebrum hidden");
 }
+
+/// The MRI quiz in the viewer: the slice panes come up through the question's structure, and a
+/// click on it in its pane answers right.
+#[test]
+fn an_mri_question_is_answered_by_clicking_its_slice() {
+    use vbrain::mri::slice::{organ_ids, Axis};
+    use vbrain::quiz::{Kind, Mode};
+    use vbrain_ui::viewer::action::{Action, Window};
+    use vbrain_ui::viewer::slice_panes::ViewLayout;
+    let mut h = harness_of(egui::Vec2::new(1000.0, 640.0));
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::Show(Window::Quiz)]);
+    h.run_steps(2);
+    let setup = &mut h.state_mut().quiz_mut().setup;
+    (setup.group, setup.questions, setup.mode, setup.seed) = ("Basal ganglia".into(), 2, Mode::Mri, 4);
+    h.get_by_label("Start quiz").click_accesskit();
+    h.run_steps(4);
+    assert_eq!(h.state().settings().view_layout, ViewLayout::ThreeDWithSlices);
+    let q = h.state().quiz().run.as_ref().unwrap().current().unwrap().clone();
+    assert_eq!(q.kind, Kind::Locate);
+    let plane = q.slice.unwrap();
+    let k = Axis::ALL.iter().position(|&a| a == plane.axis).unwrap();
+    let (rect, pane) = h.state().slices().shown(Axis::ALL[k]).unwrap();
+    assert_eq!(pane.plane, plane, "the pane shows the question's slice");
+    // A pixel deep inside the structure on that pane.
+    let set = h.state().scene().unwrap().set();
+    let shown: Vec<usize> = (0..set.organs.len()).filter(|&o| set.organs[o].visible).collect();
+    let ids = organ_ids(set, &shown, &pane);
+    let w = pane.width as usize;
+    let own = |i: usize| ids.get(i) == Some(&(q.organ as u32 + 1));
+    let deep = (w..ids.len() - w).find(|&i| own(i) && own(i - 1) && own(i + 1) && own(i - w) && own(i + w)).unwrap();
+    let ppp = ctx.pixels_per_point();
+    let at = rect.min + egui::vec2((deep % w) as f32 + 0.5, (deep / w) as f32 + 0.5) / ppp;
+    click(&h, at);
+    h.run_steps(3);
+    let (text, right) = h.state().quiz().run.as_ref().unwrap().feedback.clone().unwrap();
+    assert!(right, "a click on the structure in its slice is right: {text}");
+}

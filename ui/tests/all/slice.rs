@@ -219,3 +219,34 @@ fn a_click_in_the_coronal_pane_moves_the_other_panes_the_planes_and_the_selectio
     let moved = h.state().slices().point.unwrap();
     assert!((moved.z - point.z - 1.0).abs() < 0.01, "{moved} after {point}");
 }
+
+/// `vbrain quiz --mode mri`: each question on a slice that names its plane, its picture written.
+#[test]
+fn an_mri_worksheet_asks_on_slices() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("quiz");
+    let o = out.to_str().unwrap();
+    let v = json(&vbrain(&[
+        "quiz",
+        &brain(),
+        "--mode",
+        "mri",
+        "--questions",
+        "3",
+        "--seed",
+        "5",
+        "--size",
+        "320x320",
+        "--out",
+        o,
+        "--json",
+    ]));
+    let questions = v["questions"].as_array().unwrap();
+    assert_eq!(questions.len(), 3);
+    for q in questions {
+        assert!(["axial", "coronal", "sagittal"].contains(&q["slice"]["plane"].as_str().unwrap()), "{q}");
+        assert!(Path::new(q["image"].as_str().unwrap()).is_file());
+    }
+    let md = std::fs::read_to_string(out.join("questions.md")).unwrap();
+    assert_eq!(md.matches(" slice (").count(), 3, "{md}");
+}

@@ -1,7 +1,8 @@
 //! The app's quizzes: starting one (from the Quiz panel's setup or a lesson's quiz), showing each
 //! question's view (the default layout with the organs hiding the target faded, found from the
 //! viewport's organ-ID buffer, and a camera from the target's side; shown in place of the scene's
-//! layout, which the quiz never changes), marking clicks, typed names and picks, the time limit,
+//! layout, which the quiz never changes; a question on a slice also brings up the slice panes
+//! through its structure), marking clicks, typed names and picks, the time limit,
 //! the review, the history of results per set and the CSV export. A child module of the app, so
 //! it reaches its state.
 
@@ -68,6 +69,16 @@ impl App {
     fn show_question_view(&mut self, k: usize) {
         let (Some(scene), Some(run)) = (&self.scene, &self.quiz.run) else { return };
         let Some(organ) = run.questions.get(k).map(|q| q.organ) else { return };
+        // A question on a slice: the slice panes come up, through the structure on its plane.
+        if let Some(plane) = run.questions.get(k).and_then(|q| q.slice) {
+            use crate::viewer::slice_panes::ViewLayout;
+            if self.settings.view_layout == ViewLayout::ThreeD {
+                self.settings.view_layout = ViewLayout::ThreeDWithSlices;
+            }
+            let mut point = scene.set().organs[organ].mesh().bounds().center();
+            point[plane.axis.normal()] = plane.at;
+            self.slices.point = Some(point);
+        }
         let (base, nav) = run.views.get(k).cloned().flatten().unwrap_or_else(|| quiz::side_view(scene.set(), organ));
         let input = self.viewport_input();
         let (layout, _) = quiz::reveal(organ, &base, |l| self.viewport.ids_of(&input, l, nav).unwrap_or_default());
