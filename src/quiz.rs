@@ -385,7 +385,7 @@ mod tests {
         let set = set();
         for seed in 0..200 {
             let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| seed % 3 != 0 || o < 3).collect();
-            let mode = Mode::ALL[seed as usize % 3];
+            let mode = Mode::ALL[seed as usize % Mode::ALL.len()];
             let spec = Spec { scope: scope.clone(), questions: 1 + seed as usize % 9, mode, seed };
             let quiz = generate(&set, &spec).unwrap();
             assert_eq!(generate(&set, &spec).unwrap(), quiz, "a seed gives the same quiz");
@@ -414,8 +414,12 @@ mod tests {
             match spec.mode {
                 Mode::Locate => assert!(quiz.questions.iter().all(|q| q.kind == Kind::Locate)),
                 Mode::Name => assert!(quiz.questions.iter().all(|q| q.kind == Kind::Name)),
-                Mode::Mixed => assert!(quiz.questions.len() < 2 || quiz.questions[1].kind == Kind::Name),
+                Mode::Mixed | Mode::Mri => {
+                    assert!(quiz.questions.len() < 2 || quiz.questions[1].kind == Kind::Name)
+                }
             }
+            let sliced = quiz.questions.iter().all(|q| q.slice.is_some());
+            assert_eq!(sliced, spec.mode == Mode::Mri, "questions on slices only in the MRI mode");
         }
     }
 
