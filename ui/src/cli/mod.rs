@@ -7,6 +7,7 @@
 
 mod anki;
 mod bench;
+mod bench_sections;
 mod bench_transparency;
 mod city;
 pub mod common;
@@ -64,7 +65,7 @@ pub enum Command {
     Video(VideoArgs),
     /// A slice of the set as radiology shows it: its MRI with each organ's outline in its
     /// colour, side letters and labels, as a PNG (a set without MRI shows its organs filled)
-    Slice(SliceArgs),
+    Slice(slice::SliceArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
@@ -76,7 +77,7 @@ pub enum Command {
     BenchTransparency(BenchTransparencyArgs),
     /// What sectional anatomy costs: a 512x512 slice pane's redraw, and a frame with the MRI on
     /// its cut faces against one with coloured cut faces
-    BenchSections(BenchSectionsArgs),
+    BenchSections(bench_sections::BenchSectionsArgs),
     /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
     /// layout into occluders.json beside it, or with --experiment compare occluder selections
     Occluders(OccludersArgs),
@@ -354,42 +355,6 @@ pub struct RenderArgs {
 }
 
 #[derive(clap::Args)]
-pub struct SliceArgs {
-    /// Organ set [default: the default brain]
-    pub path: Option<PathBuf>,
-    /// The slice: axial=MM, coronal=MM or sagittal=MM (world RAS, millimetres)
-    #[arg(long, allow_hyphen_values = true, value_parser = values::slice_plane)]
-    pub plane: vbrain::mri::slice::SlicePlane,
-    /// Output PNG file
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Replace --out even where it is not a PNG image
-    #[arg(long)]
-    pub force: bool,
-    /// Image size, WxH, at most 4096x4096
-    #[arg(long, default_value = "1024x1024", value_parser = values::size)]
-    pub size: Size,
-    /// Draw each organ's outline in its colour
-    #[arg(long)]
-    pub outlines: bool,
-    /// Name organs with leader-line labels: none, all (the largest on the slice) or ID,ID,... (ids
-    /// or groups) [default: none]
-    #[arg(long)]
-    pub labels: Option<String>,
-    /// Neurological display (the patient's right on the right) instead of radiological
-    #[arg(long)]
-    pub neurological: bool,
-    /// The MRI's window and level, WINDOW,LEVEL, on its intensities normalised to 0..1
-    /// [default: 0.9,0.6]
-    #[arg(long, value_parser = values::window)]
-    pub window: Option<vbrain::mri::Window>,
-    #[command(flatten)]
-    pub layout: LayoutArgs,
-    #[command(flatten)]
-    pub report: Report,
-}
-
-#[derive(clap::Args)]
 pub struct ImportArgs {
     /// Label volume, .nii or .nii.gz
     pub volume: PathBuf,
@@ -509,20 +474,6 @@ pub struct BenchTransparencyArgs {
     /// Folder for transparency.csv, transparency.png and transparency-sheet.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
-    #[command(flatten)]
-    pub report: Report,
-}
-
-#[derive(clap::Args)]
-pub struct BenchSectionsArgs {
-    /// Organ set with an MRI [default: the default brain]
-    pub path: Option<PathBuf>,
-    /// Slice positions, and frames of each kind of cut face, 3..=1000
-    #[arg(long, default_value_t = 30, value_parser = count(3, 1000))]
-    pub frames: usize,
-    /// The 3-D frames' size, WxH
-    #[arg(long, default_value = "1024x768", value_parser = values::size)]
-    pub size: Size,
     #[command(flatten)]
     pub report: Report,
 }
@@ -709,7 +660,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::Bench(args) => bench::run(&args),
         Command::Masks(args) => masks::run(&args),
         Command::BenchTransparency(args) => bench_transparency::run(&args),
-        Command::BenchSections(args) => bench_transparency::sections(&args),
+        Command::BenchSections(args) => bench_sections::run(&args),
         Command::Occluders(args) => occluders::run(&args),
         Command::City(args) => city::run(&args),
         Command::Scale(args) => scale::run(&args),

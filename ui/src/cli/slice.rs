@@ -2,7 +2,7 @@
 //! MRI with organ outlines, side letters and labels ([`crate::slice_figure`]).
 
 use super::common::{apply_layout_args, open_set, organs, writable_png};
-use super::SliceArgs;
+use super::{values, LayoutArgs, Report, Size};
 use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -10,6 +10,42 @@ use std::path::PathBuf;
 use vbrain::labels::Which;
 use vbrain::layout::Layout;
 use vbrain::mri::slice::{Pane, MAX_PIXELS};
+
+#[derive(clap::Args)]
+pub struct SliceArgs {
+    /// Organ set [default: the default brain]
+    pub path: Option<PathBuf>,
+    /// The slice: axial=MM, coronal=MM or sagittal=MM (world RAS, millimetres)
+    #[arg(long, allow_hyphen_values = true, value_parser = values::slice_plane)]
+    pub plane: vbrain::mri::slice::SlicePlane,
+    /// Output PNG file
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Replace --out even where it is not a PNG image
+    #[arg(long)]
+    pub force: bool,
+    /// Image size, WxH, at most 4096x4096
+    #[arg(long, default_value = "1024x1024", value_parser = values::size)]
+    pub size: Size,
+    /// Draw each organ's outline in its colour
+    #[arg(long)]
+    pub outlines: bool,
+    /// Name organs with leader-line labels: none, all (the largest on the slice) or ID,ID,... (ids
+    /// or groups) [default: none]
+    #[arg(long)]
+    pub labels: Option<String>,
+    /// Neurological display (the patient's right on the right) instead of radiological
+    #[arg(long)]
+    pub neurological: bool,
+    /// The MRI's window and level, WINDOW,LEVEL, on its intensities normalised to 0..1
+    /// [default: 0.9,0.6]
+    #[arg(long, value_parser = values::window)]
+    pub window: Option<vbrain::mri::Window>,
+    #[command(flatten)]
+    pub layout: LayoutArgs,
+    #[command(flatten)]
+    pub report: Report,
+}
 
 pub fn run(args: &SliceArgs) -> Result<bool> {
     writable_png(&args.out, args.force)?;
