@@ -588,7 +588,7 @@ impl eframe::App for App {
             }
         }
         CentralPanel::no_frame().show(ui, |ui| {
-            use super::slice_panes::ViewLayout;
+            use super::settings::ViewLayout;
             let full = ui.available_rect_before_wrap();
             let layout = if self.scene.is_some() { self.settings.view_layout } else { ViewLayout::ThreeD };
             let (three_d, slices) = match layout {

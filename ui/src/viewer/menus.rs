@@ -161,7 +161,7 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
         out.push(Action::Show(Window::Sections));
     }
     ui.menu_button("Layout", |ui| {
-        for layout in super::slice_panes::ViewLayout::ALL {
+        for layout in super::settings::ViewLayout::ALL {
             ui.radio_value(&mut settings.view_layout, layout, layout.name());
         }
         ui.separator();

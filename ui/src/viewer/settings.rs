@@ -39,10 +39,31 @@ pub struct Settings {
     pub labels: LabelMode,
     /// The 3-D view, slice panes, or both (View > Layout).
     #[serde(default)]
-    pub view_layout: super::slice_panes::ViewLayout,
+    pub view_layout: ViewLayout,
     /// Slice panes in neurological display (the patient's right on the right).
     #[serde(default)]
     pub neurological: bool,
+}
+
+/// How the central area is shared between the 3-D view and the slice panes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum ViewLayout {
+    #[default]
+    ThreeD,
+    ThreeDWithSlices,
+    Slices,
+}
+
+impl ViewLayout {
+    pub const ALL: [ViewLayout; 3] = [ViewLayout::ThreeD, ViewLayout::ThreeDWithSlices, ViewLayout::Slices];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            ViewLayout::ThreeD => "3-D",
+            ViewLayout::ThreeDWithSlices => "3-D with slices",
+            ViewLayout::Slices => "Slices",
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

@@ -15,31 +15,9 @@
 use super::action::Action;
 use eframe::egui;
 use glam::Vec3;
-use serde::{Deserialize, Serialize};
 use vbrain::layout::Layout;
 use vbrain::mri::slice::{Axis, Pane, SlicePlane};
 use vbrain::organ_set::OrganSet;
-
-/// How the central area is shared between the 3-D view and the slice panes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum ViewLayout {
-    #[default]
-    ThreeD,
-    ThreeDWithSlices,
-    Slices,
-}
-
-impl ViewLayout {
-    pub const ALL: [ViewLayout; 3] = [ViewLayout::ThreeD, ViewLayout::ThreeDWithSlices, ViewLayout::Slices];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            ViewLayout::ThreeD => "3-D",
-            ViewLayout::ThreeDWithSlices => "3-D with slices",
-            ViewLayout::Slices => "Slices",
-        }
-    }
-}
 
 /// What a pane's image was drawn from: it is drawn again only when this changes.
 #[derive(Clone, PartialEq)]

@@ -127,7 +127,7 @@ fn an_mri_question_is_answered_by_clicking_its_slice() {
     use vbrain::mri::slice::{organ_ids, Axis};
     use vbrain::quiz::{Kind, Mode};
     use vbrain_ui::viewer::action::{Action, Window};
-    use vbrain_ui::viewer::slice_panes::ViewLayout;
+    use vbrain_ui::viewer::settings::ViewLayout;
     let mut h = harness_of(egui::Vec2::new(1000.0, 640.0));
     let ctx = h.ctx.clone();
     h.state_mut().perform(&ctx, vec![Action::Show(Window::Quiz)]);

@@ -178,7 +178,7 @@ fn a_click_in_the_coronal_pane_moves_the_other_panes_the_planes_and_the_selectio
     use egui_kittest::kittest::Queryable;
     use vbrain::mri::slice::Axis;
     use vbrain_ui::viewer::action::{Action, Window};
-    use vbrain_ui::viewer::slice_panes::ViewLayout;
+    use vbrain_ui::viewer::settings::ViewLayout;
     let mut h = harness_of(egui::Vec2::new(1000.0, 640.0));
     h.state_mut().settings_mut().view_layout = ViewLayout::ThreeDWithSlices;
     let ctx = h.ctx.clone();

@@ -71,7 +71,7 @@ impl App {
         let Some(organ) = run.questions.get(k).map(|q| q.organ) else { return };
         // A question on a slice: the slice panes come up, through the structure on its plane.
         if let Some(plane) = run.questions.get(k).and_then(|q| q.slice) {
-            use crate::viewer::slice_panes::ViewLayout;
+            use crate::viewer::settings::ViewLayout;
             if self.settings.view_layout == ViewLayout::ThreeD {
                 self.settings.view_layout = ViewLayout::ThreeDWithSlices;
             }
