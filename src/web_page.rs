@@ -189,12 +189,42 @@ fn html(page: &Page, glb: &[u8]) -> String {
     let imports: serde_json::Map<String, Value> =
         THREE.iter().map(|(name, _, text)| (name.to_string(), json!(module_url(text)))).collect();
     let import_map = json!({ "imports": imports }).to_string();
-    TEMPLATE
-        .replace("{{TITLE}}", &escape_markup(&page.title))
-        .replace("{{IMPORTMAP}}", &json_safe(&import_map))
-        .replace("{{DATA}}", &json_safe(&description(page).to_string()))
-        .replace("{{GLB}}", &base64(glb))
-        .replace("{{APP}}", &script_safe(APP))
+    fill(
+        TEMPLATE,
+        &[
+            ("TITLE", &escape_markup(&page.title)),
+            ("IMPORTMAP", &json_safe(&import_map)),
+            ("DATA", &json_safe(&description(page).to_string())),
+            ("GLB", &base64(glb)),
+            ("APP", &script_safe(APP)),
+        ],
+    )
+}
+
+/// `template` with each `{{NAME}}` of `values` replaced, in one pass: what a value holds is never
+/// searched again, so a caption holding `{{APP}}` stays text. Unknown names stay as they are.
+fn fill(template: &str, values: &[(&str, &str)]) -> String {
+    let mut out = String::with_capacity(template.len() + values.iter().map(|(_, v)| v.len()).sum::<usize>());
+    let mut rest = template;
+    while let Some(i) = rest.find("{{") {
+        out.push_str(&rest[..i]);
+        let after = &rest[i + 2..];
+        let known = after
+            .find("}}")
+            .and_then(|j| values.iter().find(|(name, _)| *name == &after[..j]).map(|(_, value)| (*value, j)));
+        match known {
+            Some((value, j)) => {
+                out.push_str(value);
+                rest = &after[j + 2..];
+            }
+            None => {
+                out.push_str("{{");
+                rest = after;
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// A vendored module as a `data:` URL, its relative imports renamed to the import map's names.
@@ -325,6 +355,15 @@ fn view_json(set: &OrganSet, v: &View) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn placeholders_in_the_values_stay_text() {
+        let filled =
+            fill("<t>{{TITLE}}</t><s>{{APP}}</s>{{NONE}}", &[("TITLE", "{{APP}} and {{GLB}}"), ("APP", "code")]);
+        assert_eq!(filled, "<t>{{APP}} and {{GLB}}</t><s>code</s>{{NONE}}");
+        assert_eq!(fill("{{", &[]), "{{");
+        assert_eq!(fill("a}}b{{APP", &[("APP", "x")]), "a}}b{{APP");
+    }
     use crate::mesh::Mesh;
     use crate::organ_set::Organ;
 
