@@ -16,7 +16,11 @@ use serde::{Deserialize, Serialize};
 /// Planes at once (the shaders' uniform array).
 pub const MAX_PLANES: usize = 4;
 
+/// The farthest a plane may lie from the origin, millimetres (10 m: far past any organ set).
+pub const MAX_OFFSET_MM: f32 = 10_000.0;
+
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "PlaneFields")]
 pub struct ClipPlane {
     /// Unit normal, pointing into the removed side.
     pub normal: [f32; 3],
@@ -177,11 +181,38 @@ pub enum Side {
     Cut,
 }
 
+/// A plane as files hold it, checked by [`ClipPlane::new`] as it is read.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlaneFields {
+    normal: [f32; 3],
+    d: f32,
+}
+
+impl TryFrom<PlaneFields> for ClipPlane {
+    type Error = String;
+    fn try_from(f: PlaneFields) -> Result<ClipPlane, String> {
+        ClipPlane::new(Vec3::from(f.normal), f.d).ok_or_else(|| {
+            format!(
+                "clip plane normal {:?}, d {}: a plane needs a non-zero normal and lies within {MAX_OFFSET_MM} mm \
+                 of the origin",
+                f.normal, f.d
+            )
+        })
+    }
+}
+
+/// Why `planes` cannot be one section: more than [`MAX_PLANES`].
+pub fn planes_problem(planes: &[ClipPlane]) -> Option<String> {
+    (planes.len() > MAX_PLANES).then(|| format!("{} clip planes: a section has at most {MAX_PLANES}", planes.len()))
+}
+
 impl ClipPlane {
-    /// A plane removing `n · p > d`; `None` for a zero or non-finite normal or offset.
+    /// A plane removing `n · p > d`; `None` for a zero or non-finite normal or offset, or one
+    /// farther than [`MAX_OFFSET_MM`] from the origin.
     pub fn new(normal: Vec3, d: f32) -> Option<ClipPlane> {
         let len = normal.length();
-        if !(len.is_finite() && len > 1e-6 && d.is_finite()) {
+        if !(len.is_finite() && len > 1e-6 && d.is_finite() && (d / len).abs() <= MAX_OFFSET_MM) {
             return None;
         }
         Some(ClipPlane { normal: (normal / len).to_array(), d: d / len })

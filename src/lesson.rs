@@ -161,12 +161,24 @@ pub struct StepView {
     pub labels: Option<Which>,
 }
 
+/// The most steps, and the most quiz questions, a lesson may have.
+pub const MAX_STEPS: usize = 500;
+
 impl Lesson {
-    /// Parses a lesson's text; `path` names it in errors.
+    /// Parses a lesson's text; `path` names it in errors (a lesson has at most [`MAX_STEPS`] steps
+    /// and questions, each step at most [`crate::clip::MAX_PLANES`] planes).
     pub fn parse(text: &str, path: &Path) -> Result<Lesson> {
         let lesson: Lesson = crate::json_file::parse(text, path, FORMAT, "lesson")?;
         if lesson.steps.is_empty() {
             return Err(Error::parse(path, None, "a lesson needs at least one step"));
+        }
+        if lesson.steps.len() > MAX_STEPS || lesson.quiz.len() > MAX_STEPS {
+            let (steps, questions) = (lesson.steps.len(), lesson.quiz.len());
+            return Err(Error::parse(
+                path,
+                None,
+                format!("{steps} steps and {questions} quiz questions: a lesson has at most {MAX_STEPS} of each"),
+            ));
         }
         if let Some(mark) = lesson.pass_mark.filter(|m| !(0.0..=100.0).contains(m)) {
             return Err(Error::parse(path, None, format!("pass_mark {mark} is not a percentage in 0..=100")));
@@ -178,6 +190,7 @@ impl Lesson {
                         .then(|| format!("zoom {} is not in (0.0001, 10000]", step.zoom))
                 })
                 .or_else(|| step.camera.as_ref().and_then(|c| c.problem()))
+                .or_else(|| crate::clip::planes_problem(&step.clip))
                 .or_else(|| {
                     step.place.iter().find_map(|(id, p)| {
                         let t = Transform::from_parts(p.translation, p.rotation, p.scale, glam::Vec3::ZERO);
@@ -617,5 +630,19 @@ mod tests {
         let step_typo = r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [
             {"title": "s", "caption": "c", "hid": ["a"]}]}"#;
         assert!(Lesson::parse(step_typo, p).unwrap_err().to_string().contains("hid"), "a misspelt key is named");
+        let steps = |n: usize, step: &str| {
+            let all = vec![step; n].join(",");
+            format!(r#"{{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [{all}]}}"#)
+        };
+        let plain = r#"{"title": "s", "caption": "c"}"#;
+        assert!(Lesson::parse(&steps(MAX_STEPS, plain), p).is_ok());
+        let e = Lesson::parse(&steps(MAX_STEPS + 1, plain), p).unwrap_err().to_string();
+        assert!(e.contains("501 steps") && e.contains("at most 500"), "{e}");
+        let plane = r#"{"normal": [0, 0, 1], "d": 2}"#;
+        let cut = format!(r#"{{"title": "s", "caption": "c", "clip": [{}]}}"#, vec![plane; 5].join(","));
+        let e = Lesson::parse(&steps(1, &cut), p).unwrap_err().to_string();
+        assert!(e.contains("step 1: 5 clip planes"), "{e}");
+        let far = r#"{"title": "s", "caption": "c", "clip": [{"normal": [0, 0, 1], "d": 1e39}]}"#;
+        assert!(Lesson::parse(&steps(1, far), p).is_err(), "a plane 1e39 mm away");
     }
 }

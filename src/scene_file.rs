@@ -218,7 +218,7 @@ impl SceneFile {
     /// it (as the viewer's settings are).
     pub fn parse(text: &str, path: &Path) -> Result<SceneFile> {
         let mut scene: SceneFile = crate::json_file::parse(text, path, FORMAT, "scene")?;
-        if let Some(problem) = scene.camera.problem() {
+        if let Some(problem) = scene.camera.problem().or_else(|| crate::clip::planes_problem(&scene.clip)) {
             return Err(Error::parse(path, None, problem));
         }
         for e in &scene.organs {
@@ -368,6 +368,33 @@ mod tests {
         assert_eq!(back.set_path(Path::new("/data/scenes/x.vbscene")), Path::new("/data/scenes/../sets/brain"));
         // Keys in a fixed order: the format first.
         assert!(text.starts_with("{\n  \"format\": \"vbrain-scene/1\",\n  \"set\""), "{text}");
+    }
+
+    #[test]
+    fn planes_and_cut_faces_are_checked_where_they_are_read() {
+        let set = set();
+        let mut s = scene(&set, &Layout::new(&set));
+        s.clip = vec![crate::clip::ClipPlane::parse("axial=3").unwrap()];
+        s.cut_face = crate::clip::CutFace { show: crate::clip::CutFaceShows::Mri, ..Default::default() };
+        let good = s.to_json(Path::new("x.vbscene")).unwrap();
+        assert_eq!(SceneFile::parse(&good, Path::new("x.vbscene")).unwrap(), s, "the cut faces round-trip");
+        let p = Path::new("bad.vbscene");
+        let plane = "\"normal\": [\n        0.0,\n        0.0,\n        1.0\n      ],\n      \"d\": 3.0";
+        assert!(good.contains(plane), "{good}");
+        for (bad, says) in [
+            (good.replace(plane, "\"normal\": [0.0, 0.0, 0.0], \"d\": 3.0"), "non-zero normal"),
+            (good.replace(plane, "\"normal\": [0.0, 0.0, 1.0], \"d\": 1e30"), "within 10000 mm"),
+            (good.replace(plane, "\"normal\": [0.0, 0.0, 1.0], \"d\": 3.0, \"e\": 1"), "unknown field"),
+            (good.replace("\"level\": 0.6", "\"level\": 9.0"), "level"),
+            (good.replace("\"show\": \"mri\"", "\"show\": \"xray\""), "unknown variant"),
+        ] {
+            let e = SceneFile::parse(&bad, p).unwrap_err().to_string();
+            assert!(e.starts_with("bad.vbscene") && e.contains(says), "{says}: {e}");
+        }
+        s.clip = vec![crate::clip::ClipPlane::parse("axial=3").unwrap(); 5];
+        let five = s.to_json(p).unwrap();
+        let e = SceneFile::parse(&five, p).unwrap_err().to_string();
+        assert!(e.contains("5 clip planes") && e.contains("at most 4"), "{e}");
     }
 
     #[test]
