@@ -123,8 +123,12 @@ pub fn format_colour(c: [f32; 3]) -> String {
     format!("#{:02x}{:02x}{:02x}", b[0], b[1], b[2])
 }
 
+/// The most organs (and the most solids) a manifest may list.
+pub const MAX_ORGANS: usize = 10_000;
+
 impl Manifest {
-    /// Checks the set-wide fields; returns one message per problem.
+    /// Checks the set-wide fields (and the organ count, [`MAX_ORGANS`]); returns one message per
+    /// problem.
     pub fn validate(&self) -> Vec<String> {
         let mut problems = Vec::new();
         if self.format != FORMAT {
@@ -135,6 +139,13 @@ impl Manifest {
         }
         if self.coordinates != "RAS" {
             problems.push(format!("coordinates \"{}\" not supported (only \"RAS\")", self.coordinates));
+        }
+        if self.organs.len() > MAX_ORGANS || self.solids.len() > MAX_ORGANS {
+            problems.push(format!(
+                "{} organs and {} solids: a set has at most {MAX_ORGANS} of each",
+                self.organs.len(),
+                self.solids.len()
+            ));
         }
         problems
     }

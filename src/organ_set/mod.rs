@@ -473,13 +473,18 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     let dir = path.parent().unwrap_or(Path::new("."));
     let mut loaded = Loaded::default();
     let mut seen = std::collections::HashSet::new();
-    let results: Vec<Result<(Organ, Vec<String>)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = manifest.organs.iter().map(|entry| s.spawn(|| load_entry(entry, dir, path))).collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().unwrap_or_else(|_| Err(Error::LoaderPanicked { path: path.to_path_buf() })))
+    // On rayon's pool (a thread per core), not a thread per organ.
+    let results: Vec<Result<(Organ, Vec<String>)>> = {
+        use rayon::prelude::*;
+        manifest
+            .organs
+            .par_iter()
+            .map(|entry| {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| load_entry(entry, dir, path)))
+                    .unwrap_or_else(|_| Err(Error::LoaderPanicked { path: path.to_path_buf() }))
+            })
             .collect()
-    });
+    };
     for (entry, result) in manifest.organs.iter().zip(results) {
         match result {
             Ok((organ, warnings)) if seen.insert(organ.id.clone()) => {

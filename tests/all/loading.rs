@@ -290,3 +290,29 @@ fn occluder_stand_ins_round_trip_and_a_broken_one_is_only_a_warning() {
         loaded.warnings
     );
 }
+
+/// Thousands of organs load on a bounded pool (a thread per organ once panicked at 34,000), and a
+/// manifest past the bound is refused with it before any mesh is read.
+#[test]
+fn many_organs_load_and_too_many_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    std::fs::write(
+        dir.path().join("meshes/a.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+    )
+    .unwrap();
+    let manifest = |n: usize| {
+        let organs: Vec<String> = (0..n)
+            .map(|i| format!(r##"{{"id": "o{i}", "name": "O {i}", "mesh": "meshes/a.obj", "colour": "#808080"}}"##))
+            .collect();
+        format!(r#"{{"format": "vbrain-organ-set/1", "title": "many", "organs": [{}]}}"#, organs.join(",\n"))
+    };
+    let path = dir.path().join(organ_set::MANIFEST_FILE);
+    std::fs::write(&path, manifest(3000)).unwrap();
+    let loaded = organ_set::open(dir.path()).unwrap();
+    assert_eq!((loaded.set.organs.len(), loaded.errors.len()), (3000, 0));
+    std::fs::write(&path, manifest(organ_set::manifest::MAX_ORGANS + 1)).unwrap();
+    let e = organ_set::open(dir.path()).err().unwrap().to_string();
+    assert!(e.contains("organset.json") && e.contains("at most 10000"), "{e}");
+}
