@@ -86,11 +86,16 @@ pub fn read(path: &Path, kind: Kind) -> Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// Reads a UTF-8 text file of `kind`.
+/// Reads a UTF-8 text file of `kind`, without a leading byte-order mark.
 pub fn read_text(path: &Path, kind: Kind) -> Result<String> {
-    String::from_utf8(read(path, kind)?).map_err(|e| {
+    let text = String::from_utf8(read(path, kind)?).map_err(|e| {
         let line = 1 + e.as_bytes()[..e.utf8_error().valid_up_to()].iter().filter(|&&b| b == b'\n').count();
         Error::parse(path, Some(line), format!("not UTF-8 text (a {} is)", kind.name()))
+    })?;
+    // A byte-order mark (as some editors on Windows write) is not part of the text.
+    Ok(match text.strip_prefix('\u{feff}') {
+        Some(rest) => rest.to_string(),
+        None => text,
     })
 }
 

@@ -13,10 +13,18 @@ use std::path::Path;
 pub fn parse<T: DeserializeOwned>(text: &str, path: &Path, format: &str, kind: &str) -> Result<T> {
     let value: serde_json::Value =
         serde_json::from_str(text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
-    let family = format.split_once('/').map_or(format, |(f, _)| f);
+    let (family, ours) = format.split_once('/').unwrap_or((format, ""));
+    let version = |v: &str| v.parse::<u32>().ok();
+    // Only a well-formed later version of the same family is "newer".
+    let newer = |f: &str| {
+        f.strip_prefix(family)
+            .and_then(|rest| rest.strip_prefix('/'))
+            .and_then(version)
+            .is_some_and(|v| version(ours).is_some_and(|o| v > o))
+    };
     match value.get("format").and_then(|f| f.as_str()) {
         Some(f) if f == format => {}
-        Some(f) if f.strip_prefix(family).is_some_and(|rest| rest.starts_with('/')) => {
+        Some(f) if newer(f) => {
             return Err(Error::parse(
                 path,
                 None,

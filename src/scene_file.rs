@@ -391,6 +391,15 @@ mod tests {
             let e = SceneFile::parse(&bad, p).unwrap_err().to_string();
             assert!(e.starts_with("bad.vbscene") && e.contains(says), "{says}: {e}");
         }
+        // A byte-order mark before the text is no error; a format with a stray space is not "newer".
+        let dir = tempfile::tempdir().unwrap();
+        let file = dir.path().join("bom.vbscene");
+        std::fs::write(&file, format!("\u{feff}{good}")).unwrap();
+        assert_eq!(SceneFile::load(&file).unwrap(), s);
+        let e = SceneFile::parse(&good.replace("vbrain-scene/1", "vbrain-scene/1 "), p).unwrap_err().to_string();
+        assert!(e.contains("is not a vbrain scene") && !e.contains("newer"), "{e}");
+        let e = SceneFile::parse(&good.replace("vbrain-scene/1", "vbrain-scene/2"), p).unwrap_err().to_string();
+        assert!(e.contains("newer"), "{e}");
         s.clip = vec![crate::clip::ClipPlane::parse("axial=3").unwrap(); 5];
         let five = s.to_json(p).unwrap();
         let e = SceneFile::parse(&five, p).unwrap_err().to_string();

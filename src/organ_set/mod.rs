@@ -324,9 +324,9 @@ impl OrganSet {
     /// read is an error, and nothing is written.
     pub fn save_stand_ins(&self, dir: &Path) -> Result<()> {
         let path = dir.join(MANIFEST_FILE);
-        let text = crate::input::read(&path, crate::input::Kind::Manifest)?;
+        let text = crate::input::read_text(&path, crate::input::Kind::Manifest)?;
         let mut manifest: Manifest =
-            serde_json::from_slice(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
+            serde_json::from_str(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
         self.write_stand_ins(dir)?;
         // The meshes stay as they are: numbered as their hierarchies were first built.
         self.write_hidden_faces(dir, |o, t| self.organs[o].first_number(t))?;
@@ -463,9 +463,9 @@ fn mesh_files_in(dir: &Path) -> Result<Vec<PathBuf>> {
 
 /// Reads the manifest; a problem with the manifest itself is fatal, a problem with one organ is not.
 pub fn open_manifest(path: &Path) -> Result<Loaded> {
-    let text = crate::input::read(path, crate::input::Kind::Manifest)?;
+    let text = crate::input::read_text(path, crate::input::Kind::Manifest)?;
     let manifest: Manifest =
-        serde_json::from_slice(&text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
+        serde_json::from_str(&text).map_err(|e| Error::parse(path, Some(e.line()), e.to_string()))?;
     let problems = manifest.validate();
     if !problems.is_empty() {
         return Err(Error::parse(path, None, problems.join("; ")));
