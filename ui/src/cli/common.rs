@@ -146,6 +146,18 @@ pub fn writable_png(out: &Path, force: bool) -> Result<()> {
     }
 }
 
+/// Refuses to write a scene over a folder, or over a file that is not a vbrain scene (an organ
+/// set's manifest, say) unless `force`.
+pub fn writable_scene(out: &Path, force: bool) -> Result<()> {
+    if out.is_dir() {
+        bail!("{}: is a folder; give a file name ending in .vbscene", out.display());
+    }
+    if out.exists() && !force && SceneFile::load(out).is_err() {
+        bail!("{}: exists and is not a vbrain scene; give --force to replace it", out.display());
+    }
+    Ok(())
+}
+
 /// Prints what a command wrote: organs and triangles (with `json`, as one object).
 pub fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
     if json {

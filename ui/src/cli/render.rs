@@ -23,6 +23,9 @@ use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
     super::common::writable_png(&args.out, args.force)?;
+    if let Some(out) = &args.save_scene {
+        super::common::writable_scene(out, args.force)?;
+    }
     let (width, height) = (args.size.width, args.size.height);
     let scene = match &args.scene {
         Some(p) => Some((p, SceneFile::load(p).map_err(|e| anyhow!(e))?)),
@@ -90,14 +93,18 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let (section, saved_section) = section(&set, &args.section, from_scene)?;
     let which = Which::parse(args.labels.as_deref().or(from_scene.and_then(|s| s.labels.as_deref())).unwrap_or(""));
 
-    if let Some(out) = &args.save_scene {
-        let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
-        let render = RenderState { transparency, cull: mode, background: background_srgb };
-        let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
-        file.set_section(saved_section);
-        file.labels = which.key();
-        file.save(out).map_err(|e| anyhow!(e))?;
-    }
+    // The scene is written once the picture is: a render that fails leaves no scene behind.
+    let scene_out = match &args.save_scene {
+        Some(out) => {
+            let Some(nav) = nav else { bail!("--save-scene: a bench route's camera cannot be saved in a scene") };
+            let render = RenderState { transparency, cull: mode, background: background_srgb };
+            let mut file = SceneFile::capture(&set, &path, out, &layout, nav, render, selection);
+            file.set_section(saved_section);
+            file.labels = which.key();
+            Some((out, file))
+        }
+        None => None,
+    };
 
     let set_bounds = Layout::new(&set).bounds(&set);
     for p in &section.planes {
@@ -146,6 +153,9 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
     }
     vbrain::atomic::write_png(&args.out, &image, true)?;
+    if let Some((out, file)) = &scene_out {
+        file.save(out).map_err(|e| anyhow!(e))?;
+    }
     if args.report.json {
         let out = json!({
             "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,

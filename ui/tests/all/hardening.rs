@@ -182,3 +182,31 @@ fn commands_that_write_a_set_refuse_a_folder_that_holds_files() {
     refused(&["stand-ins", &brain(), "--out", m], "--force");
     assert_eq!(std::fs::read_to_string(mine.join("notes.txt")).unwrap(), "mine");
 }
+
+/// `render --save-scene` never replaces what is not a scene (an organ set's manifest, say) without
+/// `--force`, and a render that fails writes no scene.
+#[test]
+fn save_scene_replaces_only_scenes_and_only_after_the_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let manifest = dir.path().join("organset.json");
+    let text = "{\"format\": \"vbrain-organ-set/1\"}";
+    std::fs::write(&manifest, text).unwrap();
+    let png = dir.path().join("x.png");
+    let (p, m) = (png.to_str().unwrap(), manifest.to_str().unwrap());
+    let set = brain();
+    let run = vbrain(&["render", &set, "--size", "64x48", "--out", p, "--save-scene", m]);
+    assert!(!run.status.success() && stderr(&run).contains("not a vbrain scene"), "{}", stderr(&run));
+    assert_eq!(std::fs::read_to_string(&manifest).unwrap(), text, "the manifest is untouched");
+    assert!(!png.exists(), "nothing rendered");
+    // A render that fails (a plane outside the set) writes no scene.
+    let scene = dir.path().join("s.vbscene");
+    let s = scene.to_str().unwrap();
+    let run = vbrain(&["render", &set, "--size", "64x48", "--out", p, "--save-scene", s, "--clip", "axial=900"]);
+    assert!(!run.status.success() && !scene.exists(), "{}", stderr(&run));
+    // A scene it wrote it may write again.
+    for _ in 0..2 {
+        let run = vbrain(&["render", &set, "--size", "64x48", "--out", p, "--save-scene", s]);
+        assert!(run.status.success(), "{}", stderr(&run));
+    }
+    assert!(scene.is_file());
+}
