@@ -639,7 +639,7 @@ mod tests {
         let e = Lesson::parse(&steps(MAX_STEPS + 1, plain), p).unwrap_err().to_string();
         assert!(e.contains("501 steps") && e.contains("at most 500"), "{e}");
         let plane = r#"{"normal": [0, 0, 1], "d": 2}"#;
-        let cut = format!(r#"{{"title": "s", "caption": "c", "clip": [{}]}}"#, vec![plane; 5].join(","));
+        let cut = format!(r#"{{"title": "s", "caption": "c", "clip": [{}]}}"#, [plane; 5].join(","));
         let e = Lesson::parse(&steps(1, &cut), p).unwrap_err().to_string();
         assert!(e.contains("step 1: 5 clip planes"), "{e}");
         let far = r#"{"title": "s", "caption": "c", "clip": [{"normal": [0, 0, 1], "d": 1e39}]}"#;
