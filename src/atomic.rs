@@ -1,6 +1,8 @@
 //! Atomic writes: a file is written as a temporary file beside the target, flushed to disk, then
 //! renamed; a folder is written whole into a staging folder beside it, which then takes its place.
 //! A crash or a full disk leaves either the old file or folder or the new one, never half of one.
+//! What a killed run left (`.NAME.PID.tmp` files, `.NAME.staging-PID` folders of a process no
+//! longer running) is removed by the next write of the same name.
 
 use crate::error::{Error, Result};
 use std::io::Write;
@@ -23,6 +25,7 @@ fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<
         _ => std::path::PathBuf::from("."),
     };
     let name = path.file_name().ok_or_else(|| Error::NotAFileName { path: path.to_path_buf() })?;
+    remove_stale(&dir, &name.to_string_lossy());
     let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
     let result = (|| {
         let file = std::fs::File::create(&tmp)?;
@@ -41,6 +44,27 @@ fn write_impl(path: &Path, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<
         let _ = std::fs::remove_file(&tmp);
     }
     result.map_err(io)
+}
+
+/// Removes, from `dir`, the temporary files and staging folders of writes of `name` by processes
+/// no longer running (a killed export, say). Only where running processes can be told (`/proc`).
+fn remove_stale(dir: &Path, name: &str) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let prefix = format!(".{name}.");
+    for entry in entries.flatten() {
+        let file = entry.file_name();
+        let Some(rest) = file.to_str().and_then(|f| f.strip_prefix(&prefix)) else { continue };
+        let pid = rest.strip_suffix(".tmp").or_else(|| rest.strip_prefix("staging-"));
+        let Some(pid) = pid.filter(|p| !p.is_empty() && p.bytes().all(|b| b.is_ascii_digit())) else { continue };
+        if pid != std::process::id().to_string() && !proc.join(pid).exists() {
+            let path = entry.path();
+            let _ = if path.is_dir() { std::fs::remove_dir_all(&path) } else { std::fs::remove_file(&path) };
+        }
+    }
 }
 
 /// How many entries the folder `dir` holds (0 where it does not exist); an error where `dir` is
@@ -64,6 +88,7 @@ pub fn write_folder(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Resul
     };
     let name = dir.file_name().ok_or_else(|| Error::NotAFileName { path: dir.to_path_buf() })?.to_string_lossy();
     std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+    remove_stale(&parent, &name);
     let staging = parent.join(format!(".{name}.staging-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir(&staging).map_err(|e| Error::io(&staging, e))?;
@@ -104,6 +129,24 @@ pub fn write_png(path: &Path, image: &image::RgbaImage, replace: bool) -> Result
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn what_a_killed_run_left_goes_with_the_next_write() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        // A process id no Linux system hands out (above the largest pid_max).
+        let dead = 4_194_305u32;
+        std::fs::write(d.join(format!(".x.png.{dead}.tmp")), b"half").unwrap();
+        std::fs::create_dir(d.join(format!(".out.staging-{dead}"))).unwrap();
+        std::fs::write(d.join(".x.png.notes.tmp"), b"someone else's").unwrap();
+        std::fs::write(d.join(format!(".y.png.{dead}.tmp")), b"another name's").unwrap();
+        write(&d.join("x.png"), |w| w.write_all(b"png")).unwrap();
+        write_folder(&d.join("out"), |s| std::fs::write(s.join("a"), b"a").map_err(|e| Error::io(s, e))).unwrap();
+        let mut left: Vec<String> =
+            std::fs::read_dir(d).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+        left.sort();
+        assert_eq!(left, [".x.png.notes.tmp", &format!(".y.png.{dead}.tmp"), "out", "x.png"]);
+    }
 
     #[test]
     fn replaces_and_refuses() {
