@@ -158,6 +158,12 @@ pub fn writable_scene(out: &Path, force: bool) -> Result<()> {
     Ok(())
 }
 
+/// Text from a file as a terminal may show it: control characters (escape sequences that would
+/// recolour or clear the terminal, say) written out as `\u{1b}`, never sent raw.
+pub fn terminal_safe(text: &str) -> String {
+    text.chars().map(|c| if c.is_control() { c.escape_unicode().to_string() } else { c.to_string() }).collect()
+}
+
 /// Prints what a command wrote: organs and triangles (with `json`, as one object).
 pub fn summary(json: bool, what: &str, set: &OrganSet, out: &Path) -> Result<bool> {
     if json {

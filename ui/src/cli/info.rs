@@ -24,11 +24,12 @@ pub fn run(args: &InfoArgs) -> Result<bool> {
         let out = json!({ "title": set.title, "path": path, "organs": organs, "triangles": set.triangle_count(), "bounds": bounds });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        println!("{}: {} organs, {} triangles", set.title, set.organs.len(), set.triangle_count());
+        let shown = super::common::terminal_safe;
+        println!("{}: {} organs, {} triangles", shown(&set.title), set.organs.len(), set.triangle_count());
         println!("from {}", path.display());
         println!("bounds (mm, RAS): {:?} .. {:?}", bounds.min, bounds.max);
         for o in &set.organs {
-            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh().triangle_count(), o.name);
+            println!("  {:<28} {:>8} triangles  {}", o.id, o.mesh().triangle_count(), shown(&o.name));
         }
     }
     Ok(ok)

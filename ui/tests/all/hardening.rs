@@ -210,3 +210,23 @@ fn save_scene_replaces_only_scenes_and_only_after_the_render() {
     }
     assert!(scene.is_file());
 }
+
+/// Names holding terminal escape codes are printed as text by `info`, never sent raw.
+#[test]
+fn info_never_prints_escape_codes_raw() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("meshes")).unwrap();
+    std::fs::write(
+        dir.path().join("meshes/a.obj"),
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n",
+    )
+    .unwrap();
+    let manifest = r##"{"format": "vbrain-organ-set/1", "title": "T\u001b[31mred", "organs": [
+        {"id": "a", "name": "A\u001b[2J\u0007", "mesh": "meshes/a.obj", "colour": "#808080"}]}"##;
+    std::fs::write(dir.path().join("organset.json"), manifest).unwrap();
+    let out = vbrain(&["info", dir.path().to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{}", stderr(&out));
+    assert!(!out.stdout.contains(&0x1b) && !out.stdout.contains(&0x07), "{text}");
+    assert!(text.contains("A\\u{1b}[2J\\u{7}") && text.contains("T\\u{1b}[31mred"), "{text}");
+}
