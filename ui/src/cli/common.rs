@@ -99,7 +99,11 @@ pub fn section(set: &OrganSet, args: &SectionArgs, scene: Option<&SceneFile>) ->
     }
     let (section, unknown) = saved.resolve(set);
     if let Some(key) = unknown.first() {
-        bail!("--whole: no organ with id \"{key}\" and no group of that name (see `vbrain info`)");
+        // The user's option is an error; a scene's stale name only a warning, as for its organs.
+        if !args.whole.is_empty() {
+            bail!("--whole: no organ with id \"{key}\" and no group of that name (see `vbrain info`)");
+        }
+        eprintln!("warning: the scene keeps \"{key}\" whole, which the set has no organ or group of; left out");
     }
     Ok((section, saved))
 }

@@ -230,3 +230,22 @@ fn info_never_prints_escape_codes_raw() {
     assert!(!out.stdout.contains(&0x1b) && !out.stdout.contains(&0x07), "{text}");
     assert!(text.contains("A\\u{1b}[2J\\u{7}") && text.contains("T\\u{1b}[31mred"), "{text}");
 }
+
+/// A scene naming an organ the set lacks among those kept whole renders with a warning (a scene
+/// never stops at a bad organ); the same name given as `--whole` is an error naming the option.
+#[test]
+fn a_scenes_unknown_whole_organ_warns_but_the_option_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.vbscene");
+    let png = dir.path().join("x.png");
+    let (s, p) = (scene.to_str().unwrap(), png.to_str().unwrap());
+    let made = vbrain(&["render", &brain(), "--size", "48x32", "--out", p, "--save-scene", s, "--clip", "axial=0"]);
+    assert!(made.status.success(), "{}", stderr(&made));
+    let text =
+        std::fs::read_to_string(&scene).unwrap().replace("\"clip\"", "\"whole\": [\"no_such_organ\"],\n  \"clip\"");
+    std::fs::write(&scene, text).unwrap();
+    let run = vbrain(&["render", "--scene", s, "--size", "48x32", "--out", p, "--force"]);
+    assert!(run.status.success() && stderr(&run).contains("no_such_organ"), "{}", stderr(&run));
+    let run = vbrain(&["render", "--scene", s, "--size", "48x32", "--out", p, "--whole", "nope"]);
+    assert!(!run.status.success() && stderr(&run).contains("--whole"), "{}", stderr(&run));
+}
