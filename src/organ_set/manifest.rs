@@ -110,7 +110,8 @@ fn yes() -> bool {
 /// Parses `#rrggbb` into sRGB components in 0..=1.
 pub fn parse_colour(s: &str) -> Option<[f32; 3]> {
     let hex = s.strip_prefix('#')?;
-    if hex.len() != 6 || !hex.is_ascii() {
+    // Six hex digits: from_str_radix alone would take a sign ("#+f+f+f").
+    if hex.len() != 6 || !hex.bytes().all(|b| b.is_ascii_hexdigit()) {
         return None;
     }
     let c = |i: usize| u8::from_str_radix(&hex[i..i + 2], 16).ok().map(|v| v as f32 / 255.0);
@@ -238,6 +239,8 @@ mod tests {
         assert_eq!(format_colour([1.0, 128.0 / 255.0, 0.0]), "#ff8000");
         assert_eq!(parse_colour("ff8000"), None);
         assert_eq!(parse_colour("#ff80"), None);
+        assert_eq!(parse_colour("#+f+f+f"), None, "a sign is not a digit");
+        assert_eq!(parse_colour("#-1-1-1"), None);
         assert_eq!(parse_colour("#ééé"), None);
     }
 
