@@ -29,6 +29,7 @@ pub const FORMAT: &str = "vbrain-lesson/1";
 pub const EXTENSION: &str = "vblesson";
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Lesson {
     pub format: String,
     pub title: String,
@@ -630,6 +631,9 @@ mod tests {
         let step_typo = r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [
             {"title": "s", "caption": "c", "hid": ["a"]}]}"#;
         assert!(Lesson::parse(step_typo, p).unwrap_err().to_string().contains("hid"), "a misspelt key is named");
+        let top_typo = r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "pasmark": 50, "steps": [
+            {"title": "s", "caption": "c"}]}"#;
+        assert!(Lesson::parse(top_typo, p).unwrap_err().to_string().contains("pasmark"), "at the top level too");
         let steps = |n: usize, step: &str| {
             let all = vec![step; n].join(",");
             format!(r#"{{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [{all}]}}"#)
