@@ -32,6 +32,11 @@ pub fn shown(layout: &Layout) -> Vec<usize> {
     (0..layout.organs.len()).filter(|&o| layout.organs[o].is_drawn()).collect()
 }
 
+/// The bounds of the organs a slice shows, at rest: what a pane frames.
+pub fn shown_bounds(set: &OrganSet, layout: &Layout) -> vbrain::mesh::Bounds {
+    shown(layout).iter().fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()))
+}
+
 /// The figure of `pane` through `set` as `layout` shows it, and its ID buffer (organ index + 1
 /// per pixel, 0 for none) for picking and labels.
 pub fn draw(set: &OrganSet, layout: &Layout, pane: &Pane, options: &Options) -> (RgbaImage, Vec<u32>) {

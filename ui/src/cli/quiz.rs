@@ -216,9 +216,7 @@ fn slice_picture(
     seed: u64,
 ) -> (image::RgbaImage, Vec<u32>) {
     let layout = Layout::new(set);
-    let bounds = crate::slice_figure::shown(&layout)
-        .iter()
-        .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let bounds = crate::slice_figure::shown_bounds(set, &layout);
     let pane = vbrain::mri::slice::Pane::fit(plane, &bounds, size[0], size[1], true);
     let options = crate::slice_figure::Options {
         outlines: true,

@@ -70,9 +70,7 @@ pub fn run(args: &SliceArgs) -> Result<bool> {
         eprintln!("note: {} has no MRI; the slice shows its organs filled in their colours", path.display());
     }
     // The pane frames the organs shown, at rest, so slices of one layout line up.
-    let bounds = crate::slice_figure::shown(&layout)
-        .iter()
-        .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let bounds = crate::slice_figure::shown_bounds(&set, &layout);
     if bounds.is_empty() {
         bail!("no organ is shown: nothing to frame (see --show)");
     }

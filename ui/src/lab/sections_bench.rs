@@ -42,9 +42,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 /// Runs both measurements over `set` (which should have an MRI) with `frames` of each.
 pub fn run(set: &OrganSet, frames: usize, size: [u32; 2]) -> Result<Report> {
     let layout = Layout::new(set);
-    let bounds = slice_figure::shown(&layout)
-        .iter()
-        .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()));
+    let bounds = slice_figure::shown_bounds(set, &layout);
     let options = Options {
         outlines: true,
         labels: crate::annotate::Labels::None,

@@ -79,16 +79,9 @@ impl SlicePanes {
         Axis::ALL.iter().position(|&a| a == axis).and_then(|k| self.shown[k])
     }
 
-    /// The bounds of the organs `layout` shows, at rest.
-    fn shown_bounds(set: &OrganSet, layout: &Layout) -> vbrain::mesh::Bounds {
-        crate::slice_figure::shown(layout)
-            .iter()
-            .fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()))
-    }
-
     /// The pane of `axis` in a `size` pixel rectangle.
     pub fn pane(&self, axis: Axis, set: &OrganSet, layout: &Layout, size: [u32; 2]) -> Option<Pane> {
-        let bounds = Self::shown_bounds(set, layout);
+        let bounds = crate::slice_figure::shown_bounds(set, layout);
         let point = self.point?;
         (!bounds.is_empty() && size[0] > 0 && size[1] > 0).then(|| {
             let plane = SlicePlane { axis, at: point[axis.normal()] };
@@ -107,7 +100,7 @@ impl SlicePanes {
     ) -> Vec<Action> {
         let mut out = Vec::new();
         if self.point.is_none() {
-            let shown = Self::shown_bounds(set, layout);
+            let shown = crate::slice_figure::shown_bounds(set, layout);
             self.point = Some(if shown.is_empty() { set.bounds() } else { shown }.center());
         }
         let column = rect.height() > rect.width();
