@@ -71,6 +71,8 @@ import numpy as np
 from scipy import ndimage, sparse
 from scipy.spatial import ConvexHull, cKDTree
 
+from vbo import read_vbo
+
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent.parent
 VBRAIN = os.environ.get("VBRAIN", str(REPO / "target" / "release" / "vbrain"))
@@ -674,16 +676,6 @@ def run_import(volume, table, out, triangles, title):
                     "--triangles", str(triangles), "--title", title, "--seamless",
                     "--smooth", str(SMOOTHING)], check=True)
     return json.loads((out / "organset.json").read_text())
-
-
-def read_vbo(path):
-    v, f = [], []
-    for line in open(path):
-        if line.startswith("v "):
-            v.append([float(x) for x in line.split()[1:4]])
-        elif line.startswith("f "):
-            f.append([int(x.split("/")[0]) - 1 for x in line.split()[1:4]])
-    return np.array(v), np.array(f, np.int64)
 
 
 def open_edges(v, f):

@@ -30,6 +30,8 @@ from pathlib import Path
 import nibabel as nib
 import numpy as np
 
+from vbo import read_vbo
+
 HERE = Path(__file__).resolve().parent
 TEMPLATE = "nilearn/datasets/data/mni_icbm152_{}_tal_nlin_sym_09a_converted.nii.gz"
 MARGIN_MM = 12
@@ -47,16 +49,6 @@ def template(kind):
     if spec is None:
         sys.exit("set NILEARN_WHEEL to nilearn-0.14.1-py3-none-any.whl (pip download --no-deps nilearn==0.14.1)")
     return nib.load(Path(spec.origin).parent.parent / TEMPLATE.format(kind))
-
-
-def read_vbo(path):
-    v, f = [], []
-    for line in open(path):
-        if line.startswith("v "):
-            v.append([float(x) for x in line.split()[1:4]])
-        elif line.startswith("f "):
-            f.append([int(x.split("/")[0]) - 1 for x in line.split()[1:4]])
-    return np.array(v), np.array(f, np.int64)
 
 
 def voxelise(v, f, shape, affine):
