@@ -611,10 +611,14 @@ impl eframe::App for App {
             }
             if let (Some(r), Some(scene)) = (slices, &self.scene) {
                 self.slices.radiological = !self.settings.neurological;
-                // While a quiz asks: no names on hover, a "name it" structure outlined.
+                // The selected organ outlined boldly; while a quiz asks, no names on hover and only a
+                // "name it" structure outlined.
                 self.slices.names = !self.quiz.answering();
                 let asked = self.quiz.run.as_ref().and_then(|r| r.current()).filter(|_| self.quiz.answering());
-                self.slices.highlight = asked.filter(|q| q.kind == vbrain::quiz::Kind::Name).map(|q| q.organ);
+                self.slices.highlight = match asked {
+                    Some(q) => (q.kind == vbrain::quiz::Kind::Name).then_some(q.organ),
+                    None => self.selected,
+                };
                 self.slices.window = self.sections.current.faces.window;
                 let actions = self.slices.show(ui, r, scene.set(), scene.shown(), self.selected);
                 self.perform(&ctx, actions);

@@ -6,8 +6,8 @@
 //! - The crosshair point is in world millimetres, RAS; each pane shows the plane through it
 //!   perpendicular to its axis, framed on the organs shown at rest.
 //! - A click in a pane moves the crosshair there (the other panes and the 3-D view's section planes
-//!   that are on follow) and selects the organ under it; the wheel or the arrow keys step the
-//!   hovered pane's plane 1 mm; hovering names the structure.
+//!   that are on follow) and selects the organ under it, outlined boldly in yellow; the wheel or
+//!   the arrow keys step the hovered pane's plane 1 mm; hovering names the structure.
 //! - While a quiz asks, hovering names nothing, and a "name it" question's structure is outlined
 //!   boldly; a click answers a "click it" question.
 //! - Panes are redrawn only when what they show changed (plane, size, layout, window, display).
@@ -43,7 +43,7 @@ pub struct SlicePanes {
     pub point: Option<Vec3>,
     pub radiological: bool,
     pub window: vbrain::mri::Window,
-    /// An organ outlined boldly in yellow (a quiz's "name it" structure).
+    /// An organ outlined boldly in yellow: the selected one, or a quiz's "name it" structure.
     pub highlight: Option<usize>,
     /// Hovering names the structure (not while a quiz asks).
     pub names: bool,

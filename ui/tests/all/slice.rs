@@ -205,6 +205,7 @@ fn a_click_in_the_coronal_pane_moves_the_other_panes_the_planes_and_the_selectio
     let planes = &h.state().sections().planes;
     assert!((planes[0].mm - point.z).abs() < 0.01 && (planes[2].mm - point.x).abs() < 0.01, "{planes:?}");
     assert_eq!(h.state().selected(), Some(organ(&h, "thalamus_l")), "the organ under the click is selected");
+    assert_eq!(h.state().slices().highlight, Some(organ(&h, "thalamus_l")), "and outlined in the panes");
     // The wheel over the axial pane steps its plane 1 mm.
     let (rect, _) = h.state().slices().shown(Axis::Axial).unwrap();
     h.event(egui::Event::PointerMoved(rect.center()));
