@@ -191,11 +191,9 @@ pub fn organ_ids(set: &OrganSet, organs: &[usize], pane: &Pane) -> Vec<u32> {
         return ids;
     }
     let (axis, at) = (pane.plane.axis.normal(), pane.plane.at);
-    // The hierarchy's root holds the organ's bounds.
-    let bounds = |o: &crate::organ_set::Organ| o.bvh.nodes.first().map_or(Bounds::EMPTY, |n| n.bounds);
     let mut order: Vec<(usize, Bounds)> = organs
         .iter()
-        .filter_map(|&o| set.organs.get(o).map(|organ| (o, bounds(organ))))
+        .filter_map(|&o| set.organs.get(o).map(|organ| (o, organ.bounds())))
         .filter(|(_, b)| b.min[axis] <= at && at <= b.max[axis])
         .collect();
     let volume = |b: &Bounds| b.size().x * b.size().y * b.size().z;

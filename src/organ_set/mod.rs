@@ -101,6 +101,12 @@ impl Organ {
         &self.mesh
     }
 
+    /// The bounds of its triangles in organ space, from its hierarchy's root (no pass over the
+    /// vertices).
+    pub fn bounds(&self) -> Bounds {
+        self.bvh.nodes.first().map_or_else(|| self.mesh.bounds(), |root| root.bounds)
+    }
+
     /// The bounding-volume hierarchy over the mesh.
     pub fn bvh(&self) -> &Bvh {
         &self.bvh

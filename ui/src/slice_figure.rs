@@ -34,7 +34,7 @@ pub fn shown(layout: &Layout) -> Vec<usize> {
 
 /// The bounds of the organs a slice shows, at rest: what a pane frames.
 pub fn shown_bounds(set: &OrganSet, layout: &Layout) -> vbrain::mesh::Bounds {
-    shown(layout).iter().fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].mesh().bounds()))
+    shown(layout).iter().fold(vbrain::mesh::Bounds::EMPTY, |b, &o| b.union(set.organs[o].bounds()))
 }
 
 /// The figure of `pane` through `set` as `layout` shows it, and its ID buffer (organ index + 1

@@ -80,13 +80,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                 let (layout, _) = quiz::reveal(q.organ, &base, ids);
                 // A locate question's letters go on the structure and the nearest others seen beside it.
                 if q.kind == Kind::Locate {
-                    let seen = ids(&layout);
-                    let mut shown: Vec<usize> = seen.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
-                    shown.sort_unstable();
-                    shown.dedup();
-                    let mut rng = vbrain::rng::XorShift::seeded(args.seed ^ (k as u64 + 1));
-                    q.choices = quiz::choices(&set, q.organ, &shown, &mut rng);
-                    q.choices.retain(|o| shown.contains(o));
+                    letters_on_what_shows(&set, &mut q, &ids(&layout), args.seed ^ (k as u64 + 1));
                 }
                 let (draw, _) = culler.cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
                 let highlight = if q.kind == Kind::Name { vec![q.organ] } else { Vec::new() };
@@ -227,12 +221,18 @@ fn slice_picture(
     };
     let (image, ids) = crate::slice_figure::draw(set, &layout, &pane, &options);
     if q.kind == Kind::Locate {
-        let mut shown: Vec<usize> = ids.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
-        shown.sort_unstable();
-        shown.dedup();
-        let mut rng = vbrain::rng::XorShift::seeded(seed);
-        q.choices = quiz::choices(set, q.organ, &shown, &mut rng);
-        q.choices.retain(|o| shown.contains(o));
+        letters_on_what_shows(set, q, &ids, seed);
     }
     (image, ids)
+}
+
+/// A locate question's letters: its structure and the nearest others that the picture's ID
+/// buffer `ids` shows, drawn with `seed`.
+fn letters_on_what_shows(set: &vbrain::organ_set::OrganSet, q: &mut quiz::Question, ids: &[u32], seed: u64) {
+    let mut shown: Vec<usize> = ids.iter().filter(|&&id| id > 0).map(|&id| id as usize - 1).collect();
+    shown.sort_unstable();
+    shown.dedup();
+    let mut rng = vbrain::rng::XorShift::seeded(seed);
+    q.choices = quiz::choices(set, q.organ, &shown, &mut rng);
+    q.choices.retain(|o| shown.contains(o));
 }

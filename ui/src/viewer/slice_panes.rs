@@ -79,13 +79,12 @@ impl SlicePanes {
         Axis::ALL.iter().position(|&a| a == axis).and_then(|k| self.shown[k])
     }
 
-    /// The pane of `axis` in a `size` pixel rectangle.
-    pub fn pane(&self, axis: Axis, set: &OrganSet, layout: &Layout, size: [u32; 2]) -> Option<Pane> {
-        let bounds = crate::slice_figure::shown_bounds(set, layout);
+    /// The pane of `axis` in a `size` pixel rectangle, framing `bounds` (the organs shown).
+    fn pane(&self, axis: Axis, bounds: &vbrain::mesh::Bounds, size: [u32; 2]) -> Option<Pane> {
         let point = self.point?;
         (!bounds.is_empty() && size[0] > 0 && size[1] > 0).then(|| {
             let plane = SlicePlane { axis, at: point[axis.normal()] };
-            Pane::fit(plane, &bounds, size[0], size[1], self.radiological)
+            Pane::fit(plane, bounds, size[0], size[1], self.radiological)
         })
     }
 
@@ -99,8 +98,9 @@ impl SlicePanes {
         selected: Option<usize>,
     ) -> Vec<Action> {
         let mut out = Vec::new();
+        // Once a frame, for the three panes.
+        let shown = crate::slice_figure::shown_bounds(set, layout);
         if self.point.is_none() {
-            let shown = crate::slice_figure::shown_bounds(set, layout);
             self.point = Some(if shown.is_empty() { set.bounds() } else { shown }.center());
         }
         let column = rect.height() > rect.width();
@@ -117,7 +117,7 @@ impl SlicePanes {
             let offset = k as f32 * if column { h + gap } else { w + gap };
             let min = rect.min + if column { egui::vec2(0.0, offset) } else { egui::vec2(offset, 0.0) };
             let pane_rect = egui::Rect::from_min_size(min, egui::vec2(w, h));
-            out.extend(self.pane_ui(ui, k, axis, pane_rect, set, layout, selected));
+            out.extend(self.pane_ui(ui, (k, axis), pane_rect, &shown, set, layout, selected));
         }
         out
     }
@@ -126,9 +126,9 @@ impl SlicePanes {
     fn pane_ui(
         &mut self,
         ui: &mut egui::Ui,
-        k: usize,
-        axis: Axis,
+        (k, axis): (usize, Axis),
         rect: egui::Rect,
+        shown: &vbrain::mesh::Bounds,
         set: &OrganSet,
         layout: &Layout,
         selected: Option<usize>,
@@ -136,7 +136,7 @@ impl SlicePanes {
         let mut out = Vec::new();
         let ppp = ui.ctx().pixels_per_point();
         let size = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
-        let Some(pane) = self.pane(axis, set, layout, size) else { return out };
+        let Some(pane) = self.pane(axis, shown, size) else { return out };
         self.shown[k] = Some((rect, pane));
         let title = format!("{} {} = {:.0} mm", axis.name(), axis.coordinate(), pane.plane.at);
         let drawn = Drawn { pane, layout: layout.clone(), window: self.window, highlight: self.highlight, title };
