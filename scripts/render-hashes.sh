@@ -46,3 +46,4 @@ r --view left --labels all
 r --orbit 30,15 --labels thalamus_l,precentral_l --clip coronal=-15
 r --orbit 30,15 --clip coronal=-10 --transparency peel --opacity all=0.5
 r --orbit 30,15 --clip coronal=-10 --transparency dual-peel --opacity all=0.5
+r --orbit 30,15 --transparency kbuffer --opacity all=0.5

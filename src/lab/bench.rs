@@ -138,7 +138,7 @@ pub fn run(
 ) -> Result<Vec<FrameRecord>> {
     let Run { size, frames, modes, ref settings, transparency, route, database, section } = *run;
     let renderer = Renderer::new(&gpu.device, set)?;
-    let target = Target::new(&gpu.device, size[0], size[1])?;
+    let mut target = Target::new(&gpu.device, size[0], size[1])?;
     let home = layout.bounds(set);
     let first_id: Vec<u32> = set
         .organs
@@ -180,7 +180,7 @@ pub fn run(
             let (draw, stats) = culler.cull_frame(&cull, &settings);
             let input =
                 FrameInput { draw: Some(&draw), transparency, section, ..FrameInput::new(set, &camera, layout) };
-            renderer.render(&gpu.device, &gpu.queue, &target, &input)?;
+            renderer.render(&gpu.device, &gpu.queue, &mut target, &input)?;
             wait()?;
             Ok((draw, stats))
         };

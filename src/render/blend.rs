@@ -4,7 +4,7 @@
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory, OVER, SAMPLE_COUNT};
-use super::target::COLOR_FORMAT;
+use super::target::{Kept, COLOR_FORMAT};
 use crate::error::Result;
 
 pub(super) struct Blend {
@@ -36,7 +36,7 @@ impl Blend {
 }
 
 impl Technique for Blend {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, _kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (scene, input, target) = (f.scene, f.input, f.target);
         let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, mut translucent) = input.split(scene.organ_count());

@@ -4,6 +4,7 @@
 
 use super::blend::Blend;
 use super::frame::{Frame, RenderStats, Technique};
+use super::target::Kept;
 use crate::error::Result;
 use std::ops::Range;
 
@@ -27,7 +28,7 @@ fn complement(ranges: &[Range<u32>], end: u32) -> Vec<Range<u32>> {
 pub(super) struct CullDebug<'a>(pub &'a Blend);
 
 impl Technique for CullDebug<'_> {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, _kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (scene, input, target) = (f.scene, f.input, f.target);
         scene.upload(f.queue, input, target.aspect());
         let grey = scene.upload_organs(f.queue, input, 1, |_, _| [0.35, 0.35, 0.35, 0.22]);

@@ -6,7 +6,7 @@
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::pipelines::{clear_colour, target, OrganPipeline, OrganPipelines, PipelineFactory};
-use super::target::{read_texture, DEPTH_FORMAT};
+use super::target::{read_texture, Kept, DEPTH_FORMAT};
 use crate::error::Result;
 
 /// Sub-samples of the exact reference: a 4x4 grid per pixel.
@@ -37,7 +37,7 @@ fn ndc_jitter(j: glam::Vec2, target: &super::target::Target) -> [f32; 4] {
 }
 
 impl Technique for Exact {
-    fn record(&self, f: &Frame, _encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, _kept: &mut Kept, _encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (device, queue, scene, input, target) = (f.device, f.queue, f.scene, f.input, f.target);
         let (w, h) = (target.width, target.height);
         let make = |label, format| {

@@ -2,7 +2,7 @@
 //! interface through which the renderer calls each drawing technique ([`Technique`]).
 
 use super::scene::GpuScene;
-use super::target::Target;
+use super::target::{Kept, Target};
 use crate::camera::Camera;
 use crate::clip::{Section, NO_SECTION};
 use crate::cull::DrawList;
@@ -163,12 +163,14 @@ pub(super) struct Frame<'a> {
 
 /// A way of drawing a frame (opaque and blended, screen-door, weighted blended, exact, the culling
 /// debug view). It writes its per-frame and per-pass data (uniform slots, pooled buffers) through
-/// the queue and records its passes into the frame's encoder, which the renderer submits. Most
+/// the queue and records its passes into the frame's encoder, which the renderer submits. What it
+/// keeps for the next frame into the same target (buffers, bind groups, a frame drawn in part) it
+/// keeps in the target's [`Kept`], never in itself. Most
 /// techniques record the whole frame there; depth peeling submits each peel on its own (an
 /// occlusion query then says whether to go on), and the exact reference submits a layer at a time.
 pub(super) trait Technique {
     /// Records the frame; the stats' `passes` and mask figures (the renderer counts what was drawn).
-    fn record(&self, frame: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats>;
+    fn record(&self, frame: &Frame, kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats>;
 }
 
 #[cfg(test)]

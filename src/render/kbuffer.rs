@@ -26,11 +26,10 @@ use super::pipelines::{
     fullscreen_pipeline, module, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
 };
 use super::scene::GpuScene;
-use super::target::{read_buffer, Target, COLOR_FORMAT, HDR_FORMAT};
+use super::target::{read_buffer, Kept, Target, COLOR_FORMAT, HDR_FORMAT};
 use super::uniforms::KBufferUniform;
 use crate::error::{Error, Result};
 use crate::transparency::KBUFFER_K;
-use std::sync::Mutex;
 use wgpu::util::DeviceExt;
 
 pub(super) struct KBuffer {
@@ -40,12 +39,14 @@ pub(super) struct KBuffer {
     resolve: wgpu::RenderPipeline,
     organ_layout: wgpu::BindGroupLayout,
     resolve_layout: wgpu::BindGroupLayout,
-    buffers: Mutex<Option<Buffers>>,
 }
+
+/// What the k-buffer keeps in a target: its slots at the last k, made on first use.
+#[derive(Default)]
+struct KeptBuffers(Option<Buffers>);
 
 /// A target's slots at one k, and the bind groups that read them.
 struct Buffers {
-    target: u64,
     k: u32,
     keys: wgpu::Buffer,
     colours: wgpu::Buffer,
@@ -143,7 +144,7 @@ impl KBuffer {
                 samples: 1,
             },
         );
-        KBuffer { opaque, depth, shade, resolve, organ_layout, resolve_layout, buffers: Mutex::new(None) }
+        KBuffer { opaque, depth, shade, resolve, organ_layout, resolve_layout }
     }
 
     /// The slots of `target` at `k`, made where they are not (the size checked first).
@@ -205,28 +206,28 @@ impl KBuffer {
                 wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&hdr.resolved) },
             ],
         });
-        Ok(Buffers { target: target.id(), k, keys, colours, counts, organ_bind, resolve_bind })
+        Ok(Buffers { k, keys, colours, counts, organ_bind, resolve_bind })
     }
 
     /// Each pixel's count of faded fragments in front of the opaque organs in the last frame drawn
     /// into `target` with the k-buffer, rows top to bottom; `None` where none was.
     pub fn counts(&self, device: &wgpu::Device, queue: &wgpu::Queue, target: &Target) -> Result<Option<Vec<u32>>> {
-        let kept = self.buffers.lock().unwrap_or_else(|e| e.into_inner());
-        let Some(b) = kept.as_ref().filter(|b| b.target == target.id()) else { return Ok(None) };
+        let Some(b) = target.kept.get::<KeptBuffers>().and_then(|k| k.0.as_ref()) else { return Ok(None) };
         let bytes = read_buffer(device, queue, &b.counts)?;
         Ok(Some(bytemuck::cast_slice(&bytes).to_vec()))
     }
 }
 
 impl Technique for KBuffer {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let (device, scene, input, target) = (f.device, f.scene, f.input, f.target);
         let k = input.transparency.kbuffer.clamp(*KBUFFER_K.start(), *KBUFFER_K.end()) as u32;
-        let mut kept = self.buffers.lock().unwrap_or_else(|e| e.into_inner());
+        let kept = &mut kept.entry::<KeptBuffers>().or_insert_with(Default::default).0;
         let buffers = match kept.take() {
-            Some(b) if b.target == target.id() && b.k == k => b,
+            Some(b) if b.k == k => b,
             _ => self.buffers(device, target, k)?,
         };
+        let buffers = kept.insert(buffers);
         let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, faded) = input.split(scene.organ_count());
         let hdr = target.hdr(device);
@@ -299,7 +300,6 @@ impl Technique for KBuffer {
             pass.set_bind_group(0, &buffers.resolve_bind, &[]);
             pass.draw(0..3, 0..1);
         }
-        *kept = Some(buffers);
         Ok(RenderStats { passes: 4, ..Default::default() })
     }
 }

@@ -19,9 +19,8 @@ use super::pipelines::{
     SAMPLE_COUNT,
 };
 use super::scene::{GpuScene, Shown};
-use super::target::{image_view, Target, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{image_view, Kept, Target, DEPTH_FORMAT, HDR_FORMAT};
 use crate::error::{Error, Result};
-use std::sync::Mutex;
 
 const DEPTH_CHANNEL: wgpu::TextureFormat = wgpu::TextureFormat::R32Float;
 
@@ -39,12 +38,14 @@ pub(super) struct Peel {
     dual_layout: wgpu::BindGroupLayout,
     sample_layout: wgpu::BindGroupLayout,
     final_layout: wgpu::BindGroupLayout,
-    images: Mutex<Option<Images>>,
 }
+
+/// What peeling keeps in a target: its images, made on first use.
+#[derive(Default)]
+struct KeptImages(Option<Images>);
 
 /// A target's peeling images (multisampled) and the bind groups that read them.
 struct Images {
-    target: u64,
     layer: wgpu::TextureView,
     accum: wgpu::TextureView,
     depth: [wgpu::TextureView; 2],
@@ -189,7 +190,6 @@ impl Peel {
             dual_layout,
             sample_layout,
             final_layout,
-            images: Mutex::new(None),
         }
     }
 
@@ -206,7 +206,6 @@ impl Peel {
         let hdr = target.hdr(device);
         let pair = |f: &dyn Fn(usize) -> wgpu::BindGroup| [f(0), f(1)];
         Images {
-            target: target.id(),
             peel_binds: pair(&|i| views_bind(device, &self.peel_layout, 0, &[&depth[i], &target.msaa_depth])),
             dual_binds: pair(&|i| views_bind(device, &self.dual_layout, 2, &[&near[i], &far[i], &front[i]])),
             layer_bind: views_bind(device, &self.sample_layout, 0, &[&layer]),
@@ -418,14 +417,11 @@ impl PeelFrame<'_> {
 }
 
 impl Technique for PeelFrame<'_> {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let pe = self.technique;
         let (device, scene, input, target) = (f.device, f.scene, f.input, f.target);
-        let mut kept = pe.images.lock().unwrap_or_else(|e| e.into_inner());
-        let images = match kept.take() {
-            Some(i) if i.target == target.id() => i,
-            _ => pe.images(device, self.composite, target),
-        };
+        let kept = &mut kept.entry::<KeptImages>().or_insert_with(Default::default).0;
+        let images = kept.get_or_insert_with(|| pe.images(device, self.composite, target));
         let shown = scene.upload(f.queue, input, target.aspect());
         let (opaque, faded) = input.split(scene.organ_count());
         let layers = input.transparency.peel_layers.max(1);
@@ -434,14 +430,14 @@ impl Technique for PeelFrame<'_> {
         self.opaque((f, &shown), &mut first, &opaque, &pe.opaque);
         f.queue.submit([first.finish()]);
         let passes = if self.dual {
-            let (passes, front) = self.dual_peel((f, &shown), &images, &faded, layers)?;
+            let (passes, front) = self.dual_peel((f, &shown), images, &faded, layers)?;
             let mut p = pass(encoder, &[(&images.layer, None)], Some(&hdr.resolved), None, None);
             p.set_pipeline(&pe.final_pass);
             p.set_bind_group(0, &images.final_binds[front], &[]);
             p.draw(0..3, 0..1);
             passes + 1
         } else {
-            let passes = self.peel((f, &shown), &images, &faded, layers)?;
+            let passes = self.peel((f, &shown), images, &faded, layers)?;
             let mut p = pass(encoder, &[(&images.accum, None)], Some(&hdr.resolved), None, None);
             p.set_pipeline(&pe.under);
             p.set_bind_group(0, &images.opaque_bind, &[]);
@@ -449,7 +445,6 @@ impl Technique for PeelFrame<'_> {
             passes
         };
         super::pipelines::fullscreen_pass(encoder, &target.color_view, &pe.present, &images.present_bind, false, 1.0);
-        *kept = Some(images);
         Ok(RenderStats { passes: 1 + passes, ..Default::default() })
     }
 }

@@ -2,6 +2,9 @@
 //! draws one frame from plain per-frame data ([`FrameInput`]) into a [`Target`] by one technique,
 //! recorded into one encoder and submitted once (depth peeling and the exact reference submit
 //! their passes as they go; see [`super::frame::Technique`]).
+//! - The renderer holds nothing per view: what a technique keeps between frames (buffers, bind
+//!   groups, a screen-door frame drawn in part) lives in the target, which the caller owns, so
+//!   the calls that draw into a target take it `&mut`.
 
 use super::blend::Blend;
 use super::debug::CullDebug;
@@ -13,7 +16,7 @@ use super::outline::Outline;
 use super::peel::{Peel, PeelFrame};
 use super::pipelines::{Composite, PipelineFactory};
 use super::scene::GpuScene;
-use super::screendoor::{opaque_hdr, Screendoor, ScreendoorFrame};
+use super::screendoor::{self, opaque_hdr, Screendoor, ScreendoorFrame};
 use super::target::Target;
 use super::timer::GpuTimer;
 use super::weighted::{Weighted, WeightedFrame};
@@ -102,7 +105,7 @@ impl Renderer {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        target: &Target,
+        target: &mut Target,
         frame: &FrameInput,
     ) -> Result<RenderStats> {
         let screendoor = ScreendoorFrame { technique: &self.screendoor, composite: &self.composite };
@@ -112,7 +115,7 @@ impl Renderer {
         let screendoor_mode = frame.transparency.mode.mask_method().is_some() && frame.has_transparent();
         if !screendoor_mode {
             // It draws into the images a refined screen-door frame continues from.
-            self.screendoor.forget();
+            screendoor::forget(&mut target.kept);
         }
         let technique: &dyn Technique = match frame.transparency.mode {
             _ if !frame.has_transparent() => &self.sorted,
@@ -161,10 +164,10 @@ impl Renderer {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        target: &Target,
+        target: &mut Target,
         frame: &FrameInput,
     ) -> Result<RenderStats> {
-        self.screendoor.forget();
+        screendoor::forget(&mut target.kept);
         self.draw_with(&CullDebug(&self.sorted), device, queue, target, frame)
     }
 
@@ -174,23 +177,28 @@ impl Renderer {
         technique: &dyn Technique,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        target: &Target,
+        target: &mut Target,
         input: &FrameInput,
     ) -> Result<RenderStats> {
-        let mut stats = super::guard::guarded(device, "drawing the frame", || {
+        let mut kept = std::mem::take(&mut target.kept);
+        let view = &*target;
+        let drawn = super::guard::guarded(device, "drawing the frame", || {
+            let target = view;
             let timer = self.timer.as_ref().filter(|_| input.time_gpu);
             if let Some(t) = timer {
                 t.start(device, queue);
             }
             let mut encoder = device.create_command_encoder(&Default::default());
             let frame = Frame { device, queue, scene: &self.scene, input, target };
-            let stats = technique.record(&frame, &mut encoder)?;
+            let stats = technique.record(&frame, &mut kept, &mut encoder)?;
             queue.submit([encoder.finish()]);
             // Its own submission: it rewrites the organ uniforms the technique drew with.
             self.render_outlines(device, queue, target, input);
             let gpu_ms = timer.map(|t| t.stop(device, queue)).transpose()?;
             Ok(RenderStats { gpu_ms, ..stats })
-        })?;
+        });
+        target.kept = kept;
+        let mut stats = drawn?;
         let states = &input.layout.organs;
         for i in (0..self.scene.organ_count().min(states.len())).filter(|&i| states[i].is_drawn()) {
             let triangles: u32 = self.scene.ranges(i, input.draw).iter().map(|r| (r.end - r.start) / 3).sum();

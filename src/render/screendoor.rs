@@ -22,12 +22,11 @@ use super::pipelines::{
     SAMPLE_COUNT,
 };
 use super::scene::{uniform_entry, GpuScene, Shown};
-use super::target::{image_view, Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
+use super::target::{image_view, Kept, Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
 use super::tiles::{tiling, Rect, Tiling, ATLAS_BUDGET_PX, GAP};
 use super::uniforms::{GatherUniform, ScreendoorUniform, MAX_PASSES, SLOT};
 use crate::error::Result;
 use crate::transparency::{layout as sublayout, regions};
-use std::sync::Mutex;
 
 pub(super) struct Screendoor {
     opaque: OrganPipelines,
@@ -42,13 +41,18 @@ pub(super) struct Screendoor {
     uniforms: wgpu::Buffer,
     /// One [`GatherUniform`] per round (indexed by the round's first pass).
     gathers: wgpu::Buffer,
-    pool: Mutex<Option<Pool>>,
+}
+
+/// What screen-door keeps in a target.
+#[derive(Default)]
+struct KeptFrame {
+    pool: Option<Pool>,
     /// The last frame's mask configurations, kept where they come again.
-    masks: Mutex<regions::MaskCache>,
+    masks: regions::MaskCache,
 }
 
 /// What one frame needs, kept for the next: the masks' storage buffers and their bind group, the
-/// atlas, the bind groups of the last target drawn into, and how far its image has converged.
+/// atlas, the bind groups over the target's images, and how far its image has converged.
 struct Pool {
     configs: wgpu::Buffer,
     masks: wgpu::Buffer,
@@ -69,7 +73,6 @@ struct Atlas {
 
 /// Bind groups that read one target's images.
 struct Images {
-    target: u64,
     /// The opaque image (multisampled colour and depth) for `fs_restore`.
     restore: wgpu::BindGroup,
     /// The opaque image resolved, and the rectangle's running mean, for the presentation.
@@ -80,7 +83,8 @@ struct Images {
 /// A frame drawn in part, to be continued by the next call for the same frame.
 struct Progress {
     key: u64,
-    target: u64,
+    /// Each pass's uniform, written again at each call (another target may have drawn between).
+    uniforms: Vec<ScreendoorUniform>,
     done: usize,
     total: usize,
     tiling: Tiling,
@@ -220,15 +224,6 @@ impl Screendoor {
             gather_layout,
             uniforms: uniforms(device, "screendoor uniforms"),
             gathers: uniforms(device, "gather uniforms"),
-            pool: Mutex::new(None),
-            masks: Mutex::default(),
-        }
-    }
-
-    /// Forgets any frame drawn in part: another technique drew into the images it continues.
-    pub fn forget(&self) {
-        if let Some(pool) = self.pool.lock().unwrap_or_else(|e| e.into_inner()).as_mut() {
-            pool.progress = None;
         }
     }
 
@@ -300,7 +295,6 @@ impl Screendoor {
             ],
         });
         Images {
-            target: target.id(),
             restore,
             opaque: composite.images(device, [&hdr.resolved, &hdr.resolved, &hdr.resolved]),
             mean: composite.images(device, [&hdr.accum, &hdr.accum, &hdr.accum]),
@@ -325,7 +319,7 @@ fn first_passes(input: &FrameInput, total: usize) -> usize {
 }
 
 impl Technique for ScreendoorFrame<'_> {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let sd = self.technique;
         let (device, queue, scene, input, target) = (f.device, f.queue, f.scene, f.input, f.target);
         let settings = &input.transparency;
@@ -335,8 +329,8 @@ impl Technique for ScreendoorFrame<'_> {
             settings.subsamples
         });
         let key = input.fingerprint();
-        let mut kept = sd.pool.lock().unwrap_or_else(|e| e.into_inner());
-        let same = |p: &Progress| input.refine && p.key == key && p.target == target.id();
+        let KeptFrame { pool: kept, masks: cache } = kept.entry::<KeptFrame>().or_insert_with(Default::default);
+        let same = |p: &Progress| input.refine && p.key == key;
         let mut pool = kept.take();
         let continued = pool.as_mut().and_then(|p| p.progress.take()).filter(same);
         let (mut pool, mut progress, from, to) = match (pool, continued) {
@@ -352,7 +346,7 @@ impl Technique for ScreendoorFrame<'_> {
                 (pool, progress, from, to)
             }
             (pool, _) => {
-                let (pool, progress) = start(sd, f, pool, subsamples, key);
+                let (pool, progress) = start(sd, f, pool, cache, (subsamples, key));
                 let to = first_passes(input, progress.total);
                 (pool, progress, 0, to)
             }
@@ -361,10 +355,10 @@ impl Technique for ScreendoorFrame<'_> {
         if from == 0 {
             draw_opaque(sd, (f, &shown), encoder);
         }
-        let images = match pool.images.take() {
-            Some(i) if i.target == target.id() => i,
-            _ => sd.images(device, self.composite, target),
-        };
+        for (p, u) in progress.uniforms.iter().enumerate() {
+            queue.write_buffer(&sd.uniforms, p as u64 * SLOT, bytemuck::bytes_of(u));
+        }
+        let images = pool.images.take().unwrap_or_else(|| sd.images(device, self.composite, target));
         let tiling = progress.tiling;
         let drawn = if tiling.rect.is_empty() { 0 } else { to - from };
         if drawn > 0 {
@@ -393,8 +387,22 @@ fn stats(p: &Progress, passes: usize) -> RenderStats {
     }
 }
 
+/// Forgets any frame drawn in part into `kept`'s target: another technique drew into the images
+/// it continues.
+pub(super) fn forget(kept: &mut Kept) {
+    if let Some(pool) = kept.entry::<KeptFrame>().or_insert_with(Default::default).pool.as_mut() {
+        pool.progress = None;
+    }
+}
+
 /// A new frame: its masks into the pool's buffers, and where its passes go.
-fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key: u64) -> (Pool, Progress) {
+fn start(
+    sd: &Screendoor,
+    f: &Frame,
+    pool: Option<Pool>,
+    cache: &mut regions::MaskCache,
+    (subsamples, key): (usize, u64),
+) -> (Pool, Progress) {
     let (device, queue, input, target) = (f.device, f.queue, f.input, f.target);
     let settings = &input.transparency;
     let method = settings.mode.mask_method().unwrap_or(crate::transparency::MaskMethod::TabularNec);
@@ -406,9 +414,7 @@ fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key:
         k: settings.k,
         method,
     };
-    let mut cache = sd.masks.lock().unwrap_or_else(|e| e.into_inner());
-    let masks = regions::region_masks_kept(input.set, input.layout, input.camera, &params, &mut cache);
-    drop(cache);
+    let masks = regions::region_masks_kept(input.set, input.layout, input.camera, &params, cache);
     let configs: &[u8] = bytemuck::cast_slice(&masks.config_of_region);
     let bits: Vec<[u32; 2]> = masks.masks.iter().map(|&m| [m as u32, (m >> 32) as u32]).collect();
     let bits: &[u8] = bytemuck::cast_slice(&bits);
@@ -419,8 +425,8 @@ fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key:
     let total = sublayout::passes(masks.subsamples);
     let max_side = device.limits().max_texture_dimension_2d;
     let tiling = tiling(Rect { x, y, w, h }, total, ATLAS_BUDGET_PX, max_side);
-    for p in 0..total {
-        let u = ScreendoorUniform {
+    let uniforms = (0..total)
+        .map(|p| ScreendoorUniform {
             region_px: masks.region_px,
             cols: masks.cols,
             rows: masks.rows,
@@ -428,11 +434,9 @@ fn start(sd: &Screendoor, f: &Frame, pool: Option<Pool>, subsamples: usize, key:
             pass_index: p as u32,
             offset: tiling.offset(p % tiling.per_round),
             pad: 0,
-        };
-        queue.write_buffer(&sd.uniforms, p as u64 * SLOT, bytemuck::bytes_of(&u));
-    }
-    let progress =
-        Progress { key, target: target.id(), done: 0, total, tiling, mask_ms: masks.ms, mask_configs: masks.configs };
+        })
+        .collect();
+    let progress = Progress { key, uniforms, done: 0, total, tiling, mask_ms: masks.ms, mask_configs: masks.configs };
     (pool, progress)
 }
 

@@ -14,8 +14,6 @@ pub(crate) const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 pub(crate) const MASK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 pub struct Target {
-    /// Unique among the process's targets: techniques keep bind groups of the last one drawn into.
-    id: u64,
     pub width: u32,
     pub height: u32,
     pub(crate) msaa_color: wgpu::TextureView,
@@ -33,7 +31,15 @@ pub struct Target {
     hdr: std::sync::OnceLock<Hdr>,
     /// The outline mask, made on first use.
     mask: std::sync::OnceLock<wgpu::TextureView>,
+    /// What the drawing techniques keep between frames drawn into this target.
+    pub(crate) kept: Kept,
 }
+
+/// What the drawing techniques keep between frames drawn into one target: buffers, bind groups
+/// over its images, a frame drawn in part. One value per technique, by its type, made on first
+/// use; it lives with the target, so the caller who owns the target owns it, and two views never
+/// share it.
+pub(crate) type Kept = type_map::concurrent::TypeMap;
 
 /// Float images of a target's size for screen-door accumulation and weighted blended OIT.
 pub(crate) struct Hdr {
@@ -84,9 +90,7 @@ impl Target {
             | wgpu::TextureUsages::COPY_DST;
         let color = make("target color", COLOR_FORMAT, 1, painted, &[plain]);
         let ids = make("target ids", ID_FORMAT, 1, attach | wgpu::TextureUsages::COPY_SRC, &[]);
-        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         Target {
-            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
             width,
             height,
             msaa_color: view(&make("target msaa color", COLOR_FORMAT, samples, attach, &[])),
@@ -106,11 +110,8 @@ impl Target {
             ids_depth: view(&make("target ids depth", DEPTH_FORMAT, 1, attach, &[])),
             hdr: std::sync::OnceLock::new(),
             mask: std::sync::OnceLock::new(),
+            kept: Kept::new(),
         }
-    }
-
-    pub(crate) fn id(&self) -> u64 {
-        self.id
     }
 
     /// The float images, made on first use.

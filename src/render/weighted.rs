@@ -4,7 +4,7 @@
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::pipelines::{fullscreen_pass, Composite, OrganPipeline, OrganPipelines, PipelineFactory};
-use super::target::{COLOR_FORMAT, HDR_FORMAT, REVEAL_FORMAT};
+use super::target::{Kept, COLOR_FORMAT, HDR_FORMAT, REVEAL_FORMAT};
 use crate::error::Result;
 
 pub(super) struct Weighted {
@@ -62,7 +62,7 @@ pub(super) struct WeightedFrame<'a> {
 }
 
 impl Technique for WeightedFrame<'_> {
-    fn record(&self, f: &Frame, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
+    fn record(&self, f: &Frame, _kept: &mut Kept, encoder: &mut wgpu::CommandEncoder) -> Result<RenderStats> {
         let wb = self.technique;
         let (scene, input, target) = (f.scene, f.input, f.target);
         let hdr = target.hdr(f.device);

@@ -156,7 +156,7 @@ struct Outcome {
 fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, seed: u64, poses: Poses) -> Outcome {
     let gpu = gpu();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
-    let target = Target::new(&gpu.device, 160, 120).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 120).unwrap();
     let mut rng = Rng(XorShift(seed));
     let (mut culled, mut total, mut cracks, mut removed) = (0usize, 0usize, 0usize, 0usize);
     let (mut cut_solids, mut inside) = (0, 0);
@@ -243,7 +243,7 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
                 section: &section,
                 ..FrameInput::new(set, &camera, &layout)
             };
-            renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+            renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
             images.push(target.read_color(&gpu.device, &gpu.queue).unwrap());
         }
         if images[0] != images[1] {

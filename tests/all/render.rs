@@ -23,10 +23,10 @@ fn shoot(
     view: View,
     background: [f32; 4],
 ) -> Shot {
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
     let camera = Camera::view(&Layout::new(set).bounds(set), view);
     let frame = FrameInput { background, ..FrameInput::new(set, &camera, layout) };
-    renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+    renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
     renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
     Shot {
         image: target.read_color(&gpu.device, &gpu.queue).unwrap(),
@@ -101,7 +101,7 @@ fn gpu_time_is_measured_when_asked_where_the_adapter_has_timestamps() {
     let mut layout = Layout::new(set);
     let shown = layout.organs.iter().position(|s| s.is_drawn()).unwrap();
     layout.organs[shown].opacity = 0.5;
-    let target = Target::new(&gpu.device, 64, 64).unwrap();
+    let mut target = Target::new(&gpu.device, 64, 64).unwrap();
     let camera = Camera::view(&layout.bounds(set), View::Left);
     let timers = gpu.adapter.features().contains(vbrain::render::GPU_TIMER_FEATURES);
     // Screen-door submits once; depth peeling submits a pass at a time, all inside the span.
@@ -109,10 +109,10 @@ fn gpu_time_is_measured_when_asked_where_the_adapter_has_timestamps() {
         let transparency = TransparencySettings { mode, ..Default::default() };
         let frame = FrameInput { transparency, ..FrameInput::new(set, &camera, &layout) };
         assert!(frame.has_transparent());
-        let untimed = renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        let untimed = renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         assert_eq!(untimed.gpu_ms, None, "{mode:?}: not asked for");
         let timed = FrameInput { time_gpu: true, ..frame };
-        let ms = renderer.render(&gpu.device, &gpu.queue, &target, &timed).unwrap().gpu_ms;
+        let ms = renderer.render(&gpu.device, &gpu.queue, &mut target, &timed).unwrap().gpu_ms;
         match ms {
             Some(ms) => assert!(timers && ms.is_finite() && ms > 0.0, "{mode:?}: {ms} ms"),
             None => assert!(!timers, "{mode:?}: the adapter has timestamp queries but no time came back"),
@@ -143,20 +143,21 @@ fn culling_debug_view_colours_what_was_culled() {
     let renderer = Renderer::new(&gpu.device, set).unwrap();
     let mut layout = Layout::new(set);
     layout.organs[set.find("skull").unwrap()].visible = true;
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
+    let aspect = target.aspect();
     let camera = Camera::orbit(&layout.bounds(set), 30.0, 15.0);
     // Saturated pixels: culled triangles drawn in colour; the grey model has none.
-    let coloured = |draw: &vbrain::cull::DrawList| {
+    let mut coloured = |draw: &vbrain::cull::DrawList| {
         let frame =
             FrameInput { draw: Some(draw), background: [0.0, 0.0, 0.0, 1.0], ..FrameInput::new(set, &camera, &layout) };
-        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         let img = target.read_color(&gpu.device, &gpu.queue).unwrap();
         img.pixels().filter(|p| p[0].max(p[1]).max(p[2]) - p[0].min(p[1]).min(p[2]) > 40).count()
     };
     let mut culler = Culler::new(default_database());
     let none = CullSettings { mode: CullMode::None, ..Default::default() };
-    let (nothing_culled, _) = culler.cull(set, &layout, &camera, target.aspect(), &none);
-    let (occluded, stats) = culler.cull(set, &layout, &camera, target.aspect(), &CullSettings::default());
+    let (nothing_culled, _) = culler.cull(set, &layout, &camera, aspect, &none);
+    let (occluded, stats) = culler.cull(set, &layout, &camera, aspect, &CullSettings::default());
     assert!(stats.occlusion_culled > 0);
     assert_eq!(coloured(&nothing_culled), 0);
     assert!(coloured(&occluded) > 200, "culled triangles should show in colour");

@@ -48,26 +48,25 @@ fn a_sphere_cut_through_its_centre_shows_a_solid_disc() {
     };
     assert!(set.organs[0].closed(), "the test sphere is closed");
     let renderer = Renderer::new(&gpu.device, &set).unwrap();
-    let target = Target::new(&gpu.device, 128, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 128, 128).unwrap();
     let camera = Camera::view(&Layout::new(&set).bounds(&set), View::Superior);
     let axial = [ClipPlane::parse("axial=0").unwrap()];
-    let shoot_whole = |layout: &Layout, caps: bool, whole: &[usize]| {
+    let mut shoot = |layout: &Layout, caps: bool, whole: &[usize]| {
         let section = Section { planes: axial.to_vec(), caps, whole: whole.to_vec(), ..Default::default() };
         let frame = FrameInput {
             background: [0.0, 0.0, 0.0, 1.0],
             section: &section,
             ..FrameInput::new(&set, &camera, layout)
         };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, 0.25);
         (target.read_color(&gpu.device, &gpu.queue).unwrap(), target.read_ids(&gpu.device, &gpu.queue).unwrap())
     };
-    let shoot = |layout: &Layout, caps: bool| shoot_whole(layout, caps, &[]);
     // The cut face: flat, 0.82 of the organ's colour (in linear light), over the whole disc.
     let cap = colour.map(|c| (linear_to_srgb(vbrain::render::srgb_to_linear(c) * 0.82) * 255.0).round() as i32);
     let is_cap = |p: &image::Rgba<u8>| (0..3).all(|k| (p[k] as i32 - cap[k]).abs() <= 2);
     let layout = Layout::new(&set);
-    let (image, ids) = shoot(&layout, true);
+    let (image, ids) = shoot(&layout, true, &[]);
     let centre = image.get_pixel(64, 64);
     assert!(is_cap(centre), "the centre shows the cut face {cap:?}, not {centre:?}");
     let disc = image.pixels().filter(|p| is_cap(p)).count();
@@ -76,18 +75,18 @@ fn a_sphere_cut_through_its_centre_shows_a_solid_disc() {
     assert_eq!(ids[64 * 128 + 64], 1, "clicking the cut face picks the sphere");
 
     // Without caps the cut sphere is a hollow shell: seen from above, the background shows.
-    let (hollow, _) = shoot(&layout, false);
+    let (hollow, _) = shoot(&layout, false, &[]);
     assert_eq!(hollow.get_pixel(64, 64).0, [0, 0, 0, 255]);
 
     // An organ kept whole ("do not cut") shows its lit top, neither cut face nor background.
-    let (whole, _) = shoot_whole(&layout, true, &[0]);
+    let (whole, _) = shoot(&layout, true, &[0]);
     let top = whole.get_pixel(64, 64);
     assert!(!is_cap(top) && top[0] > 100, "kept whole, the sphere is not cut: {top:?}");
 
     // Faded, the cut face is faded too (screen-door): neither the solid face nor the background.
     let mut faded = layout.clone();
     faded.organs[0].opacity = 0.5;
-    let (image, _) = shoot(&faded, true);
+    let (image, _) = shoot(&faded, true, &[]);
     let p = image.get_pixel(64, 64);
     assert!(!is_cap(p) && p[0] > 40, "a faded cut face lets the background through: {p:?}");
 }
@@ -118,7 +117,7 @@ fn the_mri_shows_on_the_cut_face_where_its_voxels_are_and_moves_with_its_organ()
     set.mri = Some(std::sync::Arc::new(Mri::from_values([n, n, n], to_world, &values).unwrap()));
     let renderer = Renderer::new(&gpu.device, &set).unwrap();
     let size = 160;
-    let target = Target::new(&gpu.device, size, size).unwrap();
+    let mut target = Target::new(&gpu.device, size, size).unwrap();
     let camera = Camera::view(
         &Layout::new(&set).bounds(&set).union(vbrain::mesh::Bounds { min: [-40.0; 3], max: [40.0; 3] }),
         View::Superior,
@@ -127,7 +126,7 @@ fn the_mri_shows_on_the_cut_face_where_its_voxels_are_and_moves_with_its_organ()
         let c = camera.view_projection(1.0).project_point3(p);
         (((c.x + 1.0) / 2.0 * size as f32) as u32, ((1.0 - c.y) / 2.0 * size as f32) as u32)
     };
-    let shoot = |layout: &Layout, show: CutFaceShows| {
+    let mut shoot = |layout: &Layout, show: CutFaceShows| {
         let faces = CutFace { show, window: Window::new(1.0, 0.5).unwrap() };
         let section = Section { planes: vec![ClipPlane::parse("axial=0").unwrap()], caps: true, faces, whole: vec![] };
         let frame = FrameInput {
@@ -135,7 +134,7 @@ fn the_mri_shows_on_the_cut_face_where_its_voxels_are_and_moves_with_its_organ()
             section: &section,
             ..FrameInput::new(&set, &camera, layout)
         };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         target.read_color(&gpu.device, &gpu.queue).unwrap()
     };
     let layout = Layout::new(&set);

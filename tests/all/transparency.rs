@@ -21,7 +21,7 @@ fn render(
     mode: TransparencyMode,
     order: Option<&[usize]>,
 ) -> image::RgbaImage {
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
     let transparency = TransparencySettings { mode, subsamples: 16, ..Default::default() };
     let frame = FrameInput {
         background: [0.0, 0.0, 0.0, 1.0],
@@ -29,7 +29,7 @@ fn render(
         draw_order: order,
         ..FrameInput::new(set, camera, layout)
     };
-    renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+    renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
     target.read_color(&gpu.device, &gpu.queue).unwrap()
 }
 
@@ -143,12 +143,12 @@ fn peeling_matches_exact_on_nested_shells() {
     }
     // From behind: the block lies beyond the shells.
     let camera = Camera::orbit(&set.bounds(), 200.0, 15.0);
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
-    let shot = |mode, peel_layers| {
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut shot = |mode, peel_layers| {
         let transparency = TransparencySettings { mode, peel_layers, ..Default::default() };
         let frame =
             FrameInput { background: [0.0, 0.0, 0.0, 1.0], transparency, ..FrameInput::new(&set, &camera, &layout) };
-        let stats = renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        let stats = renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         (target.read_color(&gpu.device, &gpu.queue).unwrap(), stats.passes)
     };
     let mean_error = |a: &image::RgbaImage, b: &image::RgbaImage| {
@@ -180,7 +180,8 @@ fn peeling_matches_exact_on_nested_shells() {
 
 /// Progressive refinement: the first still frame draws the interactive passes, each further call
 /// for the same frame one more, until the image holds every sub-sample and matches the image
-/// drawn at once (to rounding); a change starts it again.
+/// drawn at once (to rounding); a change starts it again. Another view drawn between the calls,
+/// into its own target, leaves the refinement where it was (each target keeps its own).
 #[test]
 fn refinement_converges_to_the_full_image() {
     let gpu = gpu();
@@ -191,18 +192,22 @@ fn refinement_converges_to_the_full_image() {
         s.opacity = [0.3, 0.5, 1.0][i % 3];
     }
     let camera = Camera::orbit(&layout.bounds(set), 35.0, 10.0);
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut other = Target::new(&gpu.device, 160, 128).unwrap();
     let frame = FrameInput { background: [0.0, 0.0, 0.0, 1.0], ..FrameInput::new(set, &camera, &layout) };
-    renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
-    let full = target.read_color(&gpu.device, &gpu.queue).unwrap();
+    renderer.render(&gpu.device, &gpu.queue, &mut other, &frame).unwrap();
+    let full = other.read_color(&gpu.device, &gpu.queue).unwrap();
     // A target that does not show this frame yet.
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
     let refined = FrameInput { refine: true, ..frame };
+    let mut side = camera;
+    side.eye += Vec3::new(0.0, 30.0, 0.0);
     let mut done = Vec::new();
     for _ in 0..16 {
-        let stats = renderer.render(&gpu.device, &gpu.queue, &target, &refined).unwrap();
+        let stats = renderer.render(&gpu.device, &gpu.queue, &mut target, &refined).unwrap();
         assert_eq!(stats.subsamples_total, 64);
         done.push(stats.subsamples_done);
+        // Another view, refined too, into another target.
+        renderer.render(&gpu.device, &gpu.queue, &mut other, &FrameInput { camera: &side, ..refined }).unwrap();
     }
     assert_eq!(done[..3], [16, 20, 24], "interactive passes first, then one a call");
     assert_eq!(done[15], 64, "converged after 13 calls: {done:?}");
@@ -212,7 +217,8 @@ fn refinement_converges_to_the_full_image() {
     assert!(worst <= Some(1), "refined image differs from the full one by {worst:?}");
     let mut moved = camera;
     moved.eye += Vec3::new(1.0, 0.0, 0.0);
-    let stats = renderer.render(&gpu.device, &gpu.queue, &target, &FrameInput { camera: &moved, ..refined }).unwrap();
+    let stats =
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &FrameInput { camera: &moved, ..refined }).unwrap();
     assert_eq!(stats.subsamples_done, 16, "a new view starts again");
 }
 
@@ -232,10 +238,10 @@ fn kbuffer_matches_exact_on_nested_shells() {
         s.opacity = a;
     }
     let camera = Camera::orbit(&set.bounds(), 200.0, 15.0);
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
     // Outermost (nearest) shell first.
     let front_to_back = [0, 1, 2, 3, 4];
-    let shot = |mode, kbuffer, order: Option<&[usize]>| {
+    let shot = |target: &mut Target, mode, kbuffer, order: Option<&[usize]>| {
         let transparency = TransparencySettings { mode, kbuffer, ..Default::default() };
         let frame = FrameInput {
             background: [0.0, 0.0, 0.0, 1.0],
@@ -243,14 +249,14 @@ fn kbuffer_matches_exact_on_nested_shells() {
             draw_order: order,
             ..FrameInput::new(&set, &camera, &layout)
         };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render(&gpu.device, &gpu.queue, target, &frame).unwrap();
         target.read_color(&gpu.device, &gpu.queue).unwrap()
     };
-    let exact = shot(TransparencyMode::Exact, 8, None);
+    let exact = shot(&mut target, TransparencyMode::Exact, 8, None);
     let off = |a: &image::RgbaImage| {
         a.pixels().zip(exact.pixels()).filter(|(x, y)| (0..3).any(|k| x[k].abs_diff(y[k]) > 8)).count()
     };
-    let kbuffer = shot(TransparencyMode::KBuffer, 4, None);
+    let kbuffer = shot(&mut target, TransparencyMode::KBuffer, 4, None);
     let counts = renderer.fragment_counts(&gpu.device, &gpu.queue, &target).unwrap().unwrap();
     assert_eq!(counts.iter().max(), Some(&4), "four shells: at most four faded fragments a pixel");
     // Off only at the shells' edges: the k-buffer samples a pixel once, the reference 16 times.
@@ -265,14 +271,14 @@ fn kbuffer_matches_exact_on_nested_shells() {
     };
     assert!(mean_error(&kbuffer) < 1.0, "mean error {:.3} with a slot for every layer", mean_error(&kbuffer));
     // Sorted back to front, two slots suffice too: the overflow is blended in order.
-    assert!(off(&shot(TransparencyMode::KBuffer, 2, None)) <= edges + edges / 10);
+    assert!(off(&shot(&mut target, TransparencyMode::KBuffer, 2, None)) <= edges + edges / 10);
     // Drawn front to back with two slots, the two farther shells overflow and are blended in the
     // wrong order (the innermost over the third): wrong where all four overlap. The comparison
     // can fail.
-    let wrong = off(&shot(TransparencyMode::KBuffer, 2, Some(&front_to_back)));
+    let wrong = off(&shot(&mut target, TransparencyMode::KBuffer, 2, Some(&front_to_back)));
     assert!(wrong > 1000 && wrong > 3 * edges, "{wrong} pixels off front to back with two slots, {edges} sorted");
     // With four slots the order does not matter.
-    assert!(off(&shot(TransparencyMode::KBuffer, 4, Some(&front_to_back))) <= edges);
+    assert!(off(&shot(&mut target, TransparencyMode::KBuffer, 4, Some(&front_to_back))) <= edges);
 }
 
 /// The k-buffer on the brain, every organ faded, drawn unsorted in shuffled organ orders: every
@@ -288,8 +294,8 @@ fn kbuffer_does_not_depend_on_draw_order_where_k_suffices() {
     }
     let camera = Camera::orbit(&layout.bounds(set), 35.0, 10.0);
     let k = 4;
-    let target = Target::new(&gpu.device, 160, 128).unwrap();
-    let shot = |order: &[usize]| {
+    let mut target = Target::new(&gpu.device, 160, 128).unwrap();
+    let mut shot = |order: &[usize]| {
         let transparency = TransparencySettings { mode: TransparencyMode::KBuffer, kbuffer: k, ..Default::default() };
         let frame = FrameInput {
             background: [0.0, 0.0, 0.0, 1.0],
@@ -297,7 +303,7 @@ fn kbuffer_does_not_depend_on_draw_order_where_k_suffices() {
             draw_order: Some(order),
             ..FrameInput::new(set, &camera, &layout)
         };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame).unwrap();
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &frame).unwrap();
         let counts = renderer.fragment_counts(&gpu.device, &gpu.queue, &target).unwrap().unwrap();
         (target.read_color(&gpu.device, &gpu.queue).unwrap(), counts)
     };

@@ -213,7 +213,8 @@ pub fn build(
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, set)?;
     let (w, h) = opts.size;
-    let target = Target::new(&gpu.device, w, h)?;
+    let mut target = Target::new(&gpu.device, w, h)?;
+    let aspect = target.aspect();
     let scout = Target::new(&gpu.device, SCOUT_PX, (SCOUT_PX * h / w.max(1)).max(16))?;
     let mut culler = Culler::new(database);
     let base = Layout::new(set);
@@ -257,7 +258,7 @@ pub fn build(
         };
         let (draw, _) = culler.cull_frame(&renderer.cull_input(&plain, &target), &CullSettings::default());
         let frame = |highlight| FrameInput { draw: Some(&draw), highlight, ..plain };
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame(&[]))?;
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &frame(&[]))?;
         let plain = target.read_color(&gpu.device, &gpu.queue)?;
         let asked = [organ];
         renderer.render_outlines(&gpu.device, &gpu.queue, &target, &frame(&asked));
@@ -329,7 +330,7 @@ pub fn build(
             }
         };
         for (view, (_, (az, el), layout)) in ranked.into_iter().take(opts.views.max(1)).enumerate() {
-            let nav = Navigator::fitting(&home, az, el, target.aspect(), crate::studio::FILL_LABELLED);
+            let nav = Navigator::fitting(&home, az, el, aspect, crate::studio::FILL_LABELLED);
             let (plain, outlined, seen) = draw(&nav.camera(&home), &layout, &Section::default(), organ)?;
             let mut labelled = outlined.clone();
             let px = annotate::text_px(h) * 1.3;

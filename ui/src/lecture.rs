@@ -86,7 +86,6 @@ pub fn handout(
         Some(lesson) => crate::handout::of_lesson(&mut studio, lesson, None, paper, progress)?,
         None => {
             let [w, h] = crate::handout::figure_pixels(paper, 4.0 / 3.0);
-            let target = studio.target(w, h)?;
             let shot = Shot {
                 navigator: view.navigator,
                 layout: &view.layout,
@@ -95,7 +94,7 @@ pub fn handout(
                 labels: &view.labels,
                 px: crate::annotate::text_px(h),
             };
-            let (figure, _) = studio.shoot(&target, &shot)?;
+            let (figure, _) = studio.shoot([w, h], &shot)?;
             let (heading, text) = match view.selected.and_then(|o| set.organs.get(o)) {
                 Some(o) => (o.name.clone(), o.info.clone()),
                 None => (set.title.clone(), String::new()),

@@ -44,6 +44,8 @@ pub struct Studio<'s> {
     culler: Culler,
     /// The set's default layout's bounds: cameras frame these and what is drawn.
     home: Bounds,
+    /// The target of the last picture's size, kept for the next picture of that size.
+    target: Option<Target>,
 }
 
 impl<'s> Studio<'s> {
@@ -52,12 +54,7 @@ impl<'s> Studio<'s> {
         let gpu = GpuContext::headless()?;
         let renderer = Renderer::new(&gpu.device, set)?;
         let culler = Culler::new(database);
-        Ok(Studio { set, gpu, renderer, culler, home: Layout::new(set).bounds(set) })
-    }
-
-    /// A render target `width` x `height` pixels.
-    pub fn target(&self, width: u32, height: u32) -> Result<Target> {
-        Ok(Target::new(&self.gpu.device, width, height)?)
+        Ok(Studio { set, gpu, renderer, culler, home: Layout::new(set).bounds(set), target: None })
     }
 
     /// The camera of lesson step `step` (its view `view`) in a picture of aspect `aspect`.
@@ -73,9 +70,15 @@ impl<'s> Studio<'s> {
         }
     }
 
-    /// `shot` rendered into `target` and labelled: the image and the labels placed.
-    pub fn shoot(&mut self, target: &Target, shot: &Shot) -> Result<(RgbaImage, usize)> {
+    /// `shot` rendered `size` pixels large and labelled: the image and the labels placed.
+    pub fn shoot(&mut self, size: [u32; 2], shot: &Shot) -> Result<(RgbaImage, usize)> {
         let (gpu, renderer, set) = (&self.gpu, &self.renderer, self.set);
+        // The last picture's target if it has this size (it keeps what the renderer keeps).
+        let target = match self.target.take() {
+            Some(t) if [t.width, t.height] == size => t,
+            _ => Target::new(&gpu.device, size[0], size[1])?,
+        };
+        let target = self.target.insert(target);
         let camera = shot.navigator.camera(&shot.layout.bounds(set).union(self.home));
         let frame = FrameInput {
             background: crate::background_linear(crate::background_srgb(), false),
@@ -135,7 +138,8 @@ pub struct StepFrame {
     pub view: StepView,
     pub labels: Labels,
     pub navigator: Navigator,
-    target: Target,
+    /// The figure's size in pixels (the picture less the caption band).
+    size: [u32; 2],
     lines: Option<Vec<(String, bool)>>,
     px: f32,
 }
@@ -155,9 +159,10 @@ impl StepFrame {
         let labels = step_labels(studio.set, &view, forced);
         let px = crate::annotate::text_px(height);
         let band = lines.as_ref().map_or(0, |l| crate::annotate::caption_height(l, px));
-        let target = studio.target(width, height.saturating_sub(band).max(1))?;
-        let navigator = studio.step_navigator(step, &view, target.aspect(), labels != Labels::None);
-        Ok(StepFrame { view, labels, navigator, target, lines, px })
+        let size = [width, height.saturating_sub(band).max(1)];
+        let aspect = size[0] as f32 / size[1] as f32;
+        let navigator = studio.step_navigator(step, &view, aspect, labels != Labels::None);
+        Ok(StepFrame { view, labels, navigator, size, lines, px })
     }
 
     /// The step drawn with its labels and caption; with `between` = (camera, layout) some way
@@ -176,7 +181,7 @@ impl StepFrame {
             labels,
             px: self.px,
         };
-        let (mut image, placed) = studio.shoot(&self.target, &shot)?;
+        let (mut image, placed) = studio.shoot(self.size, &shot)?;
         if let Some(lines) = &self.lines {
             image = crate::annotate::caption(&image, lines, self.px);
         }

@@ -139,8 +139,7 @@ impl Plan {
                     labels: &t.labels,
                     px,
                 };
-                let target = studio.target(size[0], size[1])?;
-                Ok(studio.shoot(&target, &shot)?.0)
+                Ok(studio.shoot(size, &shot)?.0)
             }
             Plan::Lesson(p) => {
                 let (hold, ease) = (hold_frames(p.hold, fps), easing_frames(fps));

@@ -44,7 +44,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
-    let target = Target::new(&gpu.device, args.size.width, args.size.height)?;
+    let mut target = Target::new(&gpu.device, args.size.width, args.size.height)?;
     let mut culler = Culler::new(database(&path, &set));
     let base = Layout::new(&set);
     let home = base.bounds(&set);
@@ -90,7 +90,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                     highlight: &highlight,
                     ..FrameInput::new(&set, &camera, &layout)
                 };
-                renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+                renderer.render(&gpu.device, &gpu.queue, &mut target, &frame)?;
                 let image = target.read_color(&gpu.device, &gpu.queue)?;
                 renderer.render_ids(&gpu.device, &gpu.queue, &target, &frame, crate::annotate::PICK_OPACITY);
                 let seen = target.read_ids(&gpu.device, &gpu.queue)?;

@@ -118,7 +118,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let started = std::time::Instant::now();
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
-    let target = Target::new(&gpu.device, width, height)?;
+    let mut target = Target::new(&gpu.device, width, height)?;
     let settings = CullSettings { mode, ..Default::default() };
     let mut culler = Culler::new(database(&path, &set));
     let order = args.draw_order_seed.map(|seed| XorShift::permutation(set.organs.len(), seed));
@@ -135,9 +135,9 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     let (draw, cull) = culler.cull_frame(&renderer.cull_input(&input, &target), &settings);
     let input = FrameInput { draw: Some(&draw), ..input };
     let stats = if args.debug_culled {
-        renderer.render_cull_debug(&gpu.device, &gpu.queue, &target, &input)?
+        renderer.render_cull_debug(&gpu.device, &gpu.queue, &mut target, &input)?
     } else {
-        renderer.render(&gpu.device, &gpu.queue, &target, &input)?
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &input)?
     };
     let mut image = target.read_color(&gpu.device, &gpu.queue)?;
     if let Which::Chosen(names) = &which {

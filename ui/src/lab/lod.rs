@@ -70,7 +70,7 @@ pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dy
     let wait = || gpu.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| anyhow!("waiting for the GPU: {e}"));
     // Draws frame `camera` into `target` with `transparency`: its time, and the image at full size.
     let mut draw = |camera: &vbrain::camera::Camera,
-                    target: &Target,
+                    target: &mut Target,
                     transparency: vbrain::transparency::TransparencySettings|
      -> Result<(f64, RgbaImage)> {
         let frame =
@@ -94,10 +94,10 @@ pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dy
     let screendoor_faded = faded && opts.transparency.mode.mask_method().is_some();
     for i in 0..opts.frames {
         let camera = opts.route.camera(&home, i, opts.frames);
-        let (ms, full) = draw(&camera, &targets[0], opts.transparency)?;
+        let (ms, full) = draw(&camera, &mut targets[0], opts.transparency)?;
         // The first frame warms pipelines and caches: not counted.
         let counted = i > 0 || opts.frames == 1;
-        for (k, target) in targets.iter().enumerate().skip(1) {
+        for (k, target) in targets.iter_mut().enumerate().skip(1) {
             let (ms, image) = draw(&camera, target, opts.transparency)?;
             if counted {
                 times[k - 1].push(ms);
@@ -107,7 +107,7 @@ pub fn run(set: &OrganSet, layout: &Layout, opts: &LodOptions, progress: &mut dy
         // The viewer's choice: its render scale, and its sub-samples (or one weighted blended pass)
         // for the faded organs, each from the frame before.
         let chosen = SCALES.iter().position(|&s| s == auto.scale()).unwrap_or(0);
-        let (auto_ms, image) = draw(&camera, &targets[chosen], auto.frame(opts.transparency, true))?;
+        let (auto_ms, image) = draw(&camera, &mut targets[chosen], auto.frame(opts.transparency, true))?;
         let took = Duration::from_secs_f64(auto_ms / 1000.0);
         if screendoor_faded {
             let setting = opts.transparency.interactive_subsamples;

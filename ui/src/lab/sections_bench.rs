@@ -64,7 +64,7 @@ pub fn run(set: &OrganSet, frames: usize, size: [u32; 2]) -> Result<Report> {
 
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, set)?;
-    let target = Target::new(&gpu.device, size[0], size[1])?;
+    let mut target = Target::new(&gpu.device, size[0], size[1])?;
     let home = layout.bounds(set);
     let (azimuth, elevation) = View::Anterior.angles();
     let camera = Navigator::framing(&home, azimuth, elevation).camera(&home);
@@ -72,10 +72,10 @@ pub fn run(set: &OrganSet, frames: usize, size: [u32; 2]) -> Result<Report> {
     let section =
         |show| Section { planes: vec![plane], faces: CutFace { show, ..Default::default() }, ..Default::default() };
     let (colour, mri) = (section(CutFaceShows::Colour), section(CutFaceShows::Mri));
-    let shoot = |section: &Section| -> Result<f64> {
+    let mut shoot = |section: &Section| -> Result<f64> {
         let frame = FrameInput { section, ..FrameInput::new(set, &camera, &layout) };
         let started = Instant::now();
-        renderer.render(&gpu.device, &gpu.queue, &target, &frame)?;
+        renderer.render(&gpu.device, &gpu.queue, &mut target, &frame)?;
         target.read_color(&gpu.device, &gpu.queue)?;
         Ok(started.elapsed().as_secs_f64() * 1000.0)
     };

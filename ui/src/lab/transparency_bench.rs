@@ -236,13 +236,19 @@ const TIMED: usize = 3;
 struct Shooter<'a> {
     gpu: &'a GpuContext,
     renderer: &'a Renderer,
-    target: &'a Target,
+    target: Target,
     set: &'a OrganSet,
     region_px: u32,
 }
 
 impl Shooter<'_> {
-    fn shot(&self, camera: &Camera, layout: &Layout, transparency: TransparencySettings, moving: bool) -> Result<Shot> {
+    fn shot(
+        &mut self,
+        camera: &Camera,
+        layout: &Layout,
+        transparency: TransparencySettings,
+        moving: bool,
+    ) -> Result<Shot> {
         let transparency = TransparencySettings { region_px: self.region_px, ..transparency };
         let frame = FrameInput {
             background: crate::BACKGROUND,
@@ -252,7 +258,7 @@ impl Shooter<'_> {
         };
         let timed = FrameInput { time_gpu: true, ..frame };
         let (device, queue) = (&self.gpu.device, &self.gpu.queue);
-        let mut stats = self.renderer.render(device, queue, self.target, &frame)?;
+        let mut stats = self.renderer.render(device, queue, &mut self.target, &frame)?;
         let mut image = self.target.read_color(device, queue)?;
         // The reference is not timed (slow by design).
         let runs = if transparency.mode == TransparencyMode::Exact { 0 } else { TIMED };
@@ -260,7 +266,7 @@ impl Shooter<'_> {
         for _ in 0..runs {
             // Reading the GPU time waits for the frame, as reading its image does anyway.
             let started = Instant::now();
-            stats = self.renderer.render(device, queue, self.target, &timed)?;
+            stats = self.renderer.render(device, queue, &mut self.target, &timed)?;
             image = self.target.read_color(device, queue)?;
             times.push(started.elapsed().as_secs_f64() * 1000.0);
             gpu_times.extend(stats.gpu_ms);
@@ -272,13 +278,13 @@ impl Shooter<'_> {
         Ok(Shot { image, frame_ms: median(times).unwrap_or(0.0), gpu_ms: median(gpu_times), passes: stats.passes })
     }
 
-    fn mode(&self, camera: &Camera, layout: &Layout, mode: TransparencyMode) -> Result<Shot> {
+    fn mode(&mut self, camera: &Camera, layout: &Layout, mode: TransparencyMode) -> Result<Shot> {
         self.shot(camera, layout, TransparencySettings { mode, ..Default::default() }, false)
     }
 }
 
 /// The error-against-time curve of one view.
-fn curve(s: &Shooter, camera: &Camera, layout: &Layout, exact: &image::RgbaImage) -> Result<Vec<CurvePoint>> {
+fn curve(s: &mut Shooter, camera: &Camera, layout: &Layout, exact: &image::RgbaImage) -> Result<Vec<CurvePoint>> {
     let mut points = Vec::new();
     for mode in CURVE_MODES {
         let settings: Vec<(usize, TransparencySettings)> = if mode == TransparencyMode::Screendoor {
@@ -304,7 +310,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, set)?;
     let target = Target::new(&gpu.device, size.0, size.1)?;
-    let shooter = Shooter { gpu: &gpu, renderer: &renderer, target: &target, set, region_px };
+    let mut shooter = Shooter { gpu: &gpu, renderer: &renderer, target, set, region_px };
     let mut rows = Vec::new();
     let mut figures = Vec::new();
     let mut sheet_rows = Vec::new();
@@ -324,7 +330,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
             let Shot { image, frame_ms, gpu_ms, passes } = shooter.mode(&camera, &layout, mode)?;
             let (mae, p99) = errors(&image, &exact);
             if mode == TransparencyMode::KBuffer {
-                if let Some(counts) = renderer.fragment_counts(&gpu.device, &gpu.queue, &target)? {
+                if let Some(counts) = renderer.fragment_counts(&gpu.device, &gpu.queue, &shooter.target)? {
                     k_rows.push(super::k_analysis::shares(spec.name, transparent, &counts));
                 }
             }
@@ -332,7 +338,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
             images.push(image);
         }
         let moving = shooter.shot(&camera, &layout, TransparencySettings::default(), true)?;
-        let curve = curve(&shooter, &camera, &layout, &exact)?;
+        let curve = curve(&mut shooter, &camera, &layout, &exact)?;
         figures.push(ViewFigures {
             opaque_frame_ms: opaque.frame_ms,
             opaque_gpu_ms: opaque.gpu_ms,

@@ -470,7 +470,7 @@ impl Viewport {
             return out;
         }
         let settings = input.settings;
-        let drawn_into = if scale < 1.0 { &self.reduced } else { &self.target };
+        let drawn_into = if scale < 1.0 { &mut self.reduced } else { &mut self.target };
         let Some((target, id)) = drawn_into else { return out };
         // Moving and slow: fewer sub-samples, down to one blended pass.
         let transparency = self.motion.0.frame(settings.transparency, self.moving);

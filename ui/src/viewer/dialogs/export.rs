@@ -58,9 +58,9 @@ pub fn export(
     if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
         bail!("screenshot size {w}x{h} outside 1..={MAX_SIDE}");
     }
-    let target = Target::new(device, w, h)?;
+    let mut target = Target::new(device, w, h)?;
     let still = FrameInput { moving: false, ..*frame };
-    renderer.render(device, queue, &target, &still)?;
+    renderer.render(device, queue, &mut target, &still)?;
     let mut image = target.read_color(device, queue)?;
     if *labels != crate::annotate::Labels::None {
         renderer.render_ids(device, queue, &target, &still, crate::annotate::PICK_OPACITY);
