@@ -51,13 +51,8 @@ impl Technique for Blend {
         }
         let colour = [&target.msaa_color, &target.color_view];
         let mut pass = scene.begin_organ_pass(encoder, colour, target, input.background, false);
-        scene.draw_many((&mut pass, &shown), &self.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
-        scene.draw_many(
-            (&mut pass, &shown),
-            &self.translucent,
-            0,
-            translucent.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-        );
+        scene.draw_organs((&mut pass, &shown), &self.opaque, 0, &opaque, input.draw);
+        scene.draw_organs((&mut pass, &shown), &self.translucent, 0, &translucent, input.draw);
         Ok(RenderStats { passes: 1, ..Default::default() })
     }
 }

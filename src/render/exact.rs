@@ -5,6 +5,7 @@
 //! writes the result into the target's colour image, which the frame's submission then holds.
 
 use super::frame::{Frame, RenderStats, Technique};
+use super::passes::Pass;
 use super::pipelines::{clear_colour, target, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::target::{read_texture, Kept, DEPTH_FORMAT};
 use crate::error::Result;
@@ -64,36 +65,12 @@ impl Technique for Exact {
         let layer = |organs: &[usize], background: [f32; 4]| -> Result<(Vec<[f32; 4]>, Vec<f32>)> {
             let mut encoder = device.create_command_encoder(&Default::default());
             {
-                let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                    label: Some("layer"),
-                    color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                        view: &colour_view,
-                        depth_slice: None,
-                        resolve_target: None,
-                        ops: wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(clear_colour(background)),
-                            store: wgpu::StoreOp::Store,
-                        },
-                    })],
-                    depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                        view: &depth_view,
-                        depth_ops: Some(wgpu::Operations {
-                            load: wgpu::LoadOp::Clear(1.0),
-                            store: wgpu::StoreOp::Store,
-                        }),
-                        stencil_ops: None,
-                    }),
-                    timestamp_writes: None,
-                    occlusion_query_set: None,
-                    multiview_mask: None,
-                });
+                let mut pass = Pass::new("layer")
+                    .colour(&colour_view, wgpu::LoadOp::Clear(clear_colour(background)))
+                    .depth(&depth_view, wgpu::LoadOp::Clear(1.0), true)
+                    .begin(&mut encoder);
                 scene.set_frame(&mut pass, 0);
-                scene.draw_many(
-                    (&mut pass, &shown),
-                    &self.layer,
-                    0,
-                    organs.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-                );
+                scene.draw_organs((&mut pass, &shown), &self.layer, 0, organs, input.draw);
             }
             queue.submit([encoder.finish()]);
             let c = read_texture(device, queue, &colour, 16, [0, 0], [w, h], wgpu::TextureAspect::All)?;

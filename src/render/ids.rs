@@ -2,6 +2,7 @@
 //! organ index + 1 of the nearest drawn organ per pixel, for picking; or leaf numbers, for
 //! measuring exact visibility.
 
+use super::passes::Pass;
 use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::scene::GpuScene;
 use super::target::{Target, ID_FORMAT};
@@ -50,26 +51,10 @@ impl Ids {
             IdKind::Organs { .. } => "organ ids",
             IdKind::Leaves { .. } => "leaf ids",
         };
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some(label),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.ids_view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.ids_depth,
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = Pass::new(label)
+            .colour(&target.ids_view, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT))
+            .depth(&target.ids_depth, wgpu::LoadOp::Clear(1.0), false)
+            .begin(encoder);
         scene.set_frame(&mut pass, 0);
         let organs = input.layout.organs.iter().enumerate().take(scene.organ_count());
         match kind {

@@ -22,6 +22,7 @@
 //!   farthest of a pixel's samples.
 
 use super::frame::{Frame, RenderStats, Technique};
+use super::passes::Pass;
 use super::pipelines::{
     fullscreen_pipeline, module, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
 };
@@ -234,12 +235,7 @@ impl Technique for KBuffer {
         {
             // The opaque depth stays for the k-buffer's passes to test against.
             let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
-            scene.draw_many(
-                (&mut pass, &shown),
-                &self.opaque,
-                0,
-                opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-            );
+            scene.draw_organs((&mut pass, &shown), &self.opaque, 0, &opaque, input.draw);
         }
         encoder.clear_buffer(&buffers.keys, 0, None);
         encoder.clear_buffer(&buffers.colours, 0, None);
@@ -259,19 +255,7 @@ impl Technique for KBuffer {
             })
             .collect();
         for pipeline in [&self.depth, &self.shade] {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("k-buffer"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &hdr.resolved,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = Pass::new("k-buffer").colour(&hdr.resolved, wgpu::LoadOp::Load).begin(encoder);
             scene.set_frame(&mut pass, 0);
             pass.set_pipeline(pipeline);
             pass.set_bind_group(2, &buffers.organ_bind, &[]);
@@ -280,22 +264,8 @@ impl Technique for KBuffer {
             }
         }
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("k-buffer resolve"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &target.color_view,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-                        store: wgpu::StoreOp::Store,
-                    },
-                })],
-                depth_stencil_attachment: None,
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+            let mut pass = Pass::new("k-buffer resolve").colour(&target.color_view, clear).begin(encoder);
             pass.set_pipeline(&self.resolve);
             pass.set_bind_group(0, &buffers.resolve_bind, &[]);
             pass.draw(0..3, 0..1);

@@ -13,7 +13,8 @@
 //! reference), `debug` (the
 //! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
 //! and selected organs, over the finished frame). `uniforms` holds the
-//! structs shared with WGSL, `pipelines` what the techniques build them with; [`guard`] turns GPU
+//! structs shared with WGSL, `pipelines` what the techniques build them with, `passes` the one
+//! builder their render passes begin with; [`guard`] turns GPU
 //! errors (out of memory above all) into errors and checks a target's size before it is made;
 //! `timer` measures a frame's GPU time where the adapter has timestamp queries.
 
@@ -26,6 +27,7 @@ pub mod guard;
 mod ids;
 mod kbuffer;
 mod outline;
+mod passes;
 mod peel;
 mod pipelines;
 mod renderer;

@@ -6,6 +6,7 @@
 //! pass paints a ring [`WIDTH`] pixels wide wherever a nearby pixel holds another organ's number.
 //! Numbers are organ index + 1 in a 16-bit float, exact below 2048 organs.
 
+use super::passes::Pass;
 use super::pipelines::{Composite, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::scene::GpuScene;
 use super::target::{Target, COLOR_FORMAT, MASK_FORMAT};
@@ -65,27 +66,12 @@ impl Outline {
         let mask = target.mask(device);
         for (channel, organs) in [highlighted, selected].iter().enumerate() {
             let load = if channel == 0 { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load };
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("outline mask"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: mask,
-                    depth_slice: None,
-                    resolve_target: None,
-                    ops: wgpu::Operations { load, store: wgpu::StoreOp::Store },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.ids_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = Pass::new("outline mask")
+                .colour(mask, load)
+                .depth(&target.ids_depth, wgpu::LoadOp::Clear(1.0), false)
+                .begin(encoder);
             scene.set_frame(&mut pass, 0);
-            for &i in organs {
-                scene.draw((&mut pass, &shown), &self.mask[channel], i, &scene.ranges(i, None));
-            }
+            scene.draw_organs((&mut pass, &shown), &self.mask[channel], 0, organs, None);
         }
         let images = composite.images(device, [mask, mask, mask]);
         super::pipelines::fullscreen_pass(encoder, &target.color_view, &self.ring, &images, true, 0.0);

@@ -14,6 +14,7 @@
 //! its query read back before the next: the stall peeling pays for stopping early).
 
 use super::frame::{Frame, RenderStats, Technique};
+use super::passes::Pass;
 use super::pipelines::{
     fullscreen_pipeline, module, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory, OVER,
     SAMPLE_COUNT,
@@ -222,48 +223,6 @@ impl Peel {
     }
 }
 
-/// A render pass over multisampled colour `targets` (each cleared to its colour, or loaded where
-/// `None`; the first resolved into `resolve` if given) and depth (cleared to its value, or loaded
-/// read-only where `None`), counting passing samples in `query` if given.
-fn pass<'e>(
-    encoder: &'e mut wgpu::CommandEncoder,
-    targets: &[(&wgpu::TextureView, Option<wgpu::Color>)],
-    resolve: Option<&wgpu::TextureView>,
-    depth: Option<(&wgpu::TextureView, Option<f32>)>,
-    query: Option<&wgpu::QuerySet>,
-) -> wgpu::RenderPass<'e> {
-    let colours: Vec<Option<wgpu::RenderPassColorAttachment>> = targets
-        .iter()
-        .enumerate()
-        .map(|(i, &(view, clear))| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: if i == 0 { resolve } else { None },
-                ops: wgpu::Operations {
-                    load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        })
-        .collect();
-    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("peel"),
-        color_attachments: &colours,
-        depth_stencil_attachment: depth.map(|(view, clear)| wgpu::RenderPassDepthStencilAttachment {
-            view,
-            depth_ops: Some(wgpu::Operations {
-                load: clear.map_or(wgpu::LoadOp::Load, wgpu::LoadOp::Clear),
-                store: wgpu::StoreOp::Store,
-            }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: query,
-        multiview_mask: None,
-    })
-}
-
 /// Submits `encoder` with the occlusion query's result copied out, and reads it back (blocking).
 fn submit_counting(f: &Frame, mut encoder: wgpu::CommandEncoder, query: &wgpu::QuerySet) -> Result<u64> {
     let readback = super::target::QueryReadback::new(f.device, "occlusion", 1);
@@ -289,10 +248,13 @@ impl PeelFrame<'_> {
         pipelines: &OrganPipelines,
     ) {
         let hdr = f.target.hdr(f.device);
-        let background = Some(super::pipelines::clear_colour(f.input.background));
-        let mut p = pass(encoder, &[(&hdr.msaa, background)], None, Some((&f.target.msaa_depth, Some(1.0))), None);
+        let background = wgpu::LoadOp::Clear(super::pipelines::clear_colour(f.input.background));
+        let mut p = Pass::new("peel opaque")
+            .colour(&hdr.msaa, background)
+            .depth(&f.target.msaa_depth, wgpu::LoadOp::Clear(1.0), true)
+            .begin(encoder);
         f.scene.set_frame(&mut p, 0);
-        f.scene.draw_many((&mut p, shown), pipelines, 0, opaque.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+        f.scene.draw_organs((&mut p, shown), pipelines, 0, opaque, f.input.draw);
     }
 
     /// Peels up to `layers` layers, front to back; returns the layers drawn.
@@ -303,31 +265,34 @@ impl PeelFrame<'_> {
             ty: wgpu::QueryType::Occlusion,
             count: 1,
         });
+        let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
         let mut drawn = 0;
         for layer in 0..layers {
             let (prev, cur) = (layer % 2, (layer + 1) % 2);
             let mut encoder = f.device.create_command_encoder(&Default::default());
             if layer == 0 {
                 // Nothing peeled yet; nothing in front yet.
-                drop(pass(&mut encoder, &[(&images.accum, Some(wgpu::Color::TRANSPARENT))], None, None, None));
-                drop(pass(&mut encoder, &[], None, Some((&images.depth[prev], Some(0.0))), None));
+                drop(Pass::new("peel start").colour(&images.accum, clear).begin(&mut encoder));
+                drop(
+                    Pass::new("peel start")
+                        .depth(&images.depth[prev], wgpu::LoadOp::Clear(0.0), true)
+                        .begin(&mut encoder),
+                );
             }
             {
-                let targets = [(&images.layer, Some(wgpu::Color::TRANSPARENT))];
-                let mut p = pass(&mut encoder, &targets, None, Some((&images.depth[cur], Some(1.0))), Some(&query));
+                let mut p = Pass::new("peel layer")
+                    .colour(&images.layer, clear)
+                    .depth(&images.depth[cur], wgpu::LoadOp::Clear(1.0), true)
+                    .counting(&query)
+                    .begin(&mut encoder);
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.peel_binds[prev], &[]);
                 p.begin_occlusion_query(0);
-                f.scene.draw_many(
-                    (&mut p, shown),
-                    &pe.layer,
-                    0,
-                    faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))),
-                );
+                f.scene.draw_organs((&mut p, shown), &pe.layer, 0, faded, f.input.draw);
                 p.end_occlusion_query();
             }
             {
-                let mut p = pass(&mut encoder, &[(&images.accum, None)], None, None, None);
+                let mut p = Pass::new("peel under").colour(&images.accum, wgpu::LoadOp::Load).begin(&mut encoder);
                 p.set_pipeline(&pe.under);
                 p.set_bind_group(0, &images.layer_bind, &[]);
                 p.draw(0..3, 0..1);
@@ -362,17 +327,20 @@ impl PeelFrame<'_> {
             ty: wgpu::QueryType::Occlusion,
             count: 1,
         });
-        let unpeeled = Some(wgpu::Color { r: -1.0, g: -1.0, b: -1.0, a: -1.0 });
-        let none = Some(wgpu::Color::TRANSPARENT);
-        let depth = Some((&f.target.msaa_depth, None));
+        let unpeeled = wgpu::LoadOp::Clear(wgpu::Color { r: -1.0, g: -1.0, b: -1.0, a: -1.0 });
+        let none = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+        let depth = &f.target.msaa_depth;
         let mut encoder = f.device.create_command_encoder(&Default::default());
-        drop(pass(&mut encoder, &[(&images.front[0], none)], None, None, None));
+        drop(Pass::new("dual start").colour(&images.front[0], none).begin(&mut encoder));
         {
-            let targets = [(&images.near[0], unpeeled), (&images.far[0], unpeeled)];
-            let mut p = pass(&mut encoder, &targets, None, depth, None);
+            let mut p = Pass::new("dual init")
+                .colour(&images.near[0], unpeeled)
+                .colour(&images.far[0], unpeeled)
+                .depth(depth, wgpu::LoadOp::Load, true)
+                .begin(&mut encoder);
             f.scene.set_frame(&mut p, 0);
             p.set_bind_group(2, &images.dual_binds[1], &[]);
-            f.scene.draw_many((&mut p, shown), init, 0, faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))));
+            f.scene.draw_organs((&mut p, shown), init, 0, faded, f.input.draw);
         }
         let mut passes = 0;
         let mut front = 0;
@@ -381,24 +349,20 @@ impl PeelFrame<'_> {
             let (prev, cur) = (step % 2, (step + 1) % 2);
             let mut encoder = pending.take().unwrap_or_else(|| f.device.create_command_encoder(&Default::default()));
             {
-                let targets = [
-                    (&images.near[cur], unpeeled),
-                    (&images.far[cur], unpeeled),
-                    (&images.front[cur], none),
-                    (&images.layer, none),
-                ];
-                let mut p = pass(&mut encoder, &targets, None, depth, None);
+                let mut p = Pass::new("dual peel")
+                    .colour(&images.near[cur], unpeeled)
+                    .colour(&images.far[cur], unpeeled)
+                    .colour(&images.front[cur], none)
+                    .colour(&images.layer, none)
+                    .depth(depth, wgpu::LoadOp::Load, true)
+                    .begin(&mut encoder);
                 f.scene.set_frame(&mut p, 0);
                 p.set_bind_group(2, &images.dual_binds[prev], &[]);
-                f.scene.draw_many(
-                    (&mut p, shown),
-                    peel,
-                    0,
-                    faded.iter().map(|&i| (i, f.scene.ranges(i, f.input.draw))),
-                );
+                f.scene.draw_organs((&mut p, shown), peel, 0, faded, f.input.draw);
             }
             {
-                let mut p = pass(&mut encoder, &[(&hdr.msaa, None)], None, None, Some(&query));
+                let mut p =
+                    Pass::new("dual back").colour(&hdr.msaa, wgpu::LoadOp::Load).counting(&query).begin(&mut encoder);
                 p.set_pipeline(&pe.back);
                 p.set_bind_group(0, &images.layer_bind, &[]);
                 p.begin_occlusion_query(0);
@@ -431,14 +395,16 @@ impl Technique for PeelFrame<'_> {
         f.queue.submit([first.finish()]);
         let passes = if self.dual {
             let (passes, front) = self.dual_peel((f, &shown), images, &faded, layers)?;
-            let mut p = pass(encoder, &[(&images.layer, None)], Some(&hdr.resolved), None, None);
+            let mut p =
+                Pass::new("dual final").resolved(&images.layer, &hdr.resolved, wgpu::LoadOp::Load, true).begin(encoder);
             p.set_pipeline(&pe.final_pass);
             p.set_bind_group(0, &images.final_binds[front], &[]);
             p.draw(0..3, 0..1);
             passes + 1
         } else {
             let passes = self.peel((f, &shown), images, &faded, layers)?;
-            let mut p = pass(encoder, &[(&images.accum, None)], Some(&hdr.resolved), None, None);
+            let mut p =
+                Pass::new("peel final").resolved(&images.accum, &hdr.resolved, wgpu::LoadOp::Load, true).begin(encoder);
             p.set_pipeline(&pe.under);
             p.set_bind_group(0, &images.opaque_bind, &[]);
             p.draw(0..3, 0..1);

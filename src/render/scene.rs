@@ -4,6 +4,7 @@
 //! each other in a batch are drawn by one call where their index ranges meet, so a frame's draw
 //! calls grow with the runs of organs drawn, not with the organs.
 
+use super::passes::Pass;
 use super::pipelines::{clear_colour, OrganPipelines};
 use super::target::Target;
 use super::uniforms::{FrameUniform, OrganUniform, Vertex, CAPPED, CLIPPED, CLOSED, FRAME_SLOTS, SLOT, UNMOVED};
@@ -450,6 +451,19 @@ impl GpuScene {
         self.draw_many((pass, shown), pipelines, section, [(organ, Cow::Borrowed(ranges))]);
     }
 
+    /// Draws `organs` in the order given, each as far as `draw` keeps it (what survived culling;
+    /// `None` draws it whole), as shown in `section`.
+    pub fn draw_organs(
+        &self,
+        (pass, shown): (&mut wgpu::RenderPass, &Shown),
+        pipelines: &OrganPipelines,
+        section: u64,
+        organs: &[usize],
+        draw: Option<&DrawList>,
+    ) {
+        self.draw_many((pass, shown), pipelines, section, organs.iter().map(|&i| (i, self.ranges(i, draw))));
+    }
+
     /// Draws organs in the order given, each its `ranges` (of its own indices), as shown in
     /// `section`: ranges that meet in a batch, of organs of one kind, go in one draw call.
     pub fn draw_many<'r>(
@@ -539,29 +553,10 @@ impl GpuScene {
         background: [f32; 4],
         keep_depth: bool,
     ) -> wgpu::RenderPass<'e> {
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("organs"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: colour[0],
-                depth_slice: None,
-                resolve_target: Some(colour[1]),
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear_colour(background)),
-                    store: wgpu::StoreOp::Discard,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.msaa_depth,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: if keep_depth { wgpu::StoreOp::Store } else { wgpu::StoreOp::Discard },
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = Pass::new("organs")
+            .resolved(colour[0], colour[1], wgpu::LoadOp::Clear(clear_colour(background)), false)
+            .depth(&target.msaa_depth, wgpu::LoadOp::Clear(1.0), keep_depth)
+            .begin(encoder);
         self.set_frame(&mut pass, 0);
         pass
     }

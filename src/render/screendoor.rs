@@ -17,6 +17,7 @@
 //! the opaque image and the running mean are kept in the pool between those calls.
 
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
+use super::passes::Pass;
 use super::pipelines::{
     fullscreen_pipeline, module, target, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
     SAMPLE_COUNT,
@@ -444,31 +445,16 @@ fn start(
 fn draw_opaque(sd: &Screendoor, (f, shown): (&Frame, &Shown), encoder: &mut wgpu::CommandEncoder) {
     let (scene, input, target) = (f.scene, f.input, f.target);
     let hdr = target.hdr(f.device);
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("opaque"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &hdr.msaa,
-            depth_slice: None,
-            resolve_target: Some(&hdr.resolved),
-            ops: wgpu::Operations {
-                load: wgpu::LoadOp::Clear(super::pipelines::clear_colour(input.background)),
-                store: wgpu::StoreOp::Store,
-            },
-        })],
-        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-            view: &target.msaa_depth,
-            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Store }),
-            stencil_ops: None,
-        }),
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    let background = wgpu::LoadOp::Clear(super::pipelines::clear_colour(input.background));
+    let mut pass = Pass::new("opaque")
+        .resolved(&hdr.msaa, &hdr.resolved, background, true)
+        .depth(&target.msaa_depth, wgpu::LoadOp::Clear(1.0), true)
+        .begin(encoder);
     scene.set_frame(&mut pass, 0);
     // In index order too (see `draw_passes`): exact depth ties between opaque organs.
     let (mut opaque, _) = input.split(scene.organ_count());
     opaque.sort_unstable();
-    scene.draw_many((&mut pass, shown), &sd.opaque, 0, opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))));
+    scene.draw_organs((&mut pass, shown), &sd.opaque, 0, &opaque, input.draw);
 }
 
 /// Passes `passes` of `total` of the faded organs, each shifted by its
@@ -512,23 +498,10 @@ fn draw_passes(
             scene.write_frame(queue, input, target.aspect(), 1 + p as u64, place);
         }
         {
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("screendoor tiles"),
-                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                    view: &atlas.msaa,
-                    depth_slice: None,
-                    resolve_target: Some(&atlas.resolved),
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear), store: wgpu::StoreOp::Discard },
-                })],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &atlas.depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(1.0), store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = Pass::new("screendoor tiles")
+                .resolved(&atlas.msaa, &atlas.resolved, wgpu::LoadOp::Clear(clear), false)
+                .depth(&atlas.depth, wgpu::LoadOp::Clear(1.0), false)
+                .begin(encoder);
             for t in first_tile..first_tile + count {
                 let p = (first + t - first_tile) as u64;
                 let c = tiling.corner(t);
@@ -540,12 +513,7 @@ fn draw_passes(
                 }
                 scene.set_frame(&mut pass, 1 + p);
                 pass.set_bind_group(2, &pool.bind, &[(p * SLOT) as u32]);
-                scene.draw_many(
-                    (&mut pass, shown),
-                    &sd.masked,
-                    0,
-                    faded.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-                );
+                scene.draw_organs((&mut pass, shown), &sd.masked, 0, &faded, input.draw);
             }
         }
         let g = GatherUniform {
@@ -557,19 +525,7 @@ fn draw_passes(
             pad: 0,
         };
         queue.write_buffer(&sd.gathers, first as u64 * SLOT, bytemuck::bytes_of(&g));
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("gather"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &hdr.accum,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = Pass::new("gather").colour(&hdr.accum, wgpu::LoadOp::Load).begin(encoder);
         pass.set_scissor_rect(rect.x, rect.y, rect.w, rect.h);
         pass.set_pipeline(&sd.gather);
         pass.set_bind_group(0, &atlas.gather_bind, &[(first as u64 * SLOT) as u32]);
@@ -583,19 +539,8 @@ fn draw_passes(
 
 /// The opaque image, and over it the rectangle's running mean where there is one.
 fn present(sd: &Screendoor, encoder: &mut wgpu::CommandEncoder, target: &Target, images: &Images, rect: Option<Rect>) {
-    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-        label: Some("present"),
-        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-            view: &target.color_view,
-            depth_slice: None,
-            resolve_target: None,
-            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Store },
-        })],
-        depth_stencil_attachment: None,
-        timestamp_writes: None,
-        occlusion_query_set: None,
-        multiview_mask: None,
-    });
+    let clear = wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT);
+    let mut pass = Pass::new("present").colour(&target.color_view, clear).begin(encoder);
     pass.set_pipeline(&sd.present);
     pass.set_bind_group(0, &images.opaque, &[]);
     pass.draw(0..3, 0..1);

@@ -3,6 +3,7 @@
 //! over that depth, then the resolve over the opaque image.
 
 use super::frame::{Frame, RenderStats, Technique};
+use super::passes::Pass;
 use super::pipelines::{fullscreen_pass, Composite, OrganPipeline, OrganPipelines, PipelineFactory};
 use super::target::{Kept, COLOR_FORMAT, HDR_FORMAT, REVEAL_FORMAT};
 use crate::error::Result;
@@ -71,44 +72,16 @@ impl Technique for WeightedFrame<'_> {
         {
             // The opaque depth stays for the weighted pass to test against.
             let mut pass = scene.begin_organ_pass(encoder, [&hdr.msaa, &hdr.resolved], target, input.background, true);
-            scene.draw_many(
-                (&mut pass, &shown),
-                &wb.opaque,
-                0,
-                opaque.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-            );
+            scene.draw_organs((&mut pass, &shown), &wb.opaque, 0, &opaque, input.draw);
         }
         {
-            let attachment = |view, resolve, clear_to: wgpu::Color| {
-                Some(wgpu::RenderPassColorAttachment {
-                    view,
-                    depth_slice: None,
-                    resolve_target: Some(resolve),
-                    ops: wgpu::Operations { load: wgpu::LoadOp::Clear(clear_to), store: wgpu::StoreOp::Discard },
-                })
-            };
-            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("weighted sums"),
-                color_attachments: &[
-                    attachment(&hdr.msaa, &hdr.accum, wgpu::Color::TRANSPARENT),
-                    attachment(&hdr.reveal_msaa, &hdr.reveal, wgpu::Color::WHITE),
-                ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &target.msaa_depth,
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Discard }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = Pass::new("weighted sums")
+                .resolved(&hdr.msaa, &hdr.accum, wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), false)
+                .resolved(&hdr.reveal_msaa, &hdr.reveal, wgpu::LoadOp::Clear(wgpu::Color::WHITE), false)
+                .depth(&target.msaa_depth, wgpu::LoadOp::Load, false)
+                .begin(encoder);
             scene.set_frame(&mut pass, 0);
-            scene.draw_many(
-                (&mut pass, &shown),
-                &wb.sums,
-                0,
-                transparent.iter().map(|&i| (i, scene.ranges(i, input.draw))),
-            );
+            scene.draw_organs((&mut pass, &shown), &wb.sums, 0, &transparent, input.draw);
         }
         let images = self.composite.images(f.device, [&hdr.resolved, &hdr.accum, &hdr.reveal]);
         fullscreen_pass(encoder, &target.color_view, &wb.resolve, &images, false, 1.0);
