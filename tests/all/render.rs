@@ -190,3 +190,52 @@ fn no_white_matter_shows_between_the_gyri() {
         assert!(wm * 1000 < brain, "{view:?}: white matter shows in {wm} of {brain} brain pixels");
     }
 }
+
+/// The outline pass: the pixels the selected organ does not cover, within two pixels of one it
+/// does (as the ID buffer has them), turn sky blue; for a highlighted organ amber. Every other
+/// pixel, inside the silhouette or away from it, is left as the frame drew it.
+#[test]
+fn outlines_ring_the_silhouette_in_their_colours() {
+    use vbrain::organ_set::Organ;
+    let gpu = gpu();
+    let sphere = crate::sections::sphere(20.0, 24, 48);
+    let set = OrganSet { organs: vec![Organ::new("s".into(), "S".into(), [0.5; 3], sphere)], ..Default::default() };
+    let renderer = Renderer::new(&gpu.device, &set).unwrap();
+    let layout = Layout::new(&set);
+    let camera = Camera::view(&layout.bounds(&set), View::Anterior);
+    let mut target = Target::new(&gpu.device, 128, 96).unwrap();
+    let base = FrameInput { background: [0.0, 0.0, 0.0, 1.0], ..FrameInput::new(&set, &camera, &layout) };
+    let mut shoot = |f: &FrameInput| {
+        renderer.render(&gpu.device, &gpu.queue, &mut target, f).unwrap();
+        target.read_color(&gpu.device, &gpu.queue).unwrap()
+    };
+    let plain = shoot(&base);
+    let selected = shoot(&FrameInput { selection: Some(0), ..base });
+    let highlighted = shoot(&FrameInput { highlight: &[0], ..base });
+    renderer.render_ids(&gpu.device, &gpu.queue, &target, &base, 0.0);
+    let ids = target.read_ids(&gpu.device, &gpu.queue).unwrap();
+    let (w, h) = (128i32, 96i32);
+    let covered = |x: i32, y: i32| x >= 0 && y >= 0 && x < w && y < h && ids[(y * w + x) as usize] != 0;
+    let ring = |x: i32, y: i32| {
+        !covered(x, y)
+            && (-2..=2).any(|dy: i32| (-2..=2).any(|dx: i32| dx * dx + dy * dy <= 5 && covered(x + dx, y + dy)))
+    };
+    assert!(covered(64, 48), "the sphere covers the centre");
+    for (image, colour, what) in [(&selected, [80, 220, 255], "selection"), (&highlighted, [255, 190, 0], "highlight")]
+    {
+        let mut ringed = 0;
+        for y in 0..h {
+            for x in 0..w {
+                let (got, before) = (image.get_pixel(x as u32, y as u32), plain.get_pixel(x as u32, y as u32));
+                if ring(x, y) {
+                    let off = (0..3).map(|k| got[k].abs_diff(colour[k])).max().unwrap_or(0);
+                    assert!(off <= 2, "{what}: ring pixel ({x}, {y}) is {got:?}, not {colour:?}");
+                    ringed += 1;
+                } else {
+                    assert_eq!(got, before, "{what}: pixel ({x}, {y}) off the ring changed");
+                }
+            }
+        }
+        assert!(ringed > 150, "{what}: a ring of {ringed} pixels around a sphere 40 mm across");
+    }
+}

@@ -12,7 +12,7 @@ use vbrain::organ_set::{Organ, OrganSet};
 use vbrain::render::{linear_to_srgb, FrameInput, Renderer, Target};
 
 /// A closed UV sphere of `radius` at the origin, wound outward, vertices shared.
-fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
+pub(crate) fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
     let mut positions = vec![[0.0, 0.0, radius]];
     for r in 1..rings {
         let theta = std::f32::consts::PI * r as f32 / rings as f32;

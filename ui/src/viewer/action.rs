@@ -16,70 +16,21 @@ pub enum Action {
     Edit(Edit),
     Undo,
     Redo,
-    /// Save the scene: to its file, or (`as_new`, or none yet) ask where.
-    SaveScene {
-        as_new: bool,
-    },
-    /// Save the scene to this file (`.vbscene`).
-    SaveSceneTo(PathBuf),
-    /// Open a lesson (`.vblesson`) at its first step.
-    OpenLesson(PathBuf),
-    /// Show step k (0-based) of the open lesson.
-    LessonStep(usize),
-    /// Close the lesson (asking first if it has unsaved changes).
-    CloseLesson,
-    /// A new lesson over the open set, its first step the current view.
-    NewLesson,
-    /// Change the lesson (one undoable step).
-    LessonEdit(LessonEdit),
-    /// A step from the current view after the current one, or (`replace`) into the current one.
-    AddLessonStep {
-        replace: bool,
-    },
-    /// Save the lesson: to its file, or (`as_new`, or a new lesson) ask where.
-    SaveLesson {
-        as_new: bool,
-    },
-    /// Save the lesson to this file (`.vblesson`).
-    SaveLessonTo(PathBuf),
+    /// The scene file.
+    Document(DocumentAction),
+    /// The lesson: opening, following and authoring it.
+    Lesson(LessonAction),
+    /// The quiz under way, or its setup.
+    Quiz(QuizAction),
+    /// The cross-section: planes, the slice panes' crosshair, organs kept whole.
+    Section(SectionAction),
     Select(Option<usize>),
     /// A click in the view on this organ (or nothing): selects it, or answers a quiz's question.
     Pick(Option<usize>),
-    /// Start a quiz as the Quiz panel sets it up.
-    QuizStart,
-    /// Start the open lesson's quiz.
-    QuizLesson,
-    /// Answer a name question with typed text.
-    QuizAnswer(String),
-    /// Answer a name question with one of its choices (an organ).
-    QuizPick(usize),
-    /// The next question (or the review after the last).
-    QuizNext,
-    /// Fly to a missed question's structure, labelled.
-    QuizReview(usize),
-    /// Write the quiz's answers as CSV to this file.
-    QuizExport(String),
-    /// Back to the quiz setup.
-    QuizAgain,
-    /// Leave the quiz.
-    QuizClose,
-    /// Keep an organ whole where clip planes cut (or cut it again).
-    KeepWhole {
-        organ: usize,
-        whole: bool,
-    },
     /// Label an organ or not (the chosen-labels mode).
     Label {
         organ: usize,
         on: bool,
-    },
-    /// Move the slice panes' crosshair to this point (world millimetres); the section planes that
-    /// are on follow it.
-    SlicePoint(glam::Vec3),
-    /// Move a clip plane of the Sections window (its slot) along its normal, millimetres.
-    MovePlane {
-        slot: usize,
-        mm: f32,
     },
     /// Open a set (one folder or file), a scene file (`.vbscene`, then its set) or several mesh
     /// files, off the UI thread.
@@ -162,23 +113,69 @@ pub struct ImportRequest {
     pub triangles: usize,
 }
 
-impl Action {
-    /// Does it act on the quiz?
-    pub fn is_quiz(&self) -> bool {
-        use Action::*;
-        matches!(
-            self,
-            QuizStart
-                | QuizLesson
-                | QuizAnswer(_)
-                | QuizPick(_)
-                | QuizNext
-                | QuizReview(_)
-                | QuizExport(_)
-                | QuizAgain
-                | QuizClose
-        )
-    }
+/// What the scene file's component asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum DocumentAction {
+    /// Save the scene: to its file, or (`as_new`, or none yet) ask where.
+    Save { as_new: bool },
+    /// Save the scene to this file (`.vbscene`).
+    SaveTo(PathBuf),
+}
+
+/// What the lesson panel and the lesson shortcuts ask for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LessonAction {
+    /// Open a lesson (`.vblesson`) at its first step.
+    Open(PathBuf),
+    /// Show step k (0-based) of the open lesson.
+    Step(usize),
+    /// Close the lesson (asking first if it has unsaved changes).
+    Close,
+    /// A new lesson over the open set, its first step the current view.
+    New,
+    /// Change the lesson (one undoable step).
+    Edit(LessonEdit),
+    /// A step from the current view after the current one, or (`replace`) into the current one.
+    AddStep { replace: bool },
+    /// Save the lesson: to its file, or (`as_new`, or a new lesson) ask where.
+    Save { as_new: bool },
+    /// Save the lesson to this file (`.vblesson`).
+    SaveTo(PathBuf),
+}
+
+/// What the Quiz panel asks for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum QuizAction {
+    /// Start a quiz as the Quiz panel sets it up.
+    Start,
+    /// Start the open lesson's quiz.
+    Lesson,
+    /// Answer a name question with typed text.
+    Answer(String),
+    /// Answer a name question with one of its choices (an organ).
+    Pick(usize),
+    /// The next question (or the review after the last).
+    Next,
+    /// Fly to a missed question's structure, labelled.
+    Review(usize),
+    /// Write the quiz's answers as CSV to this file.
+    Export(String),
+    /// Back to the quiz setup.
+    Again,
+    /// Leave the quiz.
+    Close,
+}
+
+/// What the Sections panel, the plane handles and the slice panes ask for.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SectionAction {
+    /// Keep an organ whole where clip planes cut (or cut it again).
+    KeepWhole { organ: usize, whole: bool },
+    /// Move the slice panes' crosshair to this point (world millimetres); the section planes that
+    /// are on follow it.
+    SlicePoint(glam::Vec3),
+    /// Move a clip plane of the Sections window (its slot) along its normal, millimetres.
+    MovePlane { slot: usize, mm: f32 },
 }
 
 /// Which control: 0 axial, 1 coronal, 2 sagittal, 3 oblique.

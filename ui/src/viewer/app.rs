@@ -2,9 +2,13 @@
 //! components' [`Action`]s are carried out (scene edits through [`Scene::apply`], and the
 //! commands: open, import, export, camera, selection, windows, notifications).
 //!
-//! A frame: finished jobs, dropped files, keyboard shortcuts, menu bar, status bar, organ panel,
-//! inspector, viewport, windows, notifications; each component's actions are performed before the
-//! next component draws, so every component shows what the ones before it changed.
+//! - A frame: first its logic (`logic`: the gesture ended, finished jobs, the lesson's easing, the
+//!   quiz's time limit), then dropped files, keyboard shortcuts, menu bar, status bar, organ panel,
+//!   dock, views, windows, notifications; each component's actions are performed before the next
+//!   component draws, so every component shows what the ones before it changed.
+//! - The lesson, the quiz, the sections and the scene file each carry out their own nested actions
+//!   (`perform_lesson`, `perform_quiz`, `perform_section`, `perform_document`, in the child
+//!   modules beside their state).
 
 use super::about::About;
 use super::action::{Action, ModelKind, Window};
@@ -24,6 +28,7 @@ use super::shortcuts::{self, Command};
 use super::status::{self, Notification, Status};
 use super::viewport::{self, Viewport};
 use super::welcome;
+use crate::viewer::action::{DocumentAction, LessonAction};
 use anyhow::Result;
 use eframe::egui;
 use std::path::PathBuf;
@@ -34,6 +39,7 @@ use vbrain::organ_set::Loaded;
 
 mod docked;
 mod figure;
+mod layout;
 mod lessons;
 mod quiz;
 mod scene_files;
@@ -286,7 +292,8 @@ impl App {
 
     /// Carries out the components' actions, in order.
     pub fn perform(&mut self, ctx: &egui::Context, actions: Vec<Action>) {
-        let quiz = actions.iter().any(Action::is_quiz) || (self.quiz.answering() && !actions.is_empty());
+        let quiz =
+            actions.iter().any(|a| matches!(a, Action::Quiz(_))) || (self.quiz.answering() && !actions.is_empty());
         self.perform_each(ctx, actions);
         if quiz {
             self.quiz.refresh();
@@ -309,97 +316,23 @@ impl App {
                         scene.apply(&edit, dragging);
                     }
                 }
-                Action::SaveScene { as_new } => match (&self.document.path, as_new) {
-                    (Some(p), false) => {
-                        let p = p.clone();
-                        self.save_scene(&p);
-                    }
-                    _ => self.document.save_window.open = true,
-                },
-                Action::SaveSceneTo(path) => self.save_scene(&path),
-                Action::OpenLesson(path) if self.lesson.unsaved() => {
-                    self.document.confirm = Some(document::Pending::Open(vec![path]));
-                }
-                Action::OpenLesson(path) => self.open_lesson(ctx, &path),
-                Action::LessonStep(k) => self.lesson_step(ctx, k),
-                Action::CloseLesson => self.ask_close_lesson(),
-                Action::NewLesson if self.lesson.unsaved() => {
-                    self.document.confirm = Some(document::Pending::CloseLesson);
-                }
-                Action::NewLesson => self.new_lesson(),
-                Action::LessonEdit(edit) => self.edit_lesson(&edit),
-                Action::AddLessonStep { replace } => self.add_lesson_step(replace),
-                Action::SaveLesson { as_new } => self.save_lesson(as_new, None),
-                Action::SaveLessonTo(path) => self.save_lesson(false, Some(&path)),
-                Action::Undo | Action::Redo => {
-                    let undo = action == Action::Undo;
-                    if let Some(scene) = &mut self.scene {
-                        let history = scene.history();
-                        if (undo && history.undo_is_outside()) || (!undo && history.redo_is_outside()) {
-                            self.lesson.undo(!undo);
-                        }
-                        let done = if undo { scene.undo() } else { scene.redo() };
-                        if done.is_none() {
-                            self.notify(if undo { "nothing to undo" } else { "nothing to redo" }, false);
-                        }
-                        ctx.request_repaint();
-                    }
-                }
+                Action::Document(action) => self.perform_document(action),
+                Action::Lesson(action) => self.perform_lesson(ctx, action),
+                Action::Undo => self.undo(ctx, true),
+                Action::Redo => self.undo(ctx, false),
                 Action::Pick(organ) if self.quiz.answering() => self.quiz_click(organ, ctx.input(|i| i.time)),
                 Action::Select(organ) | Action::Pick(organ) => self.selected = organ,
-                Action::QuizStart => self.start_quiz(ctx, None),
-                Action::QuizLesson => self.start_lesson_quiz(ctx),
-                Action::QuizAnswer(text) => self.quiz_name(Some(text), None, ctx.input(|i| i.time)),
-                Action::QuizPick(organ) => self.quiz_name(None, Some(organ), ctx.input(|i| i.time)),
-                Action::QuizNext => self.quiz_next(ctx.input(|i| i.time)),
-                Action::QuizReview(k) => self.quiz_review(k),
-                Action::QuizExport(path) => self.export_quiz(&path),
-                Action::QuizAgain => self.close_quiz(true),
-                Action::QuizClose => self.close_quiz(false),
-                Action::KeepWhole { organ, whole } => {
-                    self.sections.set_whole(organ, whole);
-                    self.touch_scene();
-                }
+                Action::Quiz(action) => self.perform_quiz(ctx, action),
+                Action::Section(action) => self.perform_section(action),
                 Action::Label { organ, on } => {
                     self.label_organ(organ, on);
                     self.touch_scene();
-                }
-                Action::SlicePoint(point) => {
-                    if let Some(scene) = &mut self.scene {
-                        let home = scene.home();
-                        let inside = point.clamp(glam::Vec3::from(home.min), glam::Vec3::from(home.max));
-                        self.slices.point = Some(inside);
-                        self.sections.move_to(inside, &home);
-                        scene.touch();
-                    }
-                }
-                Action::MovePlane { slot, mm } => {
-                    if let Some(scene) = &mut self.scene {
-                        self.sections.move_plane(slot, mm, &scene.home());
-                        scene.touch();
-                    }
                 }
                 Action::Open(paths) if self.unsaved(&document::Pending::Open(Vec::new())) => {
                     self.document.confirm = Some(document::Pending::Open(paths));
                 }
                 Action::Open(paths) => self.open(ctx, paths),
-                Action::Show(window) => match window {
-                    Window::OpenSet => self.dialogs.open_set.open = true,
-                    Window::About => self.about.open = true,
-                    Window::OpenMeshes => self.dialogs.open_meshes.open = true,
-                    Window::Import => self.dialogs.import.open = true,
-                    Window::Export => self.dialogs.export.open = true,
-                    Window::ExportModel(kind) => self.dialogs.model(kind).open = true,
-                    Window::Sections => {
-                        self.sections.open = true;
-                        self.dock.focus(Tab::Sections);
-                    }
-                    Window::Quiz => {
-                        self.quiz.open = true;
-                        self.dock.focus(Tab::Quiz);
-                        self.load_quiz_history();
-                    }
-                },
+                Action::Show(window) => self.show(window),
                 Action::ImportVolume(volume) => self.dialogs.import.open_on(&volume),
                 Action::Import(request) => {
                     let title = format!("importing {}", request.volume.display());
@@ -429,11 +362,8 @@ impl App {
                     }
                 }
                 Action::Notify { text, error } => self.notify(text, error),
-                Action::NotifyOnce(text) => {
-                    if !self.notifications.iter().any(|n| n.text == text) {
-                        self.notify(text, true);
-                    }
-                }
+                Action::NotifyOnce(text) if self.notifications.iter().any(|n| n.text == text) => {}
+                Action::NotifyOnce(text) => self.notify(text, true),
                 Action::Dismiss(None) => self.notifications.clear(),
                 Action::Dismiss(Some(i)) => {
                     if i < self.notifications.len() {
@@ -447,6 +377,41 @@ impl App {
                     self.closing = true;
                     ctx.send_viewport_cmd(egui::ViewportCommand::Close);
                 }
+            }
+        }
+    }
+
+    /// Undoes (or redoes) the last step: of the layout, or of the lesson where that came last.
+    fn undo(&mut self, ctx: &egui::Context, undo: bool) {
+        let Some(scene) = &mut self.scene else { return };
+        let history = scene.history();
+        if (undo && history.undo_is_outside()) || (!undo && history.redo_is_outside()) {
+            self.lesson.undo(!undo);
+        }
+        let done = if undo { scene.undo() } else { scene.redo() };
+        if done.is_none() {
+            self.notify(if undo { "nothing to undo" } else { "nothing to redo" }, false);
+        }
+        ctx.request_repaint();
+    }
+
+    /// Opens a window, or brings a dock tab to the front.
+    fn show(&mut self, window: Window) {
+        match window {
+            Window::OpenSet => self.dialogs.open_set.open = true,
+            Window::About => self.about.open = true,
+            Window::OpenMeshes => self.dialogs.open_meshes.open = true,
+            Window::Import => self.dialogs.import.open = true,
+            Window::Export => self.dialogs.export.open = true,
+            Window::ExportModel(kind) => self.dialogs.model(kind).open = true,
+            Window::Sections => {
+                self.sections.open = true;
+                self.dock.focus(Tab::Sections);
+            }
+            Window::Quiz => {
+                self.quiz.open = true;
+                self.dock.focus(Tab::Quiz);
+                self.load_quiz_history();
             }
         }
     }
@@ -472,10 +437,12 @@ impl App {
                 Command::Open => out.push(Action::Show(Window::OpenSet)),
                 Command::Export => out.push(Action::Show(Window::Export)),
                 Command::Undo => out.push(Action::Undo),
-                Command::SaveAs => out.push(Action::SaveScene { as_new: true }),
-                Command::Save => out.push(Action::SaveScene { as_new: false }),
-                Command::NextStep => out.extend(self.lesson.step_by(1).map(Action::LessonStep)),
-                Command::PreviousStep => out.extend(self.lesson.step_by(-1).map(Action::LessonStep)),
+                Command::SaveAs => out.push(Action::Document(DocumentAction::Save { as_new: true })),
+                Command::Save => out.push(Action::Document(DocumentAction::Save { as_new: false })),
+                Command::NextStep => out.extend(self.lesson.step_by(1).map(|k| Action::Lesson(LessonAction::Step(k)))),
+                Command::PreviousStep => {
+                    out.extend(self.lesson.step_by(-1).map(|k| Action::Lesson(LessonAction::Step(k))))
+                }
                 Command::Redo | Command::RedoY => out.push(Action::Redo),
                 Command::ResetLayout => out.extend(self.scene.as_ref().map(|s| Action::Edit(s.reset_layout()))),
                 Command::ToggleTransparency => {
@@ -528,102 +495,35 @@ impl App {
 }
 
 impl eframe::App for App {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        use egui::{CentralPanel, Panel};
-        let ctx = ui.ctx().clone();
+    /// The frame's logic before anything is drawn: the gesture ended, finished jobs taken in, the
+    /// lesson's transition eased on, the quiz's time limit checked.
+    fn logic(&mut self, ctx: &egui::Context, _frame: &mut eframe::Frame) {
         if !ctx.input(|i| i.pointer.any_down()) {
             // No drag goes on: the next edit starts a new undo step.
             if let Some(scene) = &mut self.scene {
                 scene.end_gesture();
             }
         }
-        self.poll_jobs(&ctx);
-        self.ease_lesson_step(&ctx);
-        self.quiz_tick(&ctx);
+        self.poll_jobs(ctx);
+        self.ease_lesson_step(ctx);
+        self.quiz_tick(ctx);
+    }
+
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
         self.perform(&ctx, files::dropped(&ctx));
         let keys = self.key_actions(&ctx);
         self.perform(&ctx, keys);
-        let state = MenuState {
-            scene: self.scene.as_ref(),
-            has_database: self.viewport.has_database(),
-            fly: self.viewport.fly(),
-            job: self.job(),
-        };
-        let labels = self.settings.labels;
-        let actions = Panel::top("menu").show(ui, |ui| menus::menu_bar(ui, &state, &mut self.settings)).inner;
-        if self.settings.labels != labels {
-            self.touch_scene();
-        }
-        self.perform(&ctx, actions);
-        let status = Status {
-            scene: self.scene.as_ref(),
-            loading: self.is_loading(),
-            frame: (self.viewport.stats(), self.viewport.fps(), self.viewport.fly()),
-            scale: self.viewport.scale(),
-            occluders: self.viewport.cull_stats().source,
-            settings: &self.settings,
-            selected: self.selected,
-        };
-        Panel::bottom("status").show(ui, |ui| status::status_bar(ui, &status));
-        let (panel, scene, selected) = (&mut self.organ_panel, self.scene.as_ref(), self.selected);
-        let quiz = self.quiz.answering();
-        // Side panels never take the 3-D view's place, whatever their contents' widths.
-        let (left_max, right_max) = dock::side_limits(ui.max_rect().width());
-        let actions = Panel::left("organs")
-            .default_size(dock::ORGAN_PANEL_WIDTH)
-            .max_size(left_max)
-            .resizable(true)
-            .show(ui, |ui| panel.show(ui, scene, selected, quiz))
-            .inner;
-        self.perform(&ctx, actions);
-        self.dock_panel(ui, right_max);
-        if self.scene.is_none() && !self.is_loading() {
-            if let Some(not_found) = &self.welcome {
-                let actions = CentralPanel::default().show(ui, |ui| welcome::view(ui, not_found)).inner;
+        self.bars_and_panels(ui, &ctx);
+        match &self.welcome {
+            Some(not_found) if self.scene.is_none() && !self.is_loading() => {
+                let actions = egui::CentralPanel::default().show(ui, |ui| welcome::view(ui, not_found)).inner;
                 self.perform(&ctx, actions);
-                self.windows(&ctx);
-                let actions = status::notifications(&ctx, &self.notifications);
-                self.perform(&ctx, actions);
-                return;
+            }
+            _ => {
+                egui::CentralPanel::no_frame().show(ui, |ui| self.views(ui, &ctx));
             }
         }
-        CentralPanel::no_frame().show(ui, |ui| {
-            use super::settings::ViewLayout;
-            let full = ui.available_rect_before_wrap();
-            let layout = if self.scene.is_some() { self.settings.view_layout } else { ViewLayout::ThreeD };
-            let (three_d, slices) = match layout {
-                ViewLayout::ThreeD => (Some(full), None),
-                ViewLayout::ThreeDWithSlices => {
-                    let split = full.left() + full.width() * 0.64;
-                    let (a, b) = full.split_left_right_at_x(split);
-                    (Some(a), Some(b.shrink2(egui::vec2(2.0, 0.0))))
-                }
-                ViewLayout::Slices => (None, Some(full)),
-            };
-            if let Some(r) = three_d {
-                ui.scope_builder(egui::UiBuilder::new().max_rect(r), |ui| {
-                    let (rect, response) = self.viewport.allocate(ui);
-                    let actions = self.with_viewport(|v, input| v.input(ui, &response, input));
-                    self.perform(&ctx, actions);
-                    let actions = self.with_viewport(|v, input| v.draw(ui, rect, input));
-                    self.perform(&ctx, actions);
-                });
-            }
-            if let (Some(r), Some(scene)) = (slices, &self.scene) {
-                self.slices.radiological = !self.settings.neurological;
-                // The selected organ outlined boldly; while a quiz asks, no names on hover and only a
-                // "name it" structure outlined.
-                self.slices.names = !self.quiz.answering();
-                let asked = self.quiz.run.as_ref().and_then(|r| r.current()).filter(|_| self.quiz.answering());
-                self.slices.highlight = match asked {
-                    Some(q) => (q.kind == vbrain::quiz::Kind::Name).then_some(q.organ),
-                    None => self.selected,
-                };
-                self.slices.window = self.sections.current.faces.window;
-                let actions = self.slices.show(ui, r, scene.set(), scene.shown(), self.selected);
-                self.perform(&ctx, actions);
-            }
-        });
         self.windows(&ctx);
         let actions = status::notifications(&ctx, &self.notifications);
         self.perform(&ctx, actions);

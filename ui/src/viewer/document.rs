@@ -11,6 +11,7 @@ use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
 use super::widgets::{PathField, Pick};
+use crate::viewer::action::DocumentAction;
 use eframe::egui;
 use std::path::{Path, PathBuf};
 use vbrain::scene_file::{CameraState, RenderState, SceneFile, EXTENSION};
@@ -164,7 +165,7 @@ impl SaveWindow {
             }
         });
         self.open = open && go.is_none();
-        go.map(|p| vec![Action::SaveSceneTo(p)]).unwrap_or_default()
+        go.map(|p| vec![Action::Document(DocumentAction::SaveTo(p))]).unwrap_or_default()
     }
 }
 

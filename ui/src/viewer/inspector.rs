@@ -5,6 +5,7 @@
 use super::action::Action;
 use super::scene::Scene;
 use super::widgets::accessible;
+use crate::viewer::action::SectionAction;
 use eframe::egui::{self, RichText};
 use vbrain::edit::{Edit, Organs};
 
@@ -64,7 +65,7 @@ pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize, marks: Marks) -> 
         let r = ui.checkbox(&mut whole, "Do not cut").on_hover_text("Keep it whole where clip planes cut the set");
         accessible(&r, format!("Do not cut {name}"));
         if r.changed() {
-            out.push(Action::KeepWhole { organ: sel, whole });
+            out.push(Action::Section(SectionAction::KeepWhole { organ: sel, whole }));
         }
         let mut on = marks.labelled;
         let r = ui.checkbox(&mut on, "Label").on_hover_text("Name it with a label (View > Labels: chosen organs)");

@@ -8,6 +8,7 @@
 
 use super::action::Action;
 use super::widgets::{accessible, PathField, Pick};
+use crate::viewer::action::{LessonAction, QuizAction};
 use eframe::egui::{self, RichText};
 use std::path::{Path, PathBuf};
 use vbrain::lesson::{Lesson, LessonEdit, EXTENSION};
@@ -158,25 +159,25 @@ impl LessonPanel {
         ui.horizontal(|ui| {
             ui.heading(&lesson.title);
             if ui.small_button("×").on_hover_text("Close the lesson").clicked() {
-                out.push(Action::CloseLesson);
+                out.push(Action::Lesson(LessonAction::Close));
             }
         });
         ui.horizontal(|ui| {
             let previous = ui.add_enabled(self.step > 0, egui::Button::new("< Previous"));
             if previous.on_hover_text("Previous step (Page Up)").clicked() {
-                out.extend(self.step_by(-1).map(Action::LessonStep));
+                out.extend(self.step_by(-1).map(|k| Action::Lesson(LessonAction::Step(k))));
             }
             ui.label(format!("step {} of {}", self.step + 1, lesson.steps.len()));
             let next = ui.add_enabled(self.step + 1 < lesson.steps.len(), egui::Button::new("Next >"));
             if next.on_hover_text("Next step (Page Down)").clicked() {
-                out.extend(self.step_by(1).map(Action::LessonStep));
+                out.extend(self.step_by(1).map(|k| Action::Lesson(LessonAction::Step(k))));
             }
             ui.toggle_value(&mut self.editing, "Edit lesson").on_hover_text("Add, change, move and delete steps");
         });
         if !lesson.quiz.is_empty()
             && ui.button(format!("Take the lesson's quiz ({} questions)", lesson.quiz.len())).clicked()
         {
-            out.push(Action::QuizLesson);
+            out.push(Action::Quiz(QuizAction::Lesson));
         }
         ui.separator();
         let editing = self.editing;
@@ -185,24 +186,24 @@ impl LessonPanel {
             ui.horizontal(|ui| {
                 if ui.selectable_label(k == self.step, format!("{}. {}", k + 1, step.title)).clicked() && k != self.step
                 {
-                    out.push(Action::LessonStep(k));
+                    out.push(Action::Lesson(LessonAction::Step(k)));
                 }
                 if editing {
                     let up = ui.add_enabled(k > 0, egui::Button::new("Up").small()).on_hover_text("Move up");
                     accessible(&up, format!("Move step {} up", k + 1));
                     if up.clicked() {
-                        out.push(Action::LessonEdit(LessonEdit::Move { from: k, to: k - 1 }));
+                        out.push(Action::Lesson(LessonAction::Edit(LessonEdit::Move { from: k, to: k - 1 })));
                     }
                     let down = ui.add_enabled(k + 1 < n, egui::Button::new("Down").small()).on_hover_text("Move down");
                     accessible(&down, format!("Move step {} down", k + 1));
                     if down.clicked() {
-                        out.push(Action::LessonEdit(LessonEdit::Move { from: k, to: k + 1 }));
+                        out.push(Action::Lesson(LessonAction::Edit(LessonEdit::Move { from: k, to: k + 1 })));
                     }
                     let delete =
                         ui.add_enabled(n > 1, egui::Button::new("Delete").small()).on_hover_text("Delete the step");
                     accessible(&delete, format!("Delete step {}", k + 1));
                     if delete.clicked() {
-                        out.push(Action::LessonEdit(LessonEdit::Remove(k)));
+                        out.push(Action::Lesson(LessonAction::Edit(LessonEdit::Remove(k))));
                     }
                 }
             });
@@ -228,13 +229,13 @@ impl LessonPanel {
                 .button("+ Add step from view")
                 .on_hover_text("A new step after this one: the organs and camera as they are now");
             if add.clicked() {
-                out.push(Action::AddLessonStep { replace: false });
+                out.push(Action::Lesson(LessonAction::AddStep { replace: false }));
             }
             let update = ui
                 .button("Update step from view")
                 .on_hover_text("This step shows the organs and camera as they are now");
             if update.clicked() {
-                out.push(Action::AddLessonStep { replace: true });
+                out.push(Action::Lesson(LessonAction::AddStep { replace: true }));
             }
         });
         let step = self.step;
@@ -242,7 +243,7 @@ impl LessonPanel {
             let mut s = lesson.steps.get(step)?.clone();
             s.title = texts.title.trim().to_string();
             s.caption = texts.caption.clone();
-            Some(Action::LessonEdit(LessonEdit::Replace { at: step, step: Box::new(s) }))
+            Some(Action::Lesson(LessonAction::Edit(LessonEdit::Replace { at: step, step: Box::new(s) })))
         };
         let mut typing = false;
         let mut done = false;
@@ -269,17 +270,19 @@ impl LessonPanel {
             accessible(&r, "Lesson title");
             typing |= r.has_focus();
             if r.lost_focus() && !self.texts.lesson_title.trim().is_empty() {
-                out.push(Action::LessonEdit(LessonEdit::Retitle(self.texts.lesson_title.trim().to_string())));
+                out.push(Action::Lesson(LessonAction::Edit(LessonEdit::Retitle(
+                    self.texts.lesson_title.trim().to_string(),
+                ))));
             }
         });
         self.texts.typing = typing;
         ui.horizontal(|ui| {
             let save = ui.add_enabled(self.unsaved(), egui::Button::new("Save lesson"));
             if save.on_hover_text("Write the lesson to its file").clicked() {
-                out.push(Action::SaveLesson { as_new: false });
+                out.push(Action::Lesson(LessonAction::Save { as_new: false }));
             }
             if ui.button("Save lesson as...").clicked() {
-                out.push(Action::SaveLesson { as_new: true });
+                out.push(Action::Lesson(LessonAction::Save { as_new: true }));
             }
         });
         if let Some(field) = &mut self.save_as {
@@ -287,7 +290,10 @@ impl LessonPanel {
             let mut cancel = false;
             ui.horizontal(|ui| {
                 if (ui.button("Save").clicked() || entered) && !field.text.trim().is_empty() {
-                    out.push(Action::SaveLessonTo(super::widgets::with_extension(&field.text, EXTENSION)));
+                    out.push(Action::Lesson(LessonAction::SaveTo(super::widgets::with_extension(
+                        &field.text,
+                        EXTENSION,
+                    ))));
                 }
                 cancel = ui.button("Cancel").clicked();
             });

@@ -8,6 +8,7 @@ use super::scene::Scene;
 use super::settings::Settings;
 use super::shortcuts::{self, Command};
 use super::widgets::accessible;
+use crate::viewer::action::{DocumentAction, LessonAction};
 use eframe::egui;
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Selection};
@@ -88,11 +89,11 @@ fn file_menu(ui: &mut egui::Ui, scene: Option<&Scene>, recent: &[std::path::Path
     }
     let save = egui::Button::new("Save scene").shortcut_text(shortcuts::text(ui.ctx(), Command::Save));
     if ui.add_enabled(scene.is_some(), save).clicked() {
-        out.push(Action::SaveScene { as_new: false });
+        out.push(Action::Document(DocumentAction::Save { as_new: false }));
     }
     let save_as = egui::Button::new("Save scene as...").shortcut_text(shortcuts::text(ui.ctx(), Command::SaveAs));
     if ui.add_enabled(scene.is_some(), save_as).clicked() {
-        out.push(Action::SaveScene { as_new: true });
+        out.push(Action::Document(DocumentAction::Save { as_new: true }));
     }
     ui.separator();
     ui.menu_button("Recent sets and scenes", |ui| {
@@ -280,7 +281,7 @@ fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>)
     };
     let new = ui.add_enabled(scene.is_some(), egui::Button::new("New lesson"));
     if new.on_hover_text("A lesson whose first step is the current view; add steps in the Lesson panel").clicked() {
-        out.push(Action::NewLesson);
+        out.push(Action::Lesson(LessonAction::New));
     }
     let quiz = ui.add_enabled(scene.is_some(), egui::Button::new("Quiz yourself..."));
     if quiz.on_hover_text("Locate and name structures, scored, with a review").clicked() {
@@ -293,7 +294,7 @@ fn lessons_menu(ui: &mut egui::Ui, scene: Option<&Scene>, out: &mut Vec<Action>)
     for path in lessons {
         let title = vbrain::lesson::Lesson::load(&path).map_or_else(|e| e.to_string(), |l| l.title);
         if ui.button(title).clicked() {
-            out.push(Action::OpenLesson(path));
+            out.push(Action::Lesson(LessonAction::Open(path)));
         }
     }
 }

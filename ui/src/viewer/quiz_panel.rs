@@ -8,6 +8,7 @@
 
 use super::action::Action;
 use super::widgets::accessible;
+use crate::viewer::action::QuizAction;
 use eframe::egui::{self, RichText};
 use vbrain::quiz::{Kind, Mode, Question};
 
@@ -171,7 +172,7 @@ impl QuizPanel {
         ui.horizontal(|ui| {
             ui.heading("Quiz");
             if ui.small_button("Close").on_hover_text("Leave the quiz").clicked() {
-                out.push(Action::QuizClose);
+                out.push(Action::Quiz(QuizAction::Close));
             }
         });
         match &mut self.run {
@@ -236,7 +237,7 @@ fn setup(ui: &mut egui::Ui, s: &mut Setup, groups: &[String], history: &[String]
         r.on_hover_text("0: no limit");
     });
     if ui.button("Start quiz").clicked() {
-        out.push(Action::QuizStart);
+        out.push(Action::Quiz(QuizAction::Start));
     }
     if !history.is_empty() {
         ui.separator();
@@ -274,14 +275,14 @@ fn answering(ui: &mut egui::Ui, run: &mut Run, name: &dyn Fn(usize) -> String, n
                 accessible(&r, "Quiz answer");
                 let entered = r.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 if ui.button("Check").clicked() || entered {
-                    out.push(Action::QuizAnswer(run.typed.clone()));
+                    out.push(Action::Quiz(QuizAction::Answer(run.typed.clone())));
                 }
                 ui.label(RichText::new("or pick one:").weak());
                 for &c in &q.choices {
                     let r = ui.button(name(c));
                     accessible(&r, format!("Choice {}", name(c)));
                     if r.clicked() {
-                        out.push(Action::QuizPick(c));
+                        out.push(Action::Quiz(QuizAction::Pick(c)));
                     }
                 }
             }
@@ -294,7 +295,7 @@ fn answering(ui: &mut egui::Ui, run: &mut Run, name: &dyn Fn(usize) -> String, n
         ui.label(RichText::new(text).color(colour).strong());
         let last = run.k + 1 == run.questions.len();
         if ui.button(if last { "Finish" } else { "Next question" }).clicked() {
-            out.push(Action::QuizNext);
+            out.push(Action::Quiz(QuizAction::Next));
         }
     }
 }
@@ -325,7 +326,7 @@ fn review(
             let r = ui.small_button("Show");
             accessible(&r, format!("Review {}", name(organ)));
             if r.clicked() {
-                out.push(Action::QuizReview(k));
+                out.push(Action::Quiz(QuizAction::Review(k)));
             }
         });
     }
@@ -340,11 +341,11 @@ fn review(
         let r = ui.add(egui::TextEdit::singleline(export).hint_text("results.csv").desired_width(160.0));
         accessible(&r, "Quiz results file");
         if ui.button("Export CSV").on_hover_text("Each question, your answer and the time it took").clicked() {
-            out.push(Action::QuizExport(export.clone()));
+            out.push(Action::Quiz(QuizAction::Export(export.clone())));
         }
     });
     if ui.button("New quiz").clicked() {
-        out.push(Action::QuizAgain);
+        out.push(Action::Quiz(QuizAction::Again));
     }
 }
 

@@ -13,6 +13,7 @@
 //! - Panes are redrawn only when what they show changed (plane, size, layout, window, display).
 
 use super::action::Action;
+use crate::viewer::action::SectionAction;
 use eframe::egui;
 use glam::Vec3;
 use vbrain::layout::Layout;
@@ -222,13 +223,13 @@ impl SlicePanes {
             if step != 0.0 {
                 let mut p = point;
                 p[axis.normal()] += step;
-                out.push(Action::SlicePoint(p));
+                out.push(Action::Section(SectionAction::SlicePoint(p)));
             }
         }
         if response.clicked() || response.dragged() {
             if let Some(pos) = response.interact_pointer_pos() {
                 let (world, organ) = under(pos);
-                out.push(Action::SlicePoint(world));
+                out.push(Action::Section(SectionAction::SlicePoint(world)));
                 if response.clicked() {
                     out.push(Action::Pick(organ));
                 }

@@ -15,6 +15,7 @@ use super::action::Action;
 use super::scene::Scene;
 use super::settings::Settings;
 use super::widgets::accessible;
+use crate::viewer::action::SectionAction;
 use eframe::egui::{self, Key, PointerButton, Pos2, Rect, Sense};
 use glam::{Quat, Vec2, Vec3};
 use std::collections::VecDeque;
@@ -224,7 +225,7 @@ impl Viewport {
             if delta != Vec2::ZERO {
                 if let Some(h) = input.handles.iter().find(|h| h.slot == slot) {
                     let mm = self.drag_along(scene, h, delta);
-                    out.push(Action::MovePlane { slot, mm });
+                    out.push(Action::Section(SectionAction::MovePlane { slot, mm }));
                 }
             }
         } else if response.dragged_by(PointerButton::Primary) && delta != Vec2::ZERO {

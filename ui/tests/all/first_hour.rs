@@ -5,6 +5,7 @@
 use super::viewer::{harness_of, organ, search};
 use eframe::egui::{self, Key, Modifiers};
 use egui_kittest::kittest::Queryable;
+use vbrain_ui::viewer::action::LessonAction;
 
 #[test]
 fn a_group_row_fades_the_whole_group_while_a_search_shows_part_of_it() {
@@ -124,7 +125,7 @@ fn the_web_page_of_an_open_lesson_has_its_steps_and_quiz() {
     let file = super::viewer::brain().join("lessons/ventricles.vblesson");
     let lesson = vbrain::lesson::Lesson::load(&file).unwrap();
     let ctx = h.ctx.clone();
-    h.state_mut().perform(&ctx, vec![Action::OpenLesson(file)]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Open(file))]);
     h.run_steps(4);
     assert!(h.state().lesson().is_open());
     let dir = tempfile::tempdir().unwrap();
@@ -181,7 +182,7 @@ fn every_panel_open_at_a_laptops_size_leaves_half_the_window_to_the_view() {
     let ctx = h.ctx.clone();
     let gyrus = organ(&h, "precentral_l");
     let open = vec![
-        Action::OpenLesson(file),
+        Action::Lesson(LessonAction::Open(file)),
         Action::Select(Some(gyrus)),
         Action::Show(Window::Quiz),
         Action::Show(Window::Sections),

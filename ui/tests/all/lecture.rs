@@ -7,6 +7,7 @@ use eframe::egui;
 use egui_kittest::kittest::Queryable;
 use std::path::Path;
 use std::process::Command;
+use vbrain_ui::viewer::action::LessonAction;
 
 /// Runs a program and gives its standard output, failing with what to install when it is missing.
 fn run(program: &str, args: &[&str], package: &str) -> String {
@@ -258,7 +259,7 @@ fn the_viewer_exports_handouts_of_the_lesson_and_the_view_and_cancels_a_video() 
     let file = crate::viewer::brain().join("lessons/ventricles.vblesson");
     let steps = vbrain::lesson::Lesson::load(&file).unwrap().steps.len();
     let ctx = h.ctx.clone();
-    h.state_mut().perform(&ctx, vec![Action::OpenLesson(file)]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Open(file))]);
     h.run_steps(4);
     let dir = tempfile::tempdir().unwrap();
     let (lesson_pdf, view_pdf) = (dir.path().join("lesson.pdf"), dir.path().join("view.pdf"));

@@ -9,6 +9,7 @@
 
 mod benches;
 mod cli;
+mod dropped;
 mod export;
 mod first_hour;
 mod hardening;

@@ -6,6 +6,7 @@ use crate::viewer::{brain, click, harness_of, organ, pixels_of, point_on};
 use eframe::egui;
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
+use vbrain_ui::viewer::action::{LessonAction, QuizAction};
 use vbrain_ui::App;
 
 /// An organ drawn at some pixel that is not `organ`.
@@ -57,7 +58,7 @@ fn play_a_locate_and_a_name_quiz_to_the_end() {
     assert!(pixels_of(&h, run.questions[1].organ) > 20);
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("results.csv");
-    h.state_mut().perform(&ctx, vec![Action::QuizExport(csv.display().to_string())]);
+    h.state_mut().perform(&ctx, vec![Action::Quiz(QuizAction::Export(csv.display().to_string()))]);
     assert_eq!(std::fs::read_to_string(&csv).unwrap().lines().count(), 4, "a header and three questions");
 
     // Name: type the right name, pick a wrong choice, pick the right one.
@@ -102,7 +103,7 @@ fn take_a_lessons_quiz_from_its_steps() {
     let mut h = harness_of(egui::Vec2::new(900.0, 560.0));
     let ctx = h.ctx.clone();
     let path = brain().join("lessons/deep-nuclei.vblesson");
-    h.state_mut().perform(&ctx, vec![Action::OpenLesson(path)]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Open(path))]);
     h.run_steps(3);
     h.get_by_label("Take the lesson's quiz (6 questions)").click_accesskit();
     h.run_steps(3);

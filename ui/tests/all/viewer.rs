@@ -6,6 +6,7 @@ use eframe::egui::{self, Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::kittest::Queryable;
 use egui_kittest::Harness;
 use std::path::Path;
+use vbrain_ui::viewer::action::{DocumentAction, LessonAction, SectionAction};
 use vbrain_ui::viewer::settings::ExportSize;
 use vbrain_ui::{App, AppOptions};
 
@@ -459,20 +460,20 @@ fn author_a_lesson_step_and_undo_it() {
     assert_eq!(steps(&h), 2, "a delete is undone like any edit");
 
     // Closing an unsaved lesson asks; saving writes a lesson that reads back the same.
-    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Close)]);
     h.run_steps(2);
     assert!(h.query_by_label("Save changes?").is_some(), "closing an unsaved lesson asks");
     h.get_by_label("Cancel").click();
     h.run_steps(2);
     let dir = tempfile::tempdir().unwrap();
     let file = dir.path().join("mine.vblesson");
-    h.state_mut().perform(&ctx, vec![Action::SaveLessonTo(file.clone())]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::SaveTo(file.clone()))]);
     h.run_steps(2);
     let saved = vbrain::lesson::Lesson::load(&file).unwrap_or_else(|e| panic!("{e}: {:?}", messages(&h)));
     assert_eq!(saved.steps, lesson(&h).steps);
     assert_eq!(saved.set_path(&file).canonicalize().unwrap(), brain().canonicalize().unwrap());
     assert!(!h.state().lesson().unsaved());
-    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Close)]);
     h.run_steps(2);
     assert!(!h.state().lesson().is_open(), "a saved lesson closes without asking");
 }
@@ -567,7 +568,7 @@ fn play_a_shipped_lesson_step_by_step() {
     h.run_steps(2);
     assert_eq!(h.state().scene().unwrap().layout(), &layout_of(0, &h));
     let ctx = h.ctx.clone();
-    h.state_mut().perform(&ctx, vec![Action::CloseLesson]);
+    h.state_mut().perform(&ctx, vec![Action::Lesson(LessonAction::Close)]);
     h.run_steps(2);
     assert!(!h.state().lesson().is_open());
 }
@@ -628,12 +629,12 @@ fn cut_keep_an_organ_whole_drag_a_plane_and_label_it() {
     h.run_steps(2);
     assert_eq!((h.state().settings().labels, h.state().chosen_labels()), (LabelMode::Chosen, &[gyrus][..]));
     let file = dir.path().join("cut.vbscene");
-    h.state_mut().perform(&ctx, vec![Action::SaveSceneTo(file.clone())]);
+    h.state_mut().perform(&ctx, vec![Action::Document(DocumentAction::SaveTo(file.clone()))]);
     h.run_steps(1);
     let text = std::fs::read_to_string(&file).unwrap();
     assert!(text.contains("\"whole\"") && text.contains("\"labels\": \"superiorfrontal_l\""), "{text}");
     let section = h.state().sections().current.clone();
-    h.state_mut().perform(&ctx, vec![Action::KeepWhole { organ: gyrus, whole: false }]);
+    h.state_mut().perform(&ctx, vec![Action::Section(SectionAction::KeepWhole { organ: gyrus, whole: false })]);
     h.state_mut().perform(&ctx, vec![Action::Open(vec![file.clone()])]);
     h.run_steps(2);
     h.get_by_label("Don't save").click();

@@ -4,6 +4,7 @@
 
 use super::App;
 use crate::viewer::action::ModelKind;
+use crate::viewer::action::SectionAction;
 use crate::viewer::dialogs::export;
 use crate::viewer::jobs::Job;
 use crate::viewer::settings::LabelMode;
@@ -14,6 +15,31 @@ use vbrain::clip::Section;
 use vbrain::render::FrameInput;
 
 impl App {
+    /// Carries out a section action: organs kept whole, the crosshair, a plane moved.
+    pub(super) fn perform_section(&mut self, action: SectionAction) {
+        match action {
+            SectionAction::KeepWhole { organ, whole } => {
+                self.sections.set_whole(organ, whole);
+                self.touch_scene();
+            }
+            SectionAction::SlicePoint(point) => {
+                if let Some(scene) = &mut self.scene {
+                    let home = scene.home();
+                    let inside = point.clamp(glam::Vec3::from(home.min), glam::Vec3::from(home.max));
+                    self.slices.point = Some(inside);
+                    self.sections.move_to(inside, &home);
+                    scene.touch();
+                }
+            }
+            SectionAction::MovePlane { slot, mm } => {
+                if let Some(scene) = &mut self.scene {
+                    self.sections.move_plane(slot, mm, &scene.home());
+                    scene.touch();
+                }
+            }
+        }
+    }
+
     /// The planes or labels changed: the scene has unsaved changes.
     pub(super) fn touch_scene(&mut self) {
         if let Some(scene) = &mut self.scene {

@@ -4,6 +4,7 @@
 //! it reaches its state.
 
 use super::{Action, App, LessonPanel};
+use crate::viewer::action::LessonAction;
 use crate::viewer::document;
 use crate::viewer::settings::LabelMode;
 use eframe::egui;
@@ -15,6 +16,26 @@ use vbrain::scene_file::{CameraMode, CameraState};
 use vbrain::transition::Transition;
 
 impl App {
+    /// Carries out a lesson action (asking first where unsaved lesson changes would be lost).
+    pub(super) fn perform_lesson(&mut self, ctx: &egui::Context, action: LessonAction) {
+        match action {
+            LessonAction::Open(path) if self.lesson.unsaved() => {
+                self.document.confirm = Some(document::Pending::Open(vec![path]));
+            }
+            LessonAction::Open(path) => self.open_lesson(ctx, &path),
+            LessonAction::Step(k) => self.lesson_step(ctx, k),
+            LessonAction::Close => self.ask_close_lesson(),
+            LessonAction::New if self.lesson.unsaved() => {
+                self.document.confirm = Some(document::Pending::CloseLesson);
+            }
+            LessonAction::New => self.new_lesson(),
+            LessonAction::Edit(edit) => self.edit_lesson(&edit),
+            LessonAction::AddStep { replace } => self.add_lesson_step(replace),
+            LessonAction::Save { as_new } => self.save_lesson(as_new, None),
+            LessonAction::SaveTo(path) => self.save_lesson(false, Some(&path)),
+        }
+    }
+
     /// Opens a lesson at its first step, over its set (loading that first if another is open).
     pub(super) fn open_lesson(&mut self, ctx: &egui::Context, path: &Path) {
         let lesson = match Lesson::load(path) {

@@ -7,11 +7,28 @@
 //! it reaches its state.
 
 use super::App;
+use crate::viewer::action::QuizAction;
 use crate::viewer::quiz_panel::{Run, Views};
 use eframe::egui;
 use vbrain::quiz::{self, Kind, Question, Spec};
 
 impl App {
+    /// Carries out a quiz action; answers are timed by the frame's clock.
+    pub(super) fn perform_quiz(&mut self, ctx: &egui::Context, action: QuizAction) {
+        let now = ctx.input(|i| i.time);
+        match action {
+            QuizAction::Start => self.start_quiz(ctx, None),
+            QuizAction::Lesson => self.start_lesson_quiz(ctx),
+            QuizAction::Answer(text) => self.quiz_name(Some(text), None, now),
+            QuizAction::Pick(organ) => self.quiz_name(None, Some(organ), now),
+            QuizAction::Next => self.quiz_next(now),
+            QuizAction::Review(k) => self.quiz_review(k),
+            QuizAction::Export(path) => self.export_quiz(&path),
+            QuizAction::Again => self.close_quiz(true),
+            QuizAction::Close => self.close_quiz(false),
+        }
+    }
+
     /// Starts a quiz: `given` questions (a lesson's, with its title and each question's view),
     /// else the panel's setup.
     pub(super) fn start_quiz(&mut self, ctx: &egui::Context, given: Option<(String, Vec<Question>, Views)>) {

@@ -3,12 +3,28 @@
 //! recovery file kept and offered back). A child module of the app, so it reaches its state.
 
 use super::{Action, App, Notification};
+use crate::viewer::action::DocumentAction;
+use crate::viewer::action::LessonAction;
 use crate::viewer::document;
 use crate::viewer::settings::LabelMode;
 use eframe::egui;
 use std::path::Path;
 
 impl App {
+    /// Carries out a scene-file action.
+    pub(super) fn perform_document(&mut self, action: DocumentAction) {
+        match action {
+            DocumentAction::Save { as_new } => match (&self.document.path, as_new) {
+                (Some(p), false) => {
+                    let p = p.clone();
+                    self.save_scene(&p);
+                }
+                _ => self.document.save_window.open = true,
+            },
+            DocumentAction::SaveTo(path) => self.save_scene(&path),
+        }
+    }
+
     /// Opens a scene file: applied at once over the set it names if that is open, else once that
     /// set has loaded.
     pub(super) fn open_scene(&mut self, ctx: &egui::Context, path: &Path) {
@@ -116,10 +132,10 @@ impl App {
                 Some(document::Answer::Save) => {
                     self.document.confirm = None;
                     if scene_too {
-                        self.perform(ctx, vec![Action::SaveScene { as_new: false }]);
+                        self.perform(ctx, vec![Action::Document(DocumentAction::Save { as_new: false })]);
                     }
                     if self.lesson.unsaved() {
-                        self.perform(ctx, vec![Action::SaveLesson { as_new: false }]);
+                        self.perform(ctx, vec![Action::Lesson(LessonAction::Save { as_new: false })]);
                     }
                     // Saved to their files: go on; asked where (a new one): the user goes on after.
                     if !self.unsaved(&pending) {
@@ -180,7 +196,7 @@ impl App {
         let action = match pending {
             document::Pending::Quit => Action::Quit,
             document::Pending::Open(paths) => Action::Open(paths),
-            document::Pending::CloseLesson => Action::CloseLesson,
+            document::Pending::CloseLesson => Action::Lesson(LessonAction::Close),
         };
         self.perform(ctx, vec![action]);
     }

@@ -94,6 +94,11 @@ impl Default for ImportWindow {
 }
 
 impl ImportWindow {
+    /// The volume as typed or chosen.
+    pub fn volume(&self) -> &str {
+        &self.volume.text
+    }
+
     /// Opens the window on this volume.
     pub fn open_on(&mut self, volume: &Path) {
         self.volume.text = volume.display().to_string();
