@@ -263,7 +263,7 @@ fn json_safe(json: &str) -> String {
 
 /// Text for HTML or XML: `&`, `<`, `>` and quotes escaped; control characters (which XML
 /// forbids) become spaces.
-pub(crate) fn escape_markup(text: &str) -> String {
+pub fn escape_markup(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

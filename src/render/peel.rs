@@ -16,8 +16,8 @@
 use super::frame::{Frame, RenderStats, Technique};
 use super::passes::Pass;
 use super::pipelines::{
-    fullscreen_pipeline, module, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory, OVER,
-    SAMPLE_COUNT,
+    blend, fullscreen_pipeline, module, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
+    OVER, SAMPLE_COUNT,
 };
 use super::scene::{GpuScene, Shown};
 use super::target::{image_view, Kept, Target, DEPTH_FORMAT, HDR_FORMAT};
@@ -129,12 +129,7 @@ impl Peel {
             samples: SAMPLE_COUNT,
             layout: &organ_layout(&peel_layout),
         });
-        let max = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::One,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Max,
-        };
-        let max = Some(wgpu::BlendState { color: max, alpha: max });
+        let max = blend(wgpu::BlendFactor::One, wgpu::BlendFactor::One, wgpu::BlendOperation::Max);
         let channel =
             Some(wgpu::ColorTargetState { format: DEPTH_CHANNEL, blend: max, write_mask: wgpu::ColorWrites::ALL });
         let dual = device.features().contains(wgpu::Features::FLOAT32_BLENDABLE).then(|| {
@@ -173,12 +168,7 @@ impl Peel {
             fullscreen_pipeline(device, spec)
         };
         // Front to back: what is already in front lets (1 - its alpha) through.
-        let under = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::OneMinusDstAlpha,
-            dst_factor: wgpu::BlendFactor::One,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let under = Some(wgpu::BlendState { color: under, alpha: under });
+        let under = blend(wgpu::BlendFactor::OneMinusDstAlpha, wgpu::BlendFactor::One, wgpu::BlendOperation::Add);
         Peel {
             opaque,
             layer,

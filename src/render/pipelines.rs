@@ -152,6 +152,16 @@ pub(super) fn clear_colour(c: [f32; 4]) -> wgpu::Color {
 }
 
 /// Plain alpha blending ("over").
+/// One blend equation for colour and alpha alike: `src * src_factor (op) dst * dst_factor`.
+pub(super) fn blend(
+    src_factor: wgpu::BlendFactor,
+    dst_factor: wgpu::BlendFactor,
+    operation: wgpu::BlendOperation,
+) -> Option<wgpu::BlendState> {
+    let c = wgpu::BlendComponent { src_factor, dst_factor, operation };
+    Some(wgpu::BlendState { color: c, alpha: c })
+}
+
 pub(super) const OVER: wgpu::BlendState = wgpu::BlendState {
     color: wgpu::BlendComponent {
         src_factor: wgpu::BlendFactor::SrcAlpha,

@@ -140,9 +140,9 @@ impl Renderer {
         if frame.highlight.is_empty() && frame.selection.is_none() {
             return;
         }
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.outline.record(device, queue, (&self.scene, &self.composite), (frame, target), &mut encoder);
-        queue.submit([encoder.finish()]);
+        submit(device, queue, |e| {
+            self.outline.record(device, queue, (&self.scene, &self.composite), (frame, target), e)
+        });
     }
 
     /// Each pixel's count of faded fragments in front of the opaque organs (rows top to bottom) in
@@ -218,9 +218,9 @@ impl Renderer {
         frame: &FrameInput,
         min_opacity: f32,
     ) {
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.ids.record(queue, &self.scene, (frame, target), IdKind::Organs { min_opacity }, &mut encoder);
-        queue.submit([encoder.finish()]);
+        submit(device, queue, |e| {
+            self.ids.record(queue, &self.scene, (frame, target), IdKind::Organs { min_opacity }, e)
+        });
     }
 
     /// Draws leaf numbers into `target`'s ID buffer: `first_id[organ] + leaf + 1` of the nearest
@@ -235,8 +235,14 @@ impl Renderer {
         set: &OrganSet,
         first_id: &[u32],
     ) {
-        let mut encoder = device.create_command_encoder(&Default::default());
-        self.ids.record(queue, &self.scene, (frame, target), IdKind::Leaves { set, first_id }, &mut encoder);
-        queue.submit([encoder.finish()]);
+        let leaves = IdKind::Leaves { set, first_id };
+        submit(device, queue, |e| self.ids.record(queue, &self.scene, (frame, target), leaves, e));
     }
+}
+
+/// Records `record` into an encoder of its own and submits it.
+fn submit(device: &wgpu::Device, queue: &wgpu::Queue, record: impl FnOnce(&mut wgpu::CommandEncoder)) {
+    let mut encoder = device.create_command_encoder(&Default::default());
+    record(&mut encoder);
+    queue.submit([encoder.finish()]);
 }

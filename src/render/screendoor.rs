@@ -19,8 +19,8 @@
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::passes::Pass;
 use super::pipelines::{
-    fullscreen_pipeline, module, target, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines, PipelineFactory,
-    SAMPLE_COUNT,
+    blend, fullscreen_pipeline, module, target, Composite, FullscreenPipeline, OrganPipeline, OrganPipelines,
+    PipelineFactory, SAMPLE_COUNT,
 };
 use super::scene::{uniform_entry, GpuScene, Shown};
 use super::target::{image_view, Kept, Target, COLOR_FORMAT, DEPTH_FORMAT, HDR_FORMAT};
@@ -201,12 +201,7 @@ impl Screendoor {
             stencil: Default::default(),
             bias: Default::default(),
         };
-        let mean = wgpu::BlendComponent {
-            src_factor: wgpu::BlendFactor::Constant,
-            dst_factor: wgpu::BlendFactor::OneMinusConstant,
-            operation: wgpu::BlendOperation::Add,
-        };
-        let mean = Some(wgpu::BlendState { color: mean, alpha: mean });
+        let mean = blend(wgpu::BlendFactor::Constant, wgpu::BlendFactor::OneMinusConstant, wgpu::BlendOperation::Add);
         Screendoor {
             opaque,
             masked,

@@ -113,21 +113,10 @@ pub fn guid(set_title: &str, organ: &str, kind: &str, view: usize) -> String {
     format!("vb{:016x}", fnv(&format!("{set_title}\u{1f}{organ}\u{1f}{kind}\u{1f}{view}")))
 }
 
-/// Text as HTML: `&`, `<`, `>`, `"` and `'` escaped, line breaks as `<br>`.
+/// Text as HTML: `&`, `<`, `>`, `"` and `'` escaped, control characters as spaces, line breaks as
+/// `<br>`.
 pub fn html(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&#39;"),
-            '\n' => out.push_str("<br>"),
-            c => out.push(c),
-        }
-    }
-    out
+    vbrain::web_page::escape_markup(text).replace('\n', "<br>")
 }
 
 /// A group path as a deck name under `vbrain::TITLE` (Anki splits decks at `::`).

@@ -286,19 +286,26 @@ pub struct LessonRenderArgs {
     pub report: Report,
 }
 
+/// The picture a command writes: its PNG file and its size.
 #[derive(clap::Args)]
-pub struct RenderArgs {
-    /// Organ set (default: the set of --scene)
-    pub path: Option<PathBuf>,
+pub struct PictureArgs {
     /// Output PNG file
     #[arg(long)]
     pub out: PathBuf,
     /// Replace --out even where it is not a PNG image
     #[arg(long)]
     pub force: bool,
-    /// Image size, WxH
+    /// Image size, WxH (a slice figure: at most 4096x4096)
     #[arg(long, default_value = "1024x1024", value_parser = values::size)]
     pub size: Size,
+}
+
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// Organ set (default: the set of --scene)
+    pub path: Option<PathBuf>,
+    #[command(flatten)]
+    pub picture: PictureArgs,
     /// Render a saved scene (.vbscene): its set, camera, organs and render settings; the other
     /// options given override it
     #[arg(long)]

@@ -22,11 +22,11 @@ use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile};
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
-    super::common::writable_png(&args.out, args.force)?;
+    super::common::writable_png(&args.picture.out, args.picture.force)?;
     if let Some(out) = &args.save_scene {
-        super::common::writable_scene(out, args.force)?;
+        super::common::writable_scene(out, args.picture.force)?;
     }
-    let (width, height) = (args.size.width, args.size.height);
+    let (width, height) = (args.picture.size.width, args.picture.size.height);
     let scene = match &args.scene {
         Some(p) => Some((p, SceneFile::load(p).map_err(|e| anyhow!(e))?)),
         None => None,
@@ -152,13 +152,13 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
     }
-    vbrain::atomic::write_png(&args.out, &image, true)?;
+    vbrain::atomic::write_png(&args.picture.out, &image, true)?;
     if let Some((out, file)) = &scene_out {
         file.save(out).map_err(|e| anyhow!(e))?;
     }
     if args.report.json {
         let out = json!({
-            "out": args.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
+            "out": args.picture.out, "width": width, "height": height, "organs_drawn": stats.organs_drawn,
             "triangles_drawn": stats.triangles_drawn, "triangles": set.triangle_count(),
             "cull": mode.name(), "culled_percent": cull.culled_percent(), "cull_ms": cull.cull_ms,
             "transparency": transparency.mode.name(), "passes": stats.passes, "mask_ms": stats.mask_ms,
@@ -169,7 +169,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
     } else {
         println!(
             "{}: {width}x{height}, {} organs, {} triangles drawn ({})",
-            args.out.display(),
+            args.picture.out.display(),
             stats.organs_drawn,
             stats.triangles_drawn,
             gpu.adapter_description()

@@ -2,7 +2,7 @@
 //! MRI with organ outlines, side letters and labels ([`crate::slice_figure`]).
 
 use super::common::{apply_layout_args, open_set, organs, writable_png};
-use super::{values, LayoutArgs, Report, Size};
+use super::{values, LayoutArgs, Report};
 use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -18,15 +18,8 @@ pub struct SliceArgs {
     /// The slice: axial=MM, coronal=MM or sagittal=MM (world RAS, millimetres)
     #[arg(long, allow_hyphen_values = true, value_parser = values::slice_plane)]
     pub plane: vbrain::mri::slice::SlicePlane,
-    /// Output PNG file
-    #[arg(long)]
-    pub out: PathBuf,
-    /// Replace --out even where it is not a PNG image
-    #[arg(long)]
-    pub force: bool,
-    /// Image size, WxH, at most 4096x4096
-    #[arg(long, default_value = "1024x1024", value_parser = values::size)]
-    pub size: Size,
+    #[command(flatten)]
+    pub picture: super::PictureArgs,
     /// Draw each organ's outline in its colour
     #[arg(long)]
     pub outlines: bool,
@@ -48,8 +41,8 @@ pub struct SliceArgs {
 }
 
 pub fn run(args: &SliceArgs) -> Result<bool> {
-    writable_png(&args.out, args.force)?;
-    let (width, height) = (args.size.width, args.size.height);
+    writable_png(&args.picture.out, args.picture.force)?;
+    let (width, height) = (args.picture.size.width, args.picture.size.height);
     if width as usize * height as usize > MAX_PIXELS {
         bail!("--size {width}x{height}: a slice figure has at most {MAX_PIXELS} pixels (4096x4096)");
     }
@@ -83,7 +76,7 @@ pub fn run(args: &SliceArgs) -> Result<bool> {
         highlight: None,
     };
     let (image, ids) = crate::slice_figure::draw(&set, &layout, &pane, &options);
-    vbrain::atomic::write_png(&args.out, &image, true)?;
+    vbrain::atomic::write_png(&args.picture.out, &image, true)?;
     let mut seen: Vec<usize> = ids.iter().filter(|&&i| i > 0).map(|&i| i as usize - 1).collect();
     seen.sort_unstable();
     seen.dedup();
@@ -91,13 +84,13 @@ pub fn run(args: &SliceArgs) -> Result<bool> {
     if args.report.json {
         let organs: Vec<&str> = seen.iter().map(|&o| set.organs[o].id.as_str()).collect();
         let out = json!({
-            "out": args.out, "width": width, "height": height, "plane": pane.plane.axis.name(),
+            "out": args.picture.out, "width": width, "height": height, "plane": pane.plane.axis.name(),
             "at_mm": pane.plane.at, "radiological": pane.radiological, "mri": set.mri.is_some(),
             "mm_per_pixel": pane.mm_per_px, "centre_mm": pane.centre, "organs": organs, "caption": caption,
         });
         println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        println!("{}: {width}x{height}, {caption}, {} organs cut", args.out.display(), seen.len());
+        println!("{}: {width}x{height}, {caption}, {} organs cut", args.picture.out.display(), seen.len());
     }
     Ok(true)
 }

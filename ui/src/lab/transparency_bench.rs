@@ -101,17 +101,10 @@ const VIEWS: [ViewSpec; 6] = [
     },
 ];
 
-pub const MODES: [TransparencyMode; 9] = [
-    TransparencyMode::Screendoor,
-    TransparencyMode::ScreendoorWhitenoise,
-    TransparencyMode::ScreendoorPixeltree,
-    TransparencyMode::AlphaUnsorted,
-    TransparencyMode::AlphaSorted,
-    TransparencyMode::WeightedBlended,
-    TransparencyMode::Peel,
-    TransparencyMode::DualPeel,
-    TransparencyMode::KBuffer,
-];
+/// The modes compared with the exact reference: all the others.
+pub fn modes() -> impl Iterator<Item = TransparencyMode> + Clone {
+    TransparencyMode::ALL.into_iter().filter(|&m| m != TransparencyMode::Exact)
+}
 
 /// Modes of the error-against-time curve, and the most layers the peeling modes get in it.
 const CURVE_MODES: [TransparencyMode; 3] =
@@ -326,7 +319,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
         opaque_layout.organs.iter_mut().filter(|s| s.is_drawn()).for_each(|s| s.opacity = 1.0);
         let opaque = shooter.mode(&camera, &opaque_layout, TransparencyMode::Screendoor)?;
         let mut images = vec![exact.clone()];
-        for mode in MODES {
+        for mode in modes() {
             let Shot { image, frame_ms, gpu_ms, passes } = shooter.mode(&camera, &layout, mode)?;
             let (mae, p99) = errors(&image, &exact);
             if mode == TransparencyMode::KBuffer {
@@ -405,7 +398,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                     "modes": modes, "curve": curve, "screendoor_at_equal_error": at_equal_error(&fig.curve)})
             })
             .collect();
-        let means: serde_json::Map<_, _> = MODES.iter().map(|&m| (m.name().to_string(), json!(mean(m)))).collect();
+        let means: serde_json::Map<_, _> = modes().map(|m| (m.name().to_string(), json!(mean(m)))).collect();
         let out = json!({
             "size": [size.0, size.1], "region_px": region_px, "views": views, "mean_abs_error": means,
             "mask_regeneration": regen, "adapter": gpu.adapter_description(),
@@ -420,7 +413,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
             "{:<40} {:>6} {:<22} {:>9} {:>6} {:>10} {:>9}",
             "view", "organs", "mode", "mean err", "p99", "frame ms", "x opaque"
         );
-        for (r, fig) in rows.iter().zip(figures.iter().flat_map(|f| std::iter::repeat_n(f, MODES.len()))) {
+        for (r, fig) in rows.iter().zip(figures.iter().flat_map(|f| std::iter::repeat_n(f, modes().count()))) {
             let (v, n, m) = (&r.view, r.transparent, r.mode.name());
             let ratio = r.frame_ms / fig.opaque_frame_ms;
             println!("{v:<40} {n:>6} {m:<22} {:>9.3} {:>6.0} {:>10.1} {ratio:>9.2}", r.mae, r.p99, r.frame_ms);
@@ -441,7 +434,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                 at_equal_error(&fig.curve)
             );
         }
-        for m in MODES {
+        for m in modes() {
             println!("mean over views  {:<22} {:.3}", m.name(), mean(m));
         }
         println!("mask regeneration at 1920x1080, every organ at 50 %: {regen}");
@@ -451,7 +444,7 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
                 r.view, r.k_at_most_2, r.k_3_to_6, r.k_over_6, r.most
             );
         }
-        println!("contact sheet columns: exact, {}", MODES.map(|m| m.name()).join(", "));
+        println!("contact sheet columns: exact, {}", modes().map(|m| m.name()).collect::<Vec<_>>().join(", "));
         println!(
             "wrote {}, {}, {}, {} and {}",
             csv.display(),
@@ -469,9 +462,8 @@ pub fn run(set: &OrganSet, size: (u32, u32), region_px: u32, out: &Path, json_ou
 fn write_plot(path: &Path, rows: &[Row], figures: &[ViewFigures]) -> Result<()> {
     use super::plot::{Panel, Series};
     let series = |value: fn(&Row) -> f64| {
-        MODES
-            .iter()
-            .map(|&m| Series {
+        modes()
+            .map(|m| Series {
                 name: m.name().into(),
                 colour: colour(m),
                 points: rows.iter().filter(|r| r.mode == m).map(|r| (r.transparent as f64, value(r))).collect(),

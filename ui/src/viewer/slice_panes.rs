@@ -67,6 +67,15 @@ impl Default for SlicePanes {
     }
 }
 
+/// What the panes show this frame: the set, its layout, the bounds they frame, the selection.
+#[derive(Clone, Copy)]
+struct Showing<'a> {
+    set: &'a OrganSet,
+    layout: &'a Layout,
+    shown: &'a vbrain::mesh::Bounds,
+    selected: Option<usize>,
+}
+
 impl SlicePanes {
     /// A new set: the crosshair goes to its centre.
     pub fn new_set(&mut self) {
@@ -118,22 +127,20 @@ impl SlicePanes {
             let offset = k as f32 * if column { h + gap } else { w + gap };
             let min = rect.min + if column { egui::vec2(0.0, offset) } else { egui::vec2(offset, 0.0) };
             let pane_rect = egui::Rect::from_min_size(min, egui::vec2(w, h));
-            out.extend(self.pane_ui(ui, (k, axis), pane_rect, &shown, set, layout, selected));
+            let what = Showing { set, layout, shown: &shown, selected };
+            out.extend(self.pane_ui(ui, (k, axis), pane_rect, &what));
         }
         out
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn pane_ui(
         &mut self,
         ui: &mut egui::Ui,
         (k, axis): (usize, Axis),
         rect: egui::Rect,
-        shown: &vbrain::mesh::Bounds,
-        set: &OrganSet,
-        layout: &Layout,
-        selected: Option<usize>,
+        what: &Showing,
     ) -> Vec<Action> {
+        let Showing { set, layout, shown, selected } = *what;
         let mut out = Vec::new();
         let ppp = ui.ctx().pixels_per_point();
         let size = [(rect.width() * ppp).round().max(1.0) as u32, (rect.height() * ppp).round().max(1.0) as u32];
