@@ -1,8 +1,10 @@
-//! Atomic writes: a file is written as a temporary file beside the target, flushed to disk, then
-//! renamed; a folder is written whole into a staging folder beside it, which then takes its place.
-//! A crash or a full disk leaves either the old file or folder or the new one, never half of one.
-//! What a killed run left (`.NAME.PID.tmp` files, `.NAME.staging-PID` folders of a process no
-//! longer running) is removed by the next write of the same name.
+//! Atomic writes, so that a crash or a full disk leaves either the old file or folder or the new
+//! one, never half of one.
+//!
+//! - A file is written as a temporary file beside the target, flushed to disk, then renamed.
+//! - A folder is written whole into a staging folder beside it, which then takes its place.
+//! - What a killed run left (`.NAME.PID.tmp` files, `.NAME.staging-PID` folders of a process no
+//!   longer running) is removed by the next write of the same name.
 
 use crate::error::{Error, Result};
 use std::io::Write;
@@ -81,7 +83,11 @@ pub fn folder_entries(dir: &Path) -> Result<usize> {
 /// Writes the folder `dir` whole: `fill` writes into an empty staging folder beside it, which then
 /// takes `dir`'s place. An existing `dir` is moved aside first and removed only once the new one
 /// is in place; if `fill` or a move fails, `dir` is as it was and the staging folder is gone.
-pub fn write_folder(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+/// `fill`'s errors are the caller's own type (one this module's errors convert into).
+pub fn write_folder<E: From<Error>>(
+    dir: &Path,
+    fill: impl FnOnce(&Path) -> std::result::Result<(), E>,
+) -> std::result::Result<(), E> {
     let parent = match dir.parent() {
         Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
         _ => std::path::PathBuf::from("."),
@@ -93,23 +99,28 @@ pub fn write_folder(dir: &Path, fill: impl FnOnce(&Path) -> Result<()>) -> Resul
     let _ = std::fs::remove_dir_all(&staging);
     std::fs::create_dir(&staging).map_err(|e| Error::io(&staging, e))?;
     let placed = fill(&staging).and_then(|()| {
-        if !dir.exists() {
-            return std::fs::rename(&staging, dir).map_err(|e| Error::io(dir, e));
-        }
-        let old = parent.join(format!(".{name}.old-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&old);
-        std::fs::rename(dir, &old).map_err(|e| Error::io(dir, e))?;
-        if let Err(e) = std::fs::rename(&staging, dir) {
-            let _ = std::fs::rename(&old, dir);
-            return Err(Error::io(dir, e));
-        }
-        let _ = std::fs::remove_dir_all(&old);
-        Ok(())
+        into_place(&staging, dir, &parent.join(format!(".{name}.old-{}", std::process::id()))).map_err(E::from)
     });
     if placed.is_err() {
         let _ = std::fs::remove_dir_all(&staging);
     }
     placed
+}
+
+/// Moves the folder `staging` to `dir`; an existing `dir` is moved to `old` first and removed once
+/// the new one is in place (or moved back if that fails).
+fn into_place(staging: &Path, dir: &Path, old: &Path) -> Result<()> {
+    if !dir.exists() {
+        return std::fs::rename(staging, dir).map_err(|e| Error::io(dir, e));
+    }
+    let _ = std::fs::remove_dir_all(old);
+    std::fs::rename(dir, old).map_err(|e| Error::io(dir, e))?;
+    if let Err(e) = std::fs::rename(staging, dir) {
+        let _ = std::fs::rename(old, dir);
+        return Err(Error::io(dir, e));
+    }
+    let _ = std::fs::remove_dir_all(old);
+    Ok(())
 }
 
 /// Writes `image` as a PNG file, atomically; with `replace` false an existing file is refused.

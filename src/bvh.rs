@@ -1,12 +1,15 @@
-//! The culling hierarchy of one organ (organ space, millimetres): a binary bounding-volume tree
-//! whose leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1), with the mesh's triangles
-//! reordered so each leaf is one contiguous range of the index buffer (and the vertices renumbered
-//! in order of first use, so a leaf's vertices lie together in memory). Within a leaf the
-//! triangles are split further, the same way, into contiguous *parts* of at most
-//! [`PART_TRIANGLES`], whose tighter boxes and thin slabs the occlusion test falls back on when a
-//! leaf's box fails. And, per triangle, its neighbours across its three edges (by position,
-//! consistently wound), which the occluder rasteriser needs to find the outline of a set of
-//! triangles.
+//! The culling hierarchy of one organ: a binary bounding-volume tree (thesis §3.1), its leaves
+//! split into parts, and per triangle its neighbours across its edges.
+//!
+//! - Organ space, millimetres.
+//! - Leaves hold at most [`LEAF_TRIANGLES`] triangles (thesis §3.1). The mesh's triangles are
+//!   reordered so each leaf is one contiguous range of the index buffer, and the vertices
+//!   renumbered in order of first use, so a leaf's vertices lie together in memory.
+//! - Within a leaf the triangles are split further, the same way, into contiguous *parts* of at
+//!   most [`PART_TRIANGLES`], whose tighter boxes and thin slabs the occlusion test falls back on
+//!   when a leaf's box fails.
+//! - Per triangle, its neighbours across its three edges (by position, consistently wound), which
+//!   the occluder rasteriser needs to find the outline of a set of triangles.
 
 use crate::mesh::{Bounds, Mesh};
 use glam::Vec3;

@@ -1,5 +1,9 @@
-//! Cameras in world space (millimetres, RAS: +x right, +y anterior, +z superior) and their view and
-//! projection matrices (right-handed view space, wgpu clip space with depth 0..1).
+//! Cameras and their view and projection matrices.
+//!
+//! - World space: millimetres, RAS (+x right, +y anterior, +z superior).
+//! - View space is right-handed; projection is into wgpu clip space, depth 0..1.
+//! - Orbit angles are degrees: azimuth from the anterior view toward the subject's right, elevation
+//!   toward superior ([`Camera::orbit`]).
 
 use crate::mesh::Bounds;
 use glam::{Mat4, Vec3};

@@ -1,13 +1,15 @@
 //! A mesh cut by clip planes on the CPU, for export: what the renderer's shaders discard is removed
 //! from the triangles, and a closed mesh gets solid cap faces on each plane, as the renderer's
-//! `caps` pipeline draws them (issue: cross-sections). Positions in whatever space the planes are
-//! given in (organ space for export, millimetres RAS); a plane removes `n · p > d` ([`ClipPlane`]).
+//! `caps` pipeline draws them (issue: cross-sections).
 //!
-//! Triangles are clipped against each plane in turn (Sutherland-Hodgman on a convex polygon, fanned
-//! back into triangles). A cap is the mesh's cross-section with one plane: the segments where its
-//! triangles cross the plane, chained into loops by the edges they lie on, nested by even-odd depth
-//! into outlines with holes, triangulated by earcut, turned to face the removed side and clipped by
-//! the other planes.
+//! - Positions in whatever space the planes are given in (organ space for export, millimetres
+//!   RAS); a plane removes `n · p > d` ([`ClipPlane`]).
+//! - Triangles are clipped against each plane in turn (Sutherland-Hodgman on a convex polygon,
+//!   fanned back into triangles).
+//! - A cap is the mesh's cross-section with one plane: the segments where its triangles cross the
+//!   plane, chained into loops by the edges they lie on, nested by even-odd depth into outlines
+//!   with holes, triangulated by earcut, turned to face the removed side and clipped by the other
+//!   planes.
 
 use crate::clip::{self, ClipPlane};
 use crate::mesh::Mesh;

@@ -2,9 +2,10 @@
 //! [`Layout`] and returns its inverse, so undo, scene files and lesson steps can be built on one
 //! path; [`Edit::describe`] names an edit for people ("hide Basal ganglia").
 //!
-//! Pure data, no GUI: the viewer's components return edits and one place applies them. Organs are
-//! indices into the set (and so into the layout); an index out of range is skipped, never a panic.
-//! Camera moves are not edits.
+//! - Pure data, no GUI: the viewer's components return edits and one place applies them.
+//! - Organs are indices into the set (and so into the layout); an index out of range is skipped,
+//!   never a panic.
+//! - Camera moves are not edits.
 
 use crate::layout::{Layout, OrganState, Transform};
 use crate::organ_set::OrganSet;

@@ -1,4 +1,8 @@
-//! Errors of the core. Every error that comes from a file names the file, and the line where there is one.
+//! Errors of the core.
+//!
+//! - Every error that comes from a file names the file, and the line where there is one.
+//! - The GPU's failures are errors too (no adapter, no device, out of memory, a target or buffer
+//!   too large).
 
 use std::path::PathBuf;
 

@@ -1,13 +1,14 @@
 //! glTF 2.0 export (binary `.glb`) of what a scene shows: one mesh per drawn organ (visible, not
-//! fully faded) with its name, colour and opacity (as the material's alpha), its transform as its
-//! node's matrix, the set's groups as nested nodes, and the organ's id, Latin name, synonyms,
-//! group and info text in the node's `extras`. Clip planes are applied to the geometry, cut faces
-//! included ([`crate::cut_mesh`]); organs kept whole are not cut.
+//! fully faded), with the set's groups as nested nodes.
 //!
-//! Conventions: meshes stay in organ space (millimetres, RAS); the root node `vbrain` maps RAS
-//! millimetres to glTF's metres with +Y up and +Z to the front: glTF (x, y, z) = (-R, S, A) / 1000,
-//! so a viewer facing the model's front sees its anterior side. Colours are stored linear, as
-//! glTF asks (the set keeps sRGB).
+//! - Per organ: its name, colour and opacity (as the material's alpha), its transform as its
+//!   node's matrix, and its id, Latin name, synonyms, group and info text in the node's `extras`.
+//! - Clip planes are applied to the geometry, cut faces included ([`crate::cut_mesh`]); organs
+//!   kept whole are not cut.
+//! - Meshes stay in organ space (millimetres, RAS); the root node `vbrain` maps RAS millimetres to
+//!   glTF's metres with +Y up and +Z to the front: glTF (x, y, z) = (-R, S, A) / 1000, so a viewer
+//!   facing the model's front sees its anterior side.
+//! - Colours are stored linear, as glTF asks (the set keeps sRGB).
 
 use crate::clip::{ClipPlane, Section};
 use crate::layout::Layout;

@@ -1,13 +1,13 @@
 //! Undo and redo of layout edits: a bounded history of steps, each an [`Edit`] with the inverse
 //! [`crate::edit::apply`] returned for it and a label for people ("fade Left precentral gyrus").
 //!
-//! A continuous gesture (a slider or mouse drag) is one step: edits recorded with the same
-//! [`Gesture`] key while it lasts merge into the step it began, which keeps the state from before
-//! the gesture. Camera moves are not edits and never enter the history.
-//!
-//! Steps made outside the layout (a lesson's steps edited) take their place in the same order:
-//! [`History::record_outside`] records one by its label, undo and redo of it leave the layout
-//! alone, and [`History::undo_is_outside`] tells the owner to undo its own change too.
+//! - A continuous gesture (a slider or mouse drag) is one step: edits recorded with the same
+//!   [`Gesture`] key while it lasts merge into the step it began, which keeps the state from
+//!   before the gesture.
+//! - Camera moves are not edits and never enter the history.
+//! - Steps made outside the layout (a lesson's steps edited) take their place in the same order:
+//!   [`History::record_outside`] records one by its label, undo and redo of it leave the layout
+//!   alone, and [`History::undo_is_outside`] tells the owner to undo its own change too.
 
 use crate::edit::{apply, Edit, Organs};
 use crate::layout::Layout;

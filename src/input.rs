@@ -1,8 +1,10 @@
-//! Reading the user's files with limits checked at the door: every file vbrain reads goes through
-//! [`read`] (or [`check_file`] where a library reads it), which refuses what is not a regular file
-//! (a folder, a FIFO, a device) and what is larger than the limit of its kind, before reading a
-//! byte; and [`inside`], which refuses a path of a set that leaves the set's folder by any means
-//! (`..`, an absolute path or a symbolic link).
+//! Reading the user's files with limits checked at the door.
+//!
+//! - Every file vbrain reads goes through [`read`] (or [`check_file`] where a library reads it).
+//! - Refused before reading a byte: what is not a regular file (a folder, a FIFO, a device) and
+//!   what is larger than the limit of its kind.
+//! - [`inside`] refuses a path of a set that leaves the set's folder by any means (`..`, an
+//!   absolute path or a symbolic link).
 
 use crate::error::{Error, Result};
 use std::io::Read;

@@ -1,7 +1,9 @@
-//! Versioned JSON documents (scene files, lessons): the text with keys in the order of the
-//! structs, two-space indents and a final newline, written atomically; read with the `"format"`
-//! key checked first, so a file of a newer version, of another kind or not JSON at all gets its
-//! own message naming the file (and the line, where there is one).
+//! Versioned JSON documents (scene files, lessons), written atomically and read with their format
+//! checked first.
+//!
+//! - Text with keys in the order of the structs, two-space indents and a final newline.
+//! - Read with the `"format"` key checked first, so a file of a newer version, of another kind or
+//!   not JSON at all gets its own message naming the file (and the line, where there is one).
 
 use crate::error::{Error, Result};
 use serde::de::DeserializeOwned;

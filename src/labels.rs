@@ -1,14 +1,19 @@
-//! Labels for figures (pure functions, screen pixels, origin top left, y down): an anchor per
-//! organ on its visible surface, chosen from the organ-ID buffer as the pixel farthest from any
-//! other organ or the background (so it sits well inside what is seen and moves little when the
-//! camera does), and a placement of the label texts in two columns beside the brain's silhouette,
-//! left of it for anchors in its left half and right of it for the others, each column in the
-//! order of its anchors from top to bottom, then reordered where leader lines would cross. Placed labels never overlap each other, stay within
-//! the image and, where the image leaves room beside the silhouette, never cover it or an anchor;
-//! labels that do not fit (too many for a column, or columns that meet in a narrow image) are
-//! left out, the smallest organs first. While the camera moves, each organ keeps its last anchor
-//! as long as that stays deep inside the organ ([`anchors_near`]), so labels do not jump.
-//! [`Which`] names the organs a figure labels, as scene files, lessons and `render --labels` do.
+//! Labels for figures, as pure functions: an anchor per organ on its visible surface, and a
+//! placement of the label texts in two columns beside the brain's silhouette.
+//!
+//! - Screen pixels, origin top left, y down.
+//! - An anchor is chosen from the organ-ID buffer as the pixel farthest from any other organ or
+//!   the background, so it sits well inside what is seen and moves little when the camera does.
+//! - Labels go left of the silhouette for anchors in its left half and right of it for the
+//!   others, each column in the order of its anchors from top to bottom, then reordered where
+//!   leader lines would cross.
+//! - Placed labels never overlap each other, stay within the image and, where the image leaves
+//!   room beside the silhouette, never cover it or an anchor.
+//! - Labels that do not fit (too many for a column, or columns that meet in a narrow image) are
+//!   left out, the smallest organs first.
+//! - While the camera moves, each organ keeps its last anchor as long as that stays deep inside
+//!   the organ ([`anchors_near`]), so labels do not jump.
+//! - [`Which`] names the organs a figure labels, as scene files, lessons and `render --labels` do.
 
 /// Which organs a figure labels: the `labels` key of scene files and lesson steps and the value
 /// of `render --labels` (`none`, `selected`, `all` or ids and groups separated by commas).

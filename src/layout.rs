@@ -1,5 +1,10 @@
 //! The layout: what the user changed about each organ (visibility, opacity, colour and the model
-//! transform from organ space to world space). Both spaces are millimetres, RAS.
+//! transform from organ space to world space).
+//!
+//! - Both spaces are millimetres, RAS.
+//! - A transform scales and rotates about its pivot (the organ's centre in organ space), then
+//!   translates; rotations are Euler angles in degrees about x, y, z, applied in that order.
+//! - Colours are sRGB components in 0..=1.
 
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;

@@ -1,17 +1,19 @@
 //! Lessons (`.vblesson`, JSON, `"format": "vbrain-lesson/1"`): a title, the organ set (a path
-//! relative to the lesson file) and ordered steps. A step says what differs from the set's default
-//! layout (organs or groups shown, hidden, faded, by id or group path as
-//! [`OrganSet::select`] reads them), where the camera looks (azimuth and elevation in degrees from
-//! the anterior view, toward the subject's right and upward, and a distance relative to the framed
-//! one), a caption in simple markup (`**bold**`, `*italics*`, lines starting `- ` as a list) and
-//! the organs to highlight. Steps are applied in order to the default layout each time, so each
-//! step stands alone. A step made in the viewer ([`Step::capture`]) says everything that differs
-//! from the default layout, colours and placements (millimetres and degrees, world space) too, and
-//! holds the camera exactly where it is not the framed view of an angle. [`LessonEdit`]s change a
-//! lesson one undoable step at a time.
+//! relative to the lesson file) and ordered steps. [`LessonEdit`]s change a lesson one undoable
+//! step at a time.
 //!
-//! Reading never panics: a file that is not JSON names itself and the line; a newer format says
-//! so; ids and groups the set does not have are collected as warnings, once each.
+//! - A step says what differs from the set's default layout (organs or groups shown, hidden,
+//!   faded, by id or group path as [`OrganSet::select`] reads them), where the camera looks, a
+//!   caption in simple markup (`**bold**`, `*italics*`, lines starting `- ` as a list) and the
+//!   organs to highlight.
+//! - The camera: azimuth and elevation in degrees from the anterior view, toward the subject's
+//!   right and upward, and a distance relative to the framed one.
+//! - Steps are applied in order to the default layout each time, so each step stands alone.
+//! - A step made in the viewer ([`Step::capture`]) says everything that differs from the default
+//!   layout, colours and placements (millimetres and degrees, world space) too, and holds the
+//!   camera exactly where it is not the framed view of an angle.
+//! - Reading never panics: a file that is not JSON names itself and the line; a newer format says
+//!   so; ids and groups the set does not have are collected as warnings, once each.
 
 use crate::clip::{SavedSection, Section};
 use crate::error::{Error, Result};

@@ -1,10 +1,11 @@
 //! vbrain's headless core: organ sets, their meshes, and the offscreen renderer.
 //!
-//! A frame flows like this:
-//!
+//! - Organ space and world space are both millimetres, RAS; render targets are in screen pixels.
+//! - Nothing here panics on bad input: every file error names its file (and line).
+//! - A frame flows like this:
 //! 1. [`organ_set::open`] reads an organ set (a folder with `organset.json` and `.vbo`/`.obj`
-//!    meshes, a folder of meshes, or one mesh file) into an [`organ_set::OrganSet`]: meshes in organ
-//!    space, millimetres RAS. [`organ_set::import`] makes sets from label volumes;
+//!    meshes, a folder of meshes, or one mesh file) into an [`organ_set::OrganSet`]: meshes in
+//!    organ space, millimetres RAS. [`organ_set::import`] makes sets from label volumes;
 //!    [`organ_set::scale`] makes denser copies for benchmarks.
 //! 2. The user's changes live in a [`layout::Layout`]: per organ visibility, opacity, colour and a
 //!    model transform (organ space -> world space, also millimetres RAS).
@@ -17,8 +18,6 @@
 //!    organs with depth and 4x MSAA, faded ones through their masks (or a comparison mode), and on
 //!    demand an organ-ID buffer for picking. The viewer paints the target; headless commands read
 //!    it back into a PNG.
-//!
-//! Nothing here panics on bad input: every file error names its file (and line).
 
 pub mod atomic;
 pub mod bvh;

@@ -1,7 +1,8 @@
-//! Triangle meshes in organ space (millimetres, RAS: +x right, +y anterior, +z superior).
+//! Triangle meshes: a [`Mesh`] is an indexed triangle list with one normal per vertex.
 //!
-//! A [`Mesh`] is an indexed triangle list with one normal per vertex. Normals are always present:
-//! loaders that find none call [`Mesh::compute_normals`] (smooth, area-weighted).
+//! - Organ space: millimetres, RAS (+x right, +y anterior, +z superior).
+//! - Normals are always present: loaders that find none call [`Mesh::compute_normals`] (smooth,
+//!   area-weighted).
 
 use glam::Vec3;
 

@@ -2,20 +2,22 @@
 //! neighbouring organs share their interface exactly (multi-material surface nets, cf. Frisken,
 //! "SurfaceNets for multi-label segmentations with preservation of sharp boundaries", JCGT 2022).
 //!
-//! Spaces: grids hold one organ number per voxel, `organs[x + nx * (y + ny * z)]`, 0 = outside and
-//! organ `k` numbered `k + 1`. Positions are in voxel index space (voxel `(x, y, z)` centred at
-//! `(x, y, z)`) until the caller applies the volume's affine with [`Interfaces::transform`].
-//!
-//! What is shared: one vertex array for all organs, one vertex per 2x2x2 cell of voxels that are not
-//! all one organ. The triangles between organs `lo < hi` (`lo = 0`: `hi` and the outside) form one
-//! [`Patch`], wound counter-clockwise seen from `lo`, i.e. outward from `hi`. Organ `hi` draws it as
-//! it is, organ `lo` reversed, so two neighbours draw the very same vertices and triangles and every
-//! organ's surface is closed. Smoothing and decimation work once on the shared patches; vertices on
-//! *junctions* (cells of three or more organs, outside included), where patches meet, move only
-//! along their junction curve or not at all, so thin parts keep their shape.
-//!
-//! Stages: [`interfaces`] (specks merged, nets, joint smoothing), [`Interfaces::decimate`],
-//! [`Interfaces::transform`], [`Interfaces::organ_meshes`]; [`extract`] runs all but the transform.
+//! - Grids hold one organ number per voxel, `organs[x + nx * (y + ny * z)]`, 0 = outside and organ
+//!   `k` numbered `k + 1`.
+//! - Positions are in voxel index space (voxel `(x, y, z)` centred at `(x, y, z)`) until the
+//!   caller applies the volume's affine with [`Interfaces::transform`].
+//! - Shared: one vertex array for all organs, one vertex per 2x2x2 cell of voxels that are not all
+//!   one organ.
+//! - The triangles between organs `lo < hi` (`lo = 0`: `hi` and the outside) form one [`Patch`],
+//!   wound counter-clockwise seen from `lo`, i.e. outward from `hi`. Organ `hi` draws it as it is,
+//!   organ `lo` reversed, so two neighbours draw the very same vertices and triangles and every
+//!   organ's surface is closed.
+//! - Smoothing and decimation work once on the shared patches; vertices on *junctions* (cells of
+//!   three or more organs, outside included), where patches meet, move only along their junction
+//!   curve or not at all, so thin parts keep their shape.
+//! - Stages: [`interfaces`] (specks merged, nets, joint smoothing), [`Interfaces::decimate`],
+//!   [`Interfaces::transform`], [`Interfaces::organ_meshes`]; [`extract`] runs all but the
+//!   transform.
 
 use crate::mesh::Mesh;
 use glam::{Mat4, Vec3};

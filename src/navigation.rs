@@ -1,8 +1,11 @@
-//! Camera navigation in world space (millimetres, RAS): orbit, pan, zoom toward the cursor, framing,
-//! and a walk-through (fly) mode, all on one state: a target point, a distance, and the azimuth and
-//! elevation of the eye as in [`Camera::orbit`]. Orbiting turns the eye around the target; flying
-//! turns the target around the eye and moves both. Screen inputs are in pixels of a viewport of
-//! known size (y down).
+//! Camera navigation: orbit, pan, zoom toward the cursor, framing, and a walk-through (fly) mode,
+//! all on one state: a target point, a distance, and the azimuth and elevation of the eye as in
+//! [`Camera::orbit`].
+//!
+//! - World space, millimetres, RAS.
+//! - Screen inputs are in pixels of a viewport of known size (y down).
+//! - Orbiting turns the eye around the target; flying turns the target around the eye and moves
+//!   both.
 
 use crate::camera::{Camera, FOV_Y};
 use crate::mesh::Bounds;

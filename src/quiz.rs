@@ -1,14 +1,15 @@
 //! Quizzes (the thesis's future work: a question module): questions that ask a student to locate
-//! a structure (click it) or to name one (type its name or pick among four), drawn from a scope
-//! of organs with a seed, so a seed gives the same quiz. Pure functions over the organ set; the
-//! camera and the fading that make a deep target visible take the organ-ID buffer (organ index + 1
-//! per pixel) from the caller, who renders it.
+//! a structure (click it) or to name one (type its name or pick among four).
 //!
-//! Choices are the answer and three distractors near it: organs of its own group first, then the
-//! others, each by the distance between bounding-box centres (millimetres, world RAS), never
-//! random far-away ones. Typed names are accepted as the organ set's search finds them (name, id,
-//! Latin name, synonyms; case- and accent-insensitive, [`crate::organ_set::names::fold`]), with a
-//! small misspelling allowed, and a side word ("left", "right") checked only where one is typed.
+//! - Questions are drawn from a scope of organs with a seed, so a seed gives the same quiz.
+//! - Pure functions over the organ set; the camera and the fading that make a deep target visible
+//!   take the organ-ID buffer (organ index + 1 per pixel) from the caller, who renders it.
+//! - Choices are the answer and three distractors near it: organs of its own group first, then the
+//!   others, each by the distance between bounding-box centres (millimetres, world RAS), never
+//!   random far-away ones.
+//! - Typed names are accepted as the organ set's search finds them (name, id, Latin name,
+//!   synonyms; case- and accent-insensitive, [`crate::organ_set::names::fold`]), with a small
+//!   misspelling allowed, and a side word ("left", "right") checked only where one is typed.
 
 use crate::layout::Layout;
 use crate::mri::slice::SlicePlane;

@@ -1,5 +1,8 @@
 //! A tiny deterministic xorshift generator: the same numbers on every machine, for tests, the mask
 //! experiments and the reference mask generators (white noise, pixel tree).
+//!
+//! - `xorshift64`; any seed, 0 included, is scrambled (splitmix64) into a state, so nearby seeds
+//!   differ.
 
 /// `xorshift64`. Build it with [`XorShift::seeded`] (any seed, 0 included) or directly with a
 /// non-zero state.

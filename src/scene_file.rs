@@ -1,15 +1,16 @@
 //! Scene files (`.vbscene`, JSON, `"format": "vbrain-scene/1"`): exactly what is on screen, to
-//! reopen on another machine. The organ set (its path relative to the scene file where it can be,
-//! and its fingerprint), the camera (the navigator's target, distance and angles, orbit or
-//! walk-through), every organ's visibility, opacity, colour and transform by id, the render settings
-//! a user chose (transparency, culling mode, background) and the selection. Keys come in a fixed
-//! order and floats are written exactly (shortest round trip), so a scene diffs well and reopens to
-//! the same pixels. World space is millimetres, RAS; angles are degrees. docs/SCENES.md documents
-//! the format with an example.
+//! reopen on another machine. docs/SCENES.md documents the format with an example.
 //!
-//! Reading never panics: a file that is not JSON or has a bad value names itself and the line; one
-//! of a newer format version says so; organs the set does not have are listed once as warnings,
-//! and organs the scene does not name keep the set's defaults.
+//! - Contents: the organ set (its path relative to the scene file where it can be, and its
+//!   fingerprint), the camera (the navigator's target, distance and angles, orbit or
+//!   walk-through), every organ's visibility, opacity, colour and transform by id, the render
+//!   settings a user chose (transparency, culling mode, background) and the selection.
+//! - World space is millimetres, RAS; angles are degrees.
+//! - Keys come in a fixed order and floats are written exactly (shortest round trip), so a scene
+//!   diffs well and reopens to the same pixels.
+//! - Reading never panics: a file that is not JSON or has a bad value names itself and the line;
+//!   one of a newer format version says so; organs the set does not have are listed once as
+//!   warnings, and organs the scene does not name keep the set's defaults.
 
 use crate::cull::CullMode;
 use crate::error::{Error, Result};

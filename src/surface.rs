@@ -1,5 +1,9 @@
-//! Surface extraction and mesh clean-up, as pure functions on arrays. Input grids are in voxel index
-//! space (x fastest); output meshes are in the same space until the caller applies the volume's affine.
+//! Surface extraction and mesh clean-up, as pure functions on arrays.
+//!
+//! - Input grids are in voxel index space (x fastest: `values[x + nx * (y + ny * z)]`).
+//! - Output meshes are in the same space until the caller applies the volume's affine.
+//! - Surface nets wind triangles counter-clockwise seen from outside, where outside is
+//!   `value < iso`.
 
 use crate::mesh::Mesh;
 use glam::Vec3;

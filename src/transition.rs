@@ -1,8 +1,11 @@
 //! Smooth changes between two views, as a lesson goes from step to step: the camera (navigator)
 //! and the layout (opacity, colour, transform) are eased from one to the other over [`DURATION`]
-//! seconds. World space is millimetres RAS; angles are degrees. An organ that appears fades in
-//! from nothing, one that goes fades out and is hidden at the end. Pure functions: the viewer asks
-//! for the state at a time and draws it; the edit itself is applied at once.
+//! seconds.
+//!
+//! - World space is millimetres RAS; angles are degrees.
+//! - An organ that appears fades in from nothing, one that goes fades out and is hidden at the end.
+//! - Pure functions: the viewer asks for the state at a time and draws it; the edit itself is
+//!   applied at once.
 
 use crate::layout::{Layout, OrganState};
 use crate::navigation::Navigator;

@@ -1,17 +1,19 @@
-//! Frame-to-frame coherence of the traversal: where each organ's hierarchy is entered. No
-//! coordinate space: only nodes of the hierarchy ([`crate::bvh`]) and their triangle ranges.
+//! Frame-to-frame coherence of the traversal: where each organ's hierarchy is entered, kept by a
+//! [`Culler`](super::Culler) from one frame to the next.
 //!
-//! Traversed from its root, an organ's hierarchy is tested down to a *cut*: the nodes where the
-//! traversal stopped testing (hidden, outside the frustum, a leaf, or a node below which nothing
-//! more is tested). The inner nodes above the cut were tested and failed, and in the next frame,
-//! the camera having moved a little, most of them fail again. So a [`Culler`](super::Culler)
-//! keeps each organ's cut and starts the next frame's traversal there: every node of the cut is
-//! tested as the root would be, and descended from where it fails, as before. Starting lower is
-//! always conservative (each triangle still lies below exactly one start, and testing more culls
-//! no less where a node is hidden), so only the cost depends on the cut. To keep it from sinking,
-//! two siblings that both started the frame and both stopped there (culled, or tested no further)
-//! give way to their parent for the next frame; where the parent then fails, its children return,
-//! reached by descent, and stay a frame before they may merge again.
+//! - No coordinate space: only nodes of the hierarchy ([`crate::bvh`]) and their triangle ranges.
+//! - Traversed from its root, an organ's hierarchy is tested down to a *cut*: the nodes where the
+//!   traversal stopped testing (hidden, outside the frustum, a leaf, or a node below which nothing
+//!   more is tested). The inner nodes above the cut were tested and failed, and in the next frame,
+//!   the camera having moved a little, most of them fail again.
+//! - So the next frame's traversal starts at the cut: every node of the cut is tested as the root
+//!   would be, and descended from where it fails, as before.
+//! - Starting lower is always conservative (each triangle still lies below exactly one start, and
+//!   testing more culls no less where a node is hidden), so only the cost depends on the cut.
+//! - To keep the cut from sinking, two siblings that both started the frame and both stopped there
+//!   (culled, or tested no further) give way to their parent for the next frame; where the parent
+//!   then fails, its children return, reached by descent, and stay a frame before they may merge
+//!   again.
 
 use crate::bvh::Bvh;
 

@@ -1,10 +1,13 @@
-//! The occluder database: per grid viewpoint (eye in world space), its minimum-occluder-set
-//! occluders (thesis §3.2, made by [`crate::mos`]); stored beside the set as `occluders.json`
-//! (versioned JSON, written atomically) and owned at run time by the [`super::Culler`]. It
-//! names the set's content and the layout it was computed for by fingerprints: a database whose set
-//! changed is stale and ignored. It serves a layout with nothing moved whose opaque organs it had
-//! opaque too (organs faded or hidden since simply no longer occlude, [`Database::serves`]); for
-//! another layout, or a camera far from every viewpoint, the culler uses projected size.
+//! The occluder database: per grid viewpoint, its minimum-occluder-set occluders (thesis §3.2,
+//! made by [`crate::mos`]), owned at run time by the [`super::Culler`].
+//!
+//! - Viewpoints are eyes in world space.
+//! - Stored beside the set as `occluders.json` (versioned JSON, written atomically).
+//! - It names the set's content and the layout it was computed for by fingerprints: a database
+//!   whose set changed is stale and ignored.
+//! - It serves a layout with nothing moved whose opaque organs it had opaque too (organs faded or
+//!   hidden since simply no longer occlude, [`Database::serves`]); for another layout, or a camera
+//!   far from every viewpoint, the culler uses projected size.
 
 use super::LeafRef;
 use crate::camera::Camera;

@@ -1,19 +1,23 @@
-//! A lower bound of a box's or a triangle's depth at each culling pixel, for the depth test of a
-//! node whose nearest depth alone is in front of some occluder depth over its rectangle (a tilted
-//! box over a tilted occluder surface); and an upper bound of a box's ([`FarBound`]), to find a
-//! node in front of the occluders, below which nothing can be hidden. Spaces: boxes in organ
-//! space; pixels of the culling raster (x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1));
-//! depth = NDC z (larger is farther).
+//! Depth bounds per culling pixel: a lower bound of a box's or a triangle's depth, for the depth
+//! test of a node whose nearest depth alone is in front of some occluder depth over its rectangle,
+//! and an upper bound of a box's ([`FarBound`]), to find a node in front of the occluders.
 //!
-//! A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
-//! is at a corner. A ray from the eye enters a convex box where it crosses the last of the box's
-//! faces that face the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least
-//! each such face's plane depth on that ray, also linear in screen position (projection maps planes
-//! to planes). The same holds for the intersection of the box with a slab holding the same
-//! triangles ([`Slab`], two parallel planes across their mean normal): the slab's face toward the
-//! eye is one more such plane. The bound at a pixel is the largest of these over the (at most four)
-//! front faces, and never less than the box's nearest corner depth. The upper bound is the mirror
-//! image: the smallest over the far faces, where rays leave.
+//! - Boxes in organ space; pixels of the culling raster (x right, y down, pixel (i, j) covers
+//!   [i, i+1) x [j, j+1)); depth = NDC z (larger is farther).
+//! - The lower bound serves a tilted box over a tilted occluder surface; below a node in front of
+//!   the occluders nothing can be hidden.
+//! - A triangle's NDC depth is linear in screen position, so over a pixel's square its least value
+//!   is at a corner.
+//! - A ray from the eye enters a convex box where it crosses the last of the box's faces that face
+//!   the eye (Cyrus-Beck), so along any ray that meets the box its depth is at least each such
+//!   face's plane depth on that ray, also linear in screen position (projection maps planes to
+//!   planes).
+//! - The same holds for the intersection of the box with a slab holding the same triangles
+//!   ([`Slab`], two parallel planes across their mean normal): the slab's face toward the eye is
+//!   one more such plane.
+//! - The bound at a pixel is the largest of these over the (at most four) front faces, and never
+//!   less than the box's nearest corner depth.
+//! - The upper bound is the mirror image: the smallest over the far faces, where rays leave.
 
 use super::raster::Triangle;
 use super::rect::PixelRect;

@@ -1,5 +1,9 @@
 //! The culler's parallel work as tasks for [`super::share`]: the subtrees below the top levels of
 //! the hierarchies (and groups of small starts), traversed by the calling thread and the pool.
+//!
+//! - No coordinate space: a task is a single subtree, or a group of small starts of one organ up
+//!   to `SUBTREE_TRIANGLES` triangles in all, and gives its organs' ranges, counts and reached
+//!   nodes.
 
 use super::occluders::FrameOccluders;
 use super::settings::CullSettings;

@@ -1,9 +1,13 @@
-//! Occlusion culling (thesis chapter 3), per frame on the CPU. Node bounds are in organ space,
-//! moved by each organ's model matrix into world space and projected into culling pixels: a
-//! low-resolution grid over the viewport, x right, y down, depth = NDC z (larger is farther).
-//! Rectangles of culling pixels are [`PixelRect`]s, inclusive on all four sides.
+//! Occlusion culling (thesis chapter 3), per frame on the CPU: a [`Culler`] kept from frame to
+//! frame picks each organ's triangles to draw, one module per step; the result is a [`DrawList`].
 //!
-//! The steps of a frame, one module each:
+//! - Node bounds are in organ space, moved by each organ's model matrix into world space and
+//!   projected into culling pixels: a low-resolution grid over the viewport, x right, y down,
+//!   depth = NDC z (larger is farther).
+//! - Rectangles of culling pixels are [`PixelRect`]s, inclusive on all four sides.
+//! - The [`Culler`] starts each traversal at the last frame's [`cut`] and looks up each visible
+//!   part's [`witness`] first.
+//! - The steps of a frame, one module each:
 //! 1. [`selection`]: occluders by projected size, or the pre-computed minimum occluder sets of the
 //!    [`database`] while the layout is unchanged (§3.1-3.2); and the set's solids whose organs are
 //!    all opaque, unmoved relative to each other and clear of the clip planes (beyond the thesis:
@@ -21,9 +25,6 @@
 //!    (beyond the thesis; counted among the occluded and apart);
 //! 5. [`jobs`]: the traversal's subtrees shared between the calling thread and the pool
 //!    ([`share`]).
-//!
-//! A [`Culler`] kept from frame to frame starts each traversal at the last frame's [`cut`] and looks
-//! up each visible part's [`witness`] first. The result is a [`DrawList`].
 
 mod cut;
 pub mod database;

@@ -1,7 +1,9 @@
 //! One frame's occluders (thesis §3.3-3.4): the chosen leaves rasterised into coverage and depth
 //! ([`super::raster`]), the opacity map and sparse depth map over them, and the tests of boxes,
-//! footprints, triangles and points against them. Culling pixels (x right, y down), NDC depth
-//! (larger is farther); rectangles inclusive.
+//! footprints, triangles and points against them.
+//!
+//! - Culling pixels (x right, y down); NDC depth (larger is farther).
+//! - Rectangles are inclusive.
 
 use super::depth_bound::DepthBound;
 use super::opacity_map::OpacityMap;

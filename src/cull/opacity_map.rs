@@ -1,7 +1,8 @@
-//! The opacity map (thesis §3.3.1-3.3.2): a summed-area table of the occluders' coverage bitmap
-//! in culling pixels, with the extra zero row and column, so the covered pixels of any rectangle
-//! take four look-ups. Rows here run top to bottom (the thesis counts from the lower left; the
-//! counts are the same).
+//! The opacity map (thesis §3.3.1-3.3.2): a summed-area table of the occluders' coverage bitmap,
+//! so the covered pixels of any rectangle take four look-ups.
+//!
+//! - Culling pixels; the table has the extra zero row and column.
+//! - Rows here run top to bottom (the thesis counts from the lower left; the counts are the same).
 
 use super::rect::PixelRect;
 

@@ -1,7 +1,8 @@
 //! Projection into the culling raster: boxes, triangles and points from organ space through a
-//! model-view-projection matrix into culling pixels (x right, y down; depth = NDC z, larger is
-//! farther, 0 at the near plane), with rectangles rounded outward (thesis §3.3's conservative
-//! rounding).
+//! model-view-projection matrix into culling pixels.
+//!
+//! - Culling pixels: x right, y down; depth = NDC z, larger is farther, 0 at the near plane.
+//! - Rectangles are rounded outward (thesis §3.3's conservative rounding).
 
 use super::rect::PixelRect;
 use crate::bvh::Bvh;

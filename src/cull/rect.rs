@@ -1,5 +1,8 @@
-//! Rectangles of culling pixels (x right, y down), inclusive on all four sides: the one rectangle
-//! type of the culler, from the projection of a box to the opacity map's look-ups.
+//! Rectangles of culling pixels: the one rectangle type of the culler, from the projection of a
+//! box to the opacity map's look-ups.
+//!
+//! - Culling pixels, x right, y down.
+//! - Inclusive on all four sides (columns `x0..=x1`, rows `y0..=y1`), so never empty.
 
 /// Columns `x0..=x1` and rows `y0..=y1` of a raster (so never empty).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,8 +1,10 @@
-//! Occluder selection per frame (thesis §3.1-3.2), in the culling raster's pixels (x right, y
-//! down) for projected sizes and world space for distances: by projected size among opaque, visible
-//! organs (no pre-processing, so organs may move), or the pre-computed minimum occluder sets of the
-//! nearest grid viewpoint ([`crate::mos`]) while the database serves the layout
-//! ([`Database::serves`]: nothing moved, organs faded since left out).
+//! Occluder selection per frame (thesis §3.1-3.2): by projected size, or the pre-computed minimum
+//! occluder sets of the nearest grid viewpoint.
+//!
+//! - Projected sizes in the culling raster's pixels (x right, y down); distances in world space.
+//! - By projected size among opaque, visible organs: no pre-processing, so organs may move.
+//! - The minimum occluder sets ([`crate::mos`]) only while the database serves the layout
+//!   ([`Database::serves`]: nothing moved, organs faded since left out).
 
 use super::database::Database;
 use super::project::{project_box, wholly_ahead, ScreenBox};

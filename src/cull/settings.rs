@@ -1,5 +1,8 @@
-//! What the culler is asked to do: the mode and the raster, budget and test settings. The raster
-//! size is in culling pixels (a low-resolution grid over the viewport).
+//! What the culler is asked to do: the mode and the raster, budget and test settings.
+//!
+//! - The raster size is in culling pixels (a low-resolution grid over the viewport).
+//! - The adaptive stop's coverage ratio is the thesis's 0.2 by default (0 disables it); a hole
+//!   tolerance makes the overlap test approximate, no longer conservative.
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "lowercase")]

@@ -1,12 +1,14 @@
 //! Work shared between the calling thread and rayon's pool, for the culler's short parallel
-//! phases (a fraction of a millisecond each). No coordinate space: tasks are only numbered.
+//! phases (a fraction of a millisecond each).
 //!
-//! Handing a phase to the pool (a parallel iterator called from outside it) leaves the caller
-//! waiting for a pool thread to wake, and one that has slept while the GPU drew the last frame
-//! can take a tenth of a millisecond or more to. So the pool's threads are woken once, when the
-//! work begins ([`with_crew`]), and wait there for its phases in turn; the calling thread starts
-//! on each phase's tasks at once ([`Phase::run`]), and the others join in as they come: each
-//! participant claims the next unclaimed task until none is left.
+//! - No coordinate space: tasks are only numbered.
+//! - Handing a phase to the pool (a parallel iterator called from outside it) leaves the caller
+//!   waiting for a pool thread to wake, and one that has slept while the GPU drew the last frame
+//!   can take a tenth of a millisecond or more to.
+//! - So the pool's threads are woken once, when the work begins ([`with_crew`]), and wait there
+//!   for its phases in turn.
+//! - The calling thread starts on each phase's tasks at once ([`Phase::run`]), and the others join
+//!   in as they come: each participant claims the next unclaimed task until none is left.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering::SeqCst};
 use std::sync::{Mutex, OnceLock};

@@ -1,7 +1,9 @@
-//! The sparse depth map (thesis §3.3.3-3.3.4) over the occluder depth map in culling pixels (depth
-//! = NDC z, 0 near .. 1 far, larger is farther). Per row, each pixel stores how far to step right to
-//! the next local peak, so a depth comparison over a row visits only the peaks (and the row's
-//! ends) instead of every pixel, and still sees the row's farthest occluder depth.
+//! The sparse depth map (thesis §3.3.3-3.3.4) over the occluder depth map: a depth comparison over
+//! a row visits only the row's local peaks instead of every pixel.
+//!
+//! - Culling pixels; depth = NDC z, 0 near .. 1 far, larger is farther.
+//! - Per row, each pixel stores how far to step right to the next local peak, so a comparison
+//!   visits the peaks (and the row's ends) and still sees the row's farthest occluder depth.
 
 use super::rect::PixelRect;
 

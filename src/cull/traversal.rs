@@ -1,6 +1,8 @@
 //! The front-to-back traversal of one organ's hierarchy (thesis §3.4): frustum test, then the
 //! occlusion tests of each node against the frame's [`Occluders`], the adaptive stop, and the
-//! fall-back on a failing leaf's parts. Boxes in organ space, projected into culling pixels.
+//! fall-back on a failing leaf's parts.
+//!
+//! - Boxes in organ space, projected into culling pixels.
 
 use super::cut::Reached;
 use super::depth_bound::{DepthBound, FarBound, Unprojection};

@@ -1,13 +1,15 @@
 //! Frame-to-frame witnesses of visibility: per part of an organ's hierarchy
 //! ([`crate::bvh::Part`]), the place among the part's vertices of one that was seen the last frame
-//! the part was tested. No coordinate space: places only.
+//! the part was tested.
 //!
-//! A vertex seen where it lies (uncovered, or in front of the occluders there:
-//! [`super::Occluders::sees`]) shows that no test of its part could pass, so the part is drawn. Most
-//! parts that are visible in one frame are so in the next, and often through the same vertex: the
-//! next frame looks that one vertex up first, and where it is seen again, the part is drawn without
-//! its tests. What is culled does not depend on the witnesses: any vertex of the part would show
-//! the same, so a stale witness (or one kept for another set) only costs its look-up.
+//! - No coordinate space: places only.
+//! - A vertex seen where it lies (uncovered, or in front of the occluders there:
+//!   [`super::Occluders::sees`]) shows that no test of its part could pass, so the part is drawn.
+//! - Most parts that are visible in one frame are so in the next, and often through the same
+//!   vertex: the next frame looks that one vertex up first, and where it is seen again, the part is
+//!   drawn without its tests.
+//! - What is culled does not depend on the witnesses: any vertex of the part would show the same,
+//!   so a stale witness (or one kept for another set) only costs its look-up.
 
 use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
 

@@ -1,8 +1,11 @@
-//! The culling benchmark (thesis §5, Figure 22): the camera orbits the set (world space, its
-//! centre), each culling mode runs over the same frames in the same process, and each frame records
-//! CPU cull time, frame time (wall time until the GPU queue has finished), triangles drawn and the
-//! share culled. Once per frame it also renders every leaf's number at full resolution to find the
-//! leaves exact visibility could cull, and how many of those the culler culled.
+//! The culling benchmark (thesis §5, Figure 22): the camera orbits the set, and each culling mode
+//! runs over the same frames in the same process.
+//!
+//! - The orbit is in world space, around the set's centre.
+//! - Each frame records CPU cull time, frame time (wall time until the GPU queue has finished),
+//!   triangles drawn and the share culled.
+//! - Once per frame it also renders every leaf's number at full resolution to find the leaves
+//!   exact visibility could cull, and how many of those the culler culled.
 
 use crate::camera::Camera;
 use crate::cull::database::Database;

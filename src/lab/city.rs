@@ -1,12 +1,14 @@
 //! A synthetic city for the occluder-selection experiments (thesis §5.1.1 used thirty copies of a
-//! Chicago model, about 300,000 polygons). World space in metres: x east, y north, z up; the city
-//! covers `[0, SIZE]²` on the ground (z = 0).
+//! Chicago model, about 300,000 polygons).
 //!
-//! A 20 x 20 grid of blocks, each `SIZE / 20` wide, separated by streets along every block
-//! boundary; one building per block (a few blocks are left open as squares), its facades divided into
-//! storeys and bays. Blocks are grouped into 5 x 5 districts of 4 x 4 blocks, one organ each, plus
-//! the ground. The walkthrough routes of [`super::bench::Route`] run along streets, whose centre
-//! lines lie at multiples of 1/20 of the extent.
+//! - World space in metres: x east, y north, z up; the city covers `[0, SIZE]²` on the ground
+//!   (z = 0).
+//! - A 20 x 20 grid of blocks, each `SIZE / 20` wide, separated by streets along every block
+//!   boundary; one building per block (a few blocks are left open as squares), its facades
+//!   divided into storeys and bays.
+//! - Blocks are grouped into 5 x 5 districts of 4 x 4 blocks, one organ each, plus the ground.
+//! - The walkthrough routes of [`super::bench::Route`] run along streets, whose centre lines lie
+//!   at multiples of 1/20 of the extent.
 
 use crate::mesh::Mesh;
 use crate::organ_set::{distinct_colour, manifest::Source, Organ, OrganSet};

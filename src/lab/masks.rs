@@ -1,10 +1,12 @@
 //! The mask experiment of thesis Figures 19 and 20: per trial every object gets an opacity and a
 //! depth, masks are generated in object order (random with respect to depth), stacked with the
-//! depth test, and each stacking level is checked. Level l is the l-th nearest object: it should
-//! keep n * a_l * prod_{j nearer}(1 - a_j) sub-samples, which rounded to whole sub-samples is the
-//! best any mask can do; its faulty pixels are the difference between that rounded count and the
-//! sub-samples it keeps. (Without the rounding every level would show up to half a pixel of error
-//! that no mask could remove.)
+//! depth test, and each stacking level is checked.
+//!
+//! - Level l is the l-th nearest object: it should keep n * a_l * prod_{j nearer}(1 - a_j)
+//!   sub-samples, which rounded to whole sub-samples is the best any mask can do.
+//! - Its faulty pixels are the difference between that rounded count and the sub-samples it
+//!   keeps. (Without the rounding every level would show up to half a pixel of error that no mask
+//!   could remove.)
 
 use crate::rng::XorShift;
 use crate::transparency::{generate, Mask, MaskMethod, Neighbourhood};

@@ -2,7 +2,7 @@
 //! from what the viewer uses. Each measures the core's real code paths and returns plain records;
 //! the command line (`ui/src/lab`) reports them as CSV, plots and JSON.
 //!
-//! - [`bench`]: the culling benchmark (orbit or city routes), thesis §5 and Figure 22.
+//! - [`mod@bench`]: the culling benchmark (orbit or city routes), thesis §5 and Figure 22.
 //! - [`city`]: the synthetic city of the occluder experiments, thesis §5.1.1.
 //! - [`occluder_selection`]: culled share against occluder count per selection, thesis Figure 14.
 //! - [`masks`]: faulty pixels of stacked masks per method, thesis Figures 19 and 20.

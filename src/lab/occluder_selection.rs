@@ -1,14 +1,15 @@
-//! The occluder-selection experiment of thesis Figure 14: at fixed viewpoints (world-space
-//! cameras), the share of triangles culled against the number of occluder leaves allowed, for three
-//! ways of ranking the occluders:
+//! The occluder-selection experiment of thesis Figure 14: at fixed viewpoints, the share of
+//! triangles culled against the number of occluder leaves allowed, for three ways of ranking the
+//! occluders.
 //!
-//! * **PS**, projected size: pixels each candidate covers, occlusion ignored;
-//! * **FH**, first hit: pixels each candidate holds in an exact ID render (the visible ones);
-//! * **MOS**: the minimum occluder set selection of that viewpoint ([`crate::mos::select_for_view`]).
-//!
-//! Each prefix of each ranking is handed to the run-time culler
-//! ([`crate::cull::Culler::cull_with`]), so the figures are what the conservative culler really
-//! removes.
+//! - Viewpoints are world-space cameras.
+//! - **PS**, projected size: pixels each candidate covers, occlusion ignored.
+//! - **FH**, first hit: pixels each candidate holds in an exact ID render (the visible ones).
+//! - **MOS**: the minimum occluder set selection of that viewpoint
+//!   ([`crate::mos::select_for_view`]).
+//! - Each prefix of each ranking is handed to the run-time culler
+//!   ([`crate::cull::Culler::cull_with`]), so the figures are what the conservative culler really
+//!   removes.
 
 use crate::camera::Camera;
 use crate::cull::{CullMode, CullSettings, Culler, LeafRef};

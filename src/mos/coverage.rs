@@ -1,7 +1,9 @@
 //! Centre-sampled software rasterisation of hierarchy leaves, for choosing occluders (never for
 //! deciding what is culled: that is the conservative rasteriser in [`crate::cull::raster`]).
-//! Space: pixels of a `width` x `height` image (x right, y down, pixel (i, j) sampled at its centre
-//! (i + 0.5, j + 0.5)); depth = NDC z, larger is farther.
+//!
+//! - Pixels of a `width` x `height` image: x right, y down, pixel (i, j) sampled at its centre
+//!   (i + 0.5, j + 0.5).
+//! - Depth = NDC z, larger is farther.
 
 use crate::cull::project::project_triangle;
 use crate::cull::LeafRef;

@@ -1,10 +1,12 @@
 //! Minimum occluder sets (thesis §3.2, Poon & Wang 1999): pre-processing that picks, per viewpoint
 //! of a grid around the set, a small list of occluder leaves that hides as much as a much larger
-//! list chosen by projected size, for the set's layout as it was pre-processed. Spaces: viewpoints
-//! and cameras in world space; occluders and occludees are projected into the pixels of a square
-//! image of the culling raster's size (x right, y down, depth = NDC z).
+//! list chosen by projected size, for the set's layout as it was pre-processed.
 //!
-//! Per viewpoint ([`select_for_view`]):
+//! - Viewpoints and cameras in world space; occluders and occludees are projected into the pixels
+//!   of a square image of the culling raster's size (x right, y down, depth = NDC z).
+//! - The result is stored in a [`crate::cull::database::Database`] beside the set, used at run
+//!   time while the layout is unchanged ([`crate::cull::choose_occluders`]).
+//! - Per viewpoint ([`select_for_view`]):
 //! 1. candidates: the on-screen leaves of opaque, visible organs, each rasterised alone
 //!    ([`coverage`], centre-sampled) and cut to the pixels inside its organ's image (the run-time
 //!    rasteriser counts only pixels wholly inside an occluder);
@@ -13,9 +15,6 @@
 //!    nearest depth), the combination table and its cheapest minimum occluder sets ([`search`]);
 //! 3. gains (the triangles of the occludees a set hides, supersets inheriting), cost (occluders
 //!    and their projected size), score and selection over an ID buffer ([`select`]).
-//!
-//! The result is stored in a [`crate::cull::database::Database`] beside the set, used at run time while the
-//! layout is unchanged ([`crate::cull::choose_occluders`]).
 
 pub mod coverage;
 pub mod search;

@@ -1,13 +1,14 @@
-//! The minimum occluder sets of one occludee (thesis §3.2.1-3.2.2), on occluder identifiers only
-//! (no geometry, no space).
+//! The minimum occluder sets of one occludee (thesis §3.2.1-3.2.2): the cheapest minimal hitting
+//! sets of the slots of its combination table, found by backtracking.
 //!
-//! The *occluder stack* of a pixel of the occludee's image is the set of occluders in front of the
-//! occludee that cover the pixel. Pixels with the same stack form one *slot* of the *combination
-//! table*; slots are ordered by how few occluders they hold. A set of occluders hides the occludee
-//! when it *cancels* every slot (holds one of its occluders): finding a minimum occluder set is
-//! finding a minimal hitting set of the slots. The search runs left to right, backtracking over
-//! every occluder of the first slot not yet cancelled, and prunes a partial set that already
-//! costs more than the cheapest sets kept.
+//! - On occluder identifiers only (no geometry, no space).
+//! - The *occluder stack* of a pixel of the occludee's image is the set of occluders in front of
+//!   the occludee that cover the pixel. Pixels with the same stack form one *slot* of the
+//!   *combination table*; slots are ordered by how few occluders they hold.
+//! - A set of occluders hides the occludee when it *cancels* every slot (holds one of its
+//!   occluders): finding a minimum occluder set is finding a minimal hitting set of the slots.
+//! - The search runs left to right, backtracking over every occluder of the first slot not yet
+//!   cancelled, and prunes a partial set that already costs more than the cheapest sets kept.
 
 /// The combination table of one occludee from the stacks of its pixels (each sorted): its distinct
 /// slots, fewest occluders first. A slot holding every occluder of a smaller slot is dropped, as any

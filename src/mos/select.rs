@@ -1,11 +1,11 @@
-//! Scoring and selecting minimum occluder sets (thesis §3.2.3), on occluder indices and their
-//! centre-sampled images (image pixels, depth = NDC z).
+//! Scoring and selecting minimum occluder sets (thesis §3.2.3).
 //!
-//! Identical sets found for different occludees are grouped, their gains added; a set inherits the
-//! gain of every set it contains (occlusion fusion: rendering ABC also hides what AB hides). Sets are
-//! ranked by gain over cost, and taken in that order, each overlaid on an ID buffer of the
-//! occluders taken so far: an occluder that holds no pixel of the buffer (redundant, or hidden
-//! behind nearer ones) is dropped, until the limit is reached.
+//! - On occluder indices and their centre-sampled images (image pixels, depth = NDC z).
+//! - Identical sets found for different occludees are grouped, their gains added; a set inherits
+//!   the gain of every set it contains (occlusion fusion: rendering ABC also hides what AB hides).
+//! - Sets are ranked by gain over cost, and taken in that order, each overlaid on an ID buffer of
+//!   the occluders taken so far: an occluder that holds no pixel of the buffer (redundant, or
+//!   hidden behind nearer ones) is dropped, until the limit is reached.
 
 use super::coverage::LeafImage;
 use super::search::{is_subset, signature};

@@ -7,7 +7,7 @@
 //! - A volume that cannot serve the set is refused with a message naming its file: not 3-D, over
 //!   [`MAX_VOXELS`], non-finite values, constant, or no overlap with the set's bounds. The set then
 //!   loads without it.
-//! - [`slice`]: the set's organs and the MRI on an axis-aligned plane, in a pane's pixels.
+//! - [`mod@slice`]: the set's organs and the MRI on an axis-aligned plane, in a pane's pixels.
 
 pub mod slice;
 

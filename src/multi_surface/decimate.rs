@@ -1,17 +1,20 @@
-//! Decimation of the shared interfaces, in two passes over the patches themselves; positions never
-//! move, so organs drawing a patch draw the same result and neighbours keep meeting without cracks.
+//! Decimation of the shared interfaces, in two passes over the patches themselves.
 //!
+//! - Positions never move, so organs drawing a patch draw the same result and neighbours keep
+//!   meeting without cracks.
+//! - The passes:
 //! 1. Meshoptimizer on each patch, moving no surface more than a fifth of a voxel, with the
 //!    junction vertices and their neighbours locked: the bulk of flat interior, fast.
 //! 2. One greedy sequence of half-edge collapses over the whole net, cheapest first by quadric
 //!    error (Garland and Heckbert), each applied to every patch at once.
 //!
-//! Junctions: a vertex inside a junction curve (exactly two neighbours along patch borders)
-//! collapses only along the curve, onto one of those two; patch borders add constraint planes to
-//! the quadrics, so curves keep their course. Other junction vertices (curve ends, corners) stay.
-//! A collapse is made only where every organ's surface stays a closed manifold around it (the link
-//! condition, per organ) and no triangle folds, so decimation adds no pinched edges. Once no valid
-//! collapse is left the budget is not met: what junctions and thin parts need stays.
+//! - Junctions: a vertex inside a junction curve (exactly two neighbours along patch borders)
+//!   collapses only along the curve, onto one of those two; patch borders add constraint planes to
+//!   the quadrics, so curves keep their course. Other junction vertices (curve ends, corners) stay.
+//! - A collapse is made only where every organ's surface stays a closed manifold around it (the
+//!   link condition, per organ) and no triangle folds, so decimation adds no pinched edges.
+//! - Once no valid collapse is left the budget is not met: what junctions and thin parts need
+//!   stays.
 
 use super::{Interfaces, Patch};
 use glam::DVec3;

@@ -1,5 +1,9 @@
 //! Preparing an organ grid for the net: cropping it with a margin of outside, and merging specks
 //! (tiny voxel islands) into their neighbours, so no organ keeps a speck and none gets a hole.
+//!
+//! - Grids as in the parent module: one organ number per voxel, x fastest, 0 = outside.
+//! - The crop keeps one layer of outside all round, so every surface closes.
+//! - A speck is a 6-connected island of one organ, below a size cap and off the grid's border.
 
 use super::OrganGrid;
 use std::collections::{HashMap, HashSet};

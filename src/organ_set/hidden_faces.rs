@@ -1,28 +1,30 @@
-//! Faces inside a solid (organ space, millimetres; triangle numbers in the organs' leaf order; in
-//! files, in the order a load first builds the hierarchy in from the mesh file).
+//! Faces inside a solid: the faces of a [`Solid`]'s organs that no pixel shows while the solid is
+//! intact, so that the occlusion culler may leave out the hierarchy nodes made only of them (beyond
+//! the thesis, whose occluders are single organs).
 //!
-//! The organs of a [`Solid`] meet face to face: the white matter's surface is the cortex's inner
-//! one, wound the other way. While the solid is intact (its organs all drawn, opaque, cut by no
-//! plane, moved as one, mirrored by none) and the eye lies outside its box, such a face is drawn
-//! behind the solid's surface and no pixel shows it. The occlusion culler then leaves out the
-//! hierarchy nodes made only of such faces (beyond the thesis, whose occluders are single organs).
-//!
-//! Which faces are hidden is found once, offline (`vbrain stand-ins`), by rays, as the renderer
-//! draws: a ray from a point of a face towards the eye (outside the solid's box, so every surface
-//! it meets lies on the way) is stopped by a triangle of the solid the eye sees from its front
-//! (or either side, for an organ that is not closed, whose back faces the renderer draws). A face
-//! is hidden when every ray from each of its sample points, in every sampled direction it shows
-//! its front to, is stopped. A face sharing a corner with a face found visible counts as visible
-//! too ([`RINGS`]): where a face inside meets the surface, their depths near the junction differ by
-//! less than rounding, so which of them a sample there shows is for the depth test to decide, as it
-//! does without culling; and a face next to a gap the rays found is the likeliest to see through
-//! it where they did not look. Rays are samples: the culler's identity test compares images with
-//! and without culling. A face that crosses the solid's outer surface (the boundary of its organs'
-//! union) away from the corners they share pokes out, and is visible whatever its rays found:
-//! smoothed neighbouring organs may fold through each other where three or more meet.
-//!
-//! Each face goes to the smallest solid that hides it: a larger solid holding that one is intact
-//! only while it is.
+//! - Organ space, millimetres; triangle numbers in the organs' leaf order; in files, in the order
+//!   a load first builds the hierarchy in from the mesh file.
+//! - The organs of a solid meet face to face: the white matter's surface is the cortex's inner
+//!   one, wound the other way. While the solid is intact (its organs all drawn, opaque, cut by no
+//!   plane, moved as one, mirrored by none) and the eye lies outside its box, such a face is drawn
+//!   behind the solid's surface and no pixel shows it.
+//! - Which faces are hidden is found once, offline (`vbrain stand-ins`), by rays, as the renderer
+//!   draws: a ray from a point of a face towards the eye (outside the solid's box, so every surface
+//!   it meets lies on the way) is stopped by a triangle of the solid the eye sees from its front
+//!   (or either side, for an organ that is not closed, whose back faces the renderer draws).
+//! - A face is hidden when every ray from each of its sample points, in every sampled direction it
+//!   shows its front to, is stopped.
+//! - A face sharing a corner with a face found visible counts as visible too ([`RINGS`]): where a
+//!   face inside meets the surface, their depths near the junction differ by less than rounding, so
+//!   which of them a sample there shows is for the depth test to decide, as it does without
+//!   culling; and a face next to a gap the rays found is the likeliest to see through it where
+//!   they did not look.
+//! - Rays are samples: the culler's identity test compares images with and without culling.
+//! - A face that crosses the solid's outer surface (the boundary of its organs' union) away from
+//!   the corners they share pokes out, and is visible whatever its rays found: smoothed
+//!   neighbouring organs may fold through each other where three or more meet.
+//! - Each face goes to the smallest solid that hides it: a larger solid holding that one is intact
+//!   only while it is.
 
 use super::{OrganSet, Solid};
 use crate::bvh::Bvh;

@@ -1,10 +1,12 @@
-//! Import of a label volume (NIfTI) and its label table into an organ set. Surfaces are extracted in
-//! voxel index space, then mapped by the volume's affine (sform, else qform, else pixel sizes) into
-//! world space, which for atlases and scanner segmentations is millimetres, RAS.
+//! Import of a label volume (NIfTI) and its label table into an organ set.
 //!
-//! Pipeline per organ: the voxels of its labels (several labels of one name form one organ) -> a
-//! lightly blurred mask -> surface nets -> stray specks removed -> Taubin smoothing -> meshoptimizer
-//! simplification to the organ's share of the triangle budget -> smooth normals.
+//! - Surfaces are extracted in voxel index space, then mapped by the volume's affine (sform, else
+//!   qform, else pixel sizes) into world space, which for atlases and scanner segmentations is
+//!   millimetres, RAS.
+//! - Several labels of one name form one organ.
+//! - Pipeline per organ: the voxels of its labels -> a lightly blurred mask -> surface nets ->
+//!   stray specks removed -> Taubin smoothing -> meshoptimizer simplification to the organ's share
+//!   of the triangle budget -> smooth normals.
 
 use super::{distinct_colour, slug, Organ, OrganSet};
 use crate::error::{Error, Result};

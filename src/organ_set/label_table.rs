@@ -1,10 +1,13 @@
-//! Label tables of label volumes: CSV `index,name[,...]` (RFC 4180 quoting, so a name may hold
-//! commas and quotes; an optional header line; further columns ignored) or a FreeSurfer colour
-//! look-up table (`index name r g b a`, colours 0..=255, `#` comments). Lines are numbered from 1.
+//! Label tables of label volumes: CSV, or a FreeSurfer colour look-up table (LUT).
 //!
-//! A table whose index is not an integer, whose label has no name, or which gives an index twice
-//! is refused with the line (both lines, for a repeat); a LUT colour that is not three integers in
-//! 0..=255 is a warning with its line, and the organ gets a colour of its own.
+//! - CSV: `index,name[,...]` (RFC 4180 quoting, so a name may hold commas and quotes; an optional
+//!   header line; further columns ignored).
+//! - LUT: `index name r g b a`, colours 0..=255, `#` comments.
+//! - Lines are numbered from 1.
+//! - A table whose index is not an integer, whose label has no name, or which gives an index twice
+//!   is refused with the line (both lines, for a repeat).
+//! - A LUT colour that is not three integers in 0..=255 is a warning with its line, and the organ
+//!   gets a colour of its own.
 
 use crate::error::{Error, Result};
 use std::collections::HashMap;

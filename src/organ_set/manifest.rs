@@ -1,6 +1,7 @@
-//! `organset.json`: the manifest of an organ set (serde). Coordinates of every mesh are millimetres, RAS.
+//! `organset.json`: the manifest of an organ set (serde).
 //!
-//! The format is documented for users in `organs/README.md`; [`Manifest::validate`] enforces it.
+//! - Coordinates of every mesh are millimetres, RAS.
+//! - The format is documented for users in `organs/README.md`; [`Manifest::validate`] enforces it.
 
 use serde::{Deserialize, Serialize};
 

@@ -1,9 +1,11 @@
-//! Organ sets: the organs of one scene with their meshes (organ space = millimetres, RAS) and metadata.
+//! Organ sets: the organs of one scene with their meshes and metadata.
 //!
-//! [`open`] reads any of: a folder with `organset.json` (see [`manifest`]), a folder of `.obj`/`.vbo`
-//! files without a manifest, or a single `.obj`/`.vbo` file. Without a manifest every object (`o`/`g`)
-//! of every file is one organ, named after the object or file, with distinct colours. A broken organ
-//! does not stop the rest: it is reported in [`Loaded::errors`] and left out.
+//! - Organ space = millimetres, RAS.
+//! - [`open`] reads any of: a folder with `organset.json` (see [`manifest`]), a folder of
+//!   `.obj`/`.vbo` files without a manifest, or a single `.obj`/`.vbo` file.
+//! - Without a manifest every object (`o`/`g`) of every file is one organ, named after the object
+//!   or file, with distinct colours.
+//! - A broken organ does not stop the rest: it is reported in [`Loaded::errors`] and left out.
 
 pub mod hidden_faces;
 pub mod import;

@@ -1,7 +1,9 @@
-//! Finding organs by any of their names: the English name, the id, Terminologia Anatomica's Latin
-//! name and the synonyms, compared case- and accent-insensitively ("Broca", "gyrus precentralis",
-//! "Heschl" all find their organs), and finding a group by a run of its path ("Frontal lobe",
-//! "Left hemisphere/Frontal lobe").
+//! Finding organs by any of their names, and groups by a run of their path.
+//!
+//! - An organ's names are the English name, the id, Terminologia Anatomica's Latin name and the
+//!   synonyms, compared case- and accent-insensitively ("Broca", "gyrus precentralis", "Heschl"
+//!   all find their organs).
+//! - A group is found by a run of its path ("Frontal lobe", "Left hemisphere/Frontal lobe").
 
 use super::Organ;
 use unicode_normalization::UnicodeNormalization;
@@ -39,7 +41,7 @@ pub fn matches(organ: &Organ, query: &str) -> bool {
     matches_folded(organ, &fold(query))
 }
 
-/// [`matches`] with the query already [`fold`]ed, for searching many organs with one query.
+/// [`matches()`] with the query already [`fold`]ed, for searching many organs with one query.
 pub fn matches_folded(organ: &Organ, folded: &str) -> bool {
     folded.is_empty() || names(organ).any(|n| fold(n).contains(folded))
 }

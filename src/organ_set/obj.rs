@@ -1,24 +1,26 @@
-//! Reading `.obj` and `.vbo` mesh files (organ space, as written in the file).
+//! Reading `.obj` and `.vbo` mesh files.
 //!
-//! **VBO** (Virtual Brain Object, after the thesis) is the OBJ subset vbrain writes: UTF-8 text, one
-//! statement per line, `#` comments, and only these statements:
+//! - Organ space, as written in the file.
+//! - **VBO** (Virtual Brain Object, after the thesis) is the OBJ subset vbrain writes: UTF-8 text,
+//!   one statement per line, `#` comments, and only these statements:
 //!
 //! ```text
 //! o NAME            start an object (one organ); NAME is the rest of the line
 //! g NAME            same as `o` (kept for compatibility)
 //! v X Y Z           a vertex position, in millimetres (RAS)
 //! vn X Y Z          a vertex normal (need not be unit length)
-//! f A//A B//B C//C  a triangle; 1-based indices into the v and vn lists so far, or negative (relative)
+//! f A//A B//B C//C  a triangle; 1-based indices into the v and vn lists so far,
+//!                   or negative (relative)
 //! ```
 //!
-//! A `.vbo` file is read exactly like an `.obj` file, so any OBJ reader opens it, and vbrain reads the
-//! wider OBJ found in the wild: CRLF line ends, `v/vt/vn`, `v//vn`, `v/vt` and `v` face references,
-//! negative indices, quads and n-gons (fan-triangulated), `vt`, `l`, `s`, `p`, `usemtl`, `mtllib` (a
-//! missing material file is a warning), vertex colours after `v`, and scientific notation.
-//!
-//! Reading happens in two steps: [`check`] walks the lines and rejects what is malformed with the line
-//! number (bad or non-finite numbers, zero or out-of-range indices, faces of fewer than three
-//! vertices, non-UTF-8 or binary bytes, no faces at all); then `tobj` builds the meshes.
+//! - A `.vbo` file is read exactly like an `.obj` file, so any OBJ reader opens it.
+//! - vbrain reads the wider OBJ found in the wild: CRLF line ends, `v/vt/vn`, `v//vn`, `v/vt` and
+//!   `v` face references, negative indices, quads and n-gons (fan-triangulated), `vt`, `l`, `s`,
+//!   `p`, `usemtl`, `mtllib` (a missing material file is a warning), vertex colours after `v`, and
+//!   scientific notation.
+//! - Reading happens in two steps: [`check`] walks the lines and rejects what is malformed with the
+//!   line number (bad or non-finite numbers, zero or out-of-range indices, faces of fewer than
+//!   three vertices, non-UTF-8 or binary bytes, no faces at all); then `tobj` builds the meshes.
 
 use crate::error::{Error, Result};
 use crate::mesh::Mesh;

@@ -1,5 +1,10 @@
 //! Scaled scenes for benchmarks: a denser copy of a set made by subdividing every triangle into
-//! n x n smaller ones in its own plane (organ space; the shape is unchanged, only the count grows).
+//! n x n smaller ones in its own plane.
+//!
+//! - Organ space; the shape is unchanged, only the count grows.
+//! - For a requested density factor, `n = round(sqrt(factor))`, so the achieved factor is `n * n`.
+//! - Vertices on an original edge are shared by both triangles of that edge, keeping the mesh
+//!   closed where it was.
 
 use super::OrganSet;
 use crate::mesh::Mesh;

@@ -1,17 +1,17 @@
-//! Occluder stand-ins built from an organ's own closed surface (organ space, millimetres).
+//! Occluder stand-ins built from an organ's own closed surface: meshes of fewer triangles inside
+//! the organ's solid, which the culler may rasterise in place of the organ.
 //!
-//! A stand-in is a mesh of fewer triangles that lies inside the organ's solid. Seen from outside
-//! the organ, it hides nothing the organ does not hide: a ray from the eye to a point inside the
-//! solid crosses the organ's surface first. So the culler may rasterise it in place of the organ.
-//!
-//! [`build_inner`] makes one in three steps:
+//! - Organ space, millimetres.
+//! - Seen from outside the organ, a stand-in hides nothing the organ does not hide: a ray from the
+//!   eye to a point inside the solid crosses the organ's surface first.
+//! - [`build_inner`] makes one in three steps:
 //! 1. The surface's vertices (welded by position) move inward along their normals to the middle of
 //!    the solid there (half the distance to the surface across, found by a ray), at most `offset`.
 //! 2. meshoptimizer simplifies that inner surface towards the target triangle count, within an
 //!    absolute error of half the offset.
-//! 3. Every triangle of the result is verified: it keeps a margin from every triangle of the surface
-//!    (a separating-axis test) and its centre is inside (ray parity, three rays agreeing). One that
-//!    fails is left out, so the stand-in never rests on the simplifier's error bound.
+//! 3. Every triangle of the result is verified: it keeps a margin from every triangle of the
+//!    surface (a separating-axis test) and its centre is inside (ray parity, three rays agreeing).
+//!    One that fails is left out, so the stand-in never rests on the simplifier's error bound.
 
 use super::StandIn;
 use crate::bvh::Bvh;

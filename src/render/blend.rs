@@ -1,6 +1,8 @@
 //! Opaque organs with depth and 4x MSAA, then faded ones alpha blended into the resolved colour
-//! image: back to front by centre (`alpha-sorted`, also every frame with nothing faded), or in
-//! drawing order with depth written (`alpha-unsorted`).
+//! image.
+//!
+//! - `alpha-sorted`: faded organs back to front by centre (also every frame with nothing faded).
+//! - `alpha-unsorted`: faded organs in drawing order, with depth written.
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory, OVER, SAMPLE_COUNT};

@@ -1,5 +1,8 @@
 //! Headless GPU context: instance, adapter and device for commands and tests without a window.
-//! The viewer uses eframe's device instead and never creates one of these.
+//!
+//! - The viewer uses eframe's device instead and never creates one of these.
+//! - The adapter is the one `WGPU_BACKEND` / `WGPU_ADAPTER_NAME` choose if set, else the default
+//!   (a discrete or integrated GPU before a software one).
 
 use crate::error::{Error, Result};
 

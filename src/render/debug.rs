@@ -1,6 +1,8 @@
-//! The culling debug view (thesis Figure 21), in screen pixels: what culling removed, in bright
-//! colours, seen through every drawn organ as a translucent grey model. The frame's draw list is
-//! what survived culling.
+//! The culling debug view (thesis Figure 21): what culling removed, in bright colours, seen through
+//! every drawn organ as a translucent grey model.
+//!
+//! - Screen pixels.
+//! - The frame's draw list is what survived culling.
 
 use super::blend::Blend;
 use super::frame::{Frame, RenderStats, Technique};

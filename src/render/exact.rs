@@ -1,8 +1,11 @@
-//! The exact reference for transparency, in screen pixels: per sub-sample, each transparent organ
-//! rendered alone gives its nearest surface; on the CPU those are composited in depth order over
-//! the opaque image and averaged over 16 sub-samples (a 4x4 grid of jittered single-sample
-//! renders). Slow by design: it submits and reads back a layer per organ and sub-sample, and
-//! writes the result into the target's colour image, which the frame's submission then holds.
+//! The exact reference for transparency: per sub-sample, each transparent organ rendered alone
+//! gives its nearest surface, and those are composited on the CPU.
+//!
+//! - Screen pixels.
+//! - Composited in depth order over the opaque image and averaged over 16 sub-samples (a 4x4 grid
+//!   of jittered single-sample renders).
+//! - Slow by design: it submits and reads back a layer per organ and sub-sample, and writes the
+//!   result into the target's colour image, which the frame's submission then holds.
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::passes::Pass;

@@ -1,5 +1,8 @@
 //! What one frame shows ([`FrameInput`]), what drawing it counted ([`RenderStats`]), and the one
 //! interface through which the renderer calls each drawing technique ([`Technique`]).
+//!
+//! - The background is linear RGBA (alpha 0: transparent); organs are drawn in index order unless
+//!   the frame gives a permutation; without a draw list every drawn organ is drawn whole.
 
 use super::scene::GpuScene;
 use super::target::{Kept, Target};

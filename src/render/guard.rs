@@ -1,11 +1,13 @@
-//! GPU errors as errors, never panics. wgpu reports out-of-memory, validation and internal errors
-//! either to an error scope or, uncaught, to a handler whose default panics. [`guarded`] runs GPU
-//! work inside scopes and gives their first error as an [`Error`]; [`log_uncaptured`] replaces the
-//! panicking handler of a device (headless or the viewer's) with one that reports on stderr.
+//! GPU errors as errors, never panics; and a target's size checked before it is made.
 //!
-//! Before a target is made, [`check_target`] compares its size with the adapter's texture limit
-//! and its memory (an estimate per pixel) with what the machine can give: a software adapter
-//! (lavapipe) renders in system memory.
+//! - wgpu reports out-of-memory, validation and internal errors either to an error scope or,
+//!   uncaught, to a handler whose default panics.
+//! - [`guarded`] runs GPU work inside scopes and gives their first error as an [`Error`];
+//!   [`log_uncaptured`] replaces the panicking handler of a device (headless or the viewer's) with
+//!   one that reports on stderr.
+//! - Before a target is made, [`check_target`] compares its size with the adapter's texture limit
+//!   and its memory (an estimate per pixel) with what the machine can give: a software adapter
+//!   (lavapipe) renders in system memory.
 
 use crate::error::{Error, Result};
 use std::sync::Arc;

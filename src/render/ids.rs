@@ -1,6 +1,8 @@
-//! The ID passes, into the target's single-sampled ID buffer (screen pixels, 0 = background):
-//! organ index + 1 of the nearest drawn organ per pixel, for picking; or leaf numbers, for
-//! measuring exact visibility.
+//! The ID passes, into the target's single-sampled ID buffer: organ numbers for picking, or leaf
+//! numbers for measuring exact visibility.
+//!
+//! - Screen pixels, 0 = background.
+//! - For picking, organ index + 1 of the nearest drawn organ per pixel.
 
 use super::passes::Pass;
 use super::pipelines::{target, OrganPipeline, OrganPipelines, PipelineFactory};

@@ -1,22 +1,23 @@
 //! The offscreen renderer (wgpu). One renderer serves the viewer's viewport and every headless
 //! command, so a screenshot is exactly what the viewer shows.
 //!
-//! Spaces: meshes are uploaded in organ space; the vertex shader applies each organ's model matrix
-//! (organ -> world, millimetres RAS) and the camera's view-projection (world -> wgpu clip space,
-//! depth 0..1). Targets are in screen pixels, origin top left.
-//!
-//! [`Renderer`] holds the set on the GPU (`scene`) and one technique per way of drawing a frame,
-//! each its own module with its pipelines and per-frame data, called through one interface
-//! (`frame::Technique`): `blend` (opaque, and sorted or unsorted alpha blending), `screendoor`
-//! (thesis chapter 4), `weighted` (weighted blended OIT), `peel` (depth peeling and dual depth
-//! peeling), `kbuffer` (the k-buffer, Callahan 2005), `exact` (the
-//! reference), `debug` (the
-//! culling view, thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted
-//! and selected organs, over the finished frame). `uniforms` holds the
-//! structs shared with WGSL, `pipelines` what the techniques build them with, `passes` the one
-//! builder their render passes begin with; [`guard`] turns GPU
-//! errors (out of memory above all) into errors and checks a target's size before it is made;
-//! `timer` measures a frame's GPU time where the adapter has timestamp queries.
+//! - Meshes are uploaded in organ space; the vertex shader applies each organ's model matrix
+//!   (organ -> world, millimetres RAS) and the camera's view-projection (world -> wgpu clip space,
+//!   depth 0..1).
+//! - Targets are in screen pixels, origin top left.
+//! - [`Renderer`] holds the set on the GPU (`scene`) and one technique per way of drawing a frame,
+//!   each its own module with its pipelines and per-frame data, called through one interface
+//!   (`frame::Technique`).
+//! - The techniques: `blend` (opaque, and sorted or unsorted alpha blending), `screendoor` (thesis
+//!   chapter 4), `weighted` (weighted blended OIT), `peel` (depth peeling and dual depth peeling),
+//!   `kbuffer` (the k-buffer, Callahan 2005), `exact` (the reference), `debug` (the culling view,
+//!   thesis Figure 21), `ids` (picking and leaf visibility) and `outline` (highlighted and selected
+//!   organs, over the finished frame).
+//! - `uniforms` holds the structs shared with WGSL, `pipelines` what the techniques build them
+//!   with, `passes` the one builder their render passes begin with.
+//! - [`guard`] turns GPU errors (out of memory above all) into errors and checks a target's size
+//!   before it is made; `timer` measures a frame's GPU time where the adapter has timestamp
+//!   queries.
 
 mod blend;
 mod context;

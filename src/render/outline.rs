@@ -1,10 +1,13 @@
-//! Outlines of the highlighted organs (a lesson step's) and of the selected one, in screen pixels
-//! (origin top left), drawn over a finished frame so they show through every organ in front, faded
-//! or not. The organs are drawn whole (culling ignored) into a two-channel mask, the highlighted
-//! ones' numbers into red with their own depth test (the nearest highlighted organ per pixel, so
-//! two that overlap keep the line between them), then the selected one into green; a full-screen
-//! pass paints a ring [`WIDTH`] pixels wide wherever a nearby pixel holds another organ's number.
-//! Numbers are organ index + 1 in a 16-bit float, exact below 2048 organs.
+//! Outlines of the highlighted organs (a lesson step's) and of the selected one, drawn over a
+//! finished frame so they show through every organ in front, faded or not.
+//!
+//! - Screen pixels, origin top left.
+//! - The organs are drawn whole (culling ignored) into a two-channel mask: the highlighted ones'
+//!   numbers into red with their own depth test (the nearest highlighted organ per pixel, so two
+//!   that overlap keep the line between them), then the selected one into green.
+//! - A full-screen pass paints a ring [`WIDTH`] pixels wide wherever a nearby pixel holds another
+//!   organ's number.
+//! - Numbers are organ index + 1 in a 16-bit float, exact below 2048 organs.
 
 use super::passes::Pass;
 use super::pipelines::{Composite, OrganPipeline, OrganPipelines, PipelineFactory};

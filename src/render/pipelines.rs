@@ -1,6 +1,9 @@
-//! Pipeline construction shared by the techniques: organ pipelines from `organ.wgsl` (one vertex
-//! layout: organ-space position and normal), full-screen passes from `composite.wgsl`, and the
-//! blend states and clear colours they use.
+//! Pipeline construction shared by the techniques: organ pipelines from `organ.wgsl`, full-screen
+//! passes from `composite.wgsl`, and the blend states and clear colours they use.
+//!
+//! - The organ pipelines share one vertex layout: organ-space position and normal.
+//! - Colour targets are 4x MSAA (`SAMPLE_COUNT`); closed organs cull their back faces, open ones
+//!   draw both sides.
 
 use super::target::DEPTH_FORMAT;
 use super::Shader;

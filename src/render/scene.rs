@@ -1,8 +1,10 @@
-//! The set on the GPU: the organs' vertices (organ space, each with its organ's index) and indices
-//! merged into a few large buffers (batches), the frame uniform's slots, the organs' data in a
-//! storage buffer (one section per use), and the draw calls every technique shares. Organs next to
-//! each other in a batch are drawn by one call where their index ranges meet, so a frame's draw
-//! calls grow with the runs of organs drawn, not with the organs.
+//! The set on the GPU: the organs' vertices and indices merged into a few large buffers (batches),
+//! the frame uniform's slots, the organs' data in a storage buffer (one section per use), and the
+//! draw calls every technique shares.
+//!
+//! - Vertices in organ space, each with its organ's index.
+//! - Organs next to each other in a batch are drawn by one call where their index ranges meet, so
+//!   a frame's draw calls grow with the runs of organs drawn, not with the organs.
 
 use super::passes::Pass;
 use super::pipelines::{clear_colour, OrganPipelines};

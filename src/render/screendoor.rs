@@ -1,20 +1,24 @@
-//! Screen-door transparency (thesis chapter 4), in screen pixels (origin top left), at 4x MSAA:
-//! the opaque organs are drawn once into the float image with depth; then the faded organs are
-//! drawn once per pass, depth tested and written, each fragment keeping only the samples of its
-//! organ's mask in its screen region (`sample_mask`; pass p uses mask bits 4p..4p+3, so P passes
-//! give 4P sub-samples), each pass shifted by its own fraction of a pixel
-//! ([`sublayout::pass_offset`]) so that the passes sample distinct positions. Each pass draws into
-//! its own tile of an atlas ([`super::tiles`]), a copy of the rectangle the faded organs cover,
-//! first filled per sample with the opaque colour and depth (`fs_restore`; cleared to the
-//! background where no opaque triangle is drawn), so a pass costs the faded organs' triangles and
-//! pixels, not the scene's. Tiles are resolved and averaged into the rectangle (`fs_gather`, a
-//! running mean), and the rectangle is shown over the opaque image. No sorting by depth, and the
-//! image does not depend on drawing order (faded organs are drawn in index order, which settles
-//! exact depth ties).
+//! Screen-door transparency (thesis chapter 4) at 4x MSAA: the opaque organs are drawn once, the
+//! faded organs once per pass through their masks, and the passes averaged and shown over the
+//! opaque image.
 //!
-//! Progressive refinement ([`super::FrameInput::refine`]): a first frame draws the interactive
-//! count of passes, and each call for the same frame adds one more, until all are in. The masks,
-//! the opaque image and the running mean are kept in the pool between those calls.
+//! - Screen pixels, origin top left.
+//! - The opaque organs are drawn once into the float image with depth.
+//! - The faded organs are drawn once per pass, depth tested and written, each fragment keeping
+//!   only the samples of its organ's mask in its screen region (`sample_mask`; pass p uses mask
+//!   bits 4p..4p+3, so P passes give 4P sub-samples), each pass shifted by its own fraction of a
+//!   pixel ([`sublayout::pass_offset`]) so that the passes sample distinct positions.
+//! - Each pass draws into its own tile of an atlas ([`super::tiles`]), a copy of the rectangle the
+//!   faded organs cover, first filled per sample with the opaque colour and depth (`fs_restore`;
+//!   cleared to the background where no opaque triangle is drawn), so a pass costs the faded
+//!   organs' triangles and pixels, not the scene's.
+//! - Tiles are resolved and averaged into the rectangle (`fs_gather`, a running mean), and the
+//!   rectangle is shown over the opaque image.
+//! - No sorting by depth, and the image does not depend on drawing order (faded organs are drawn
+//!   in index order, which settles exact depth ties).
+//! - Progressive refinement ([`super::FrameInput::refine`]): a first frame draws the interactive
+//!   count of passes, and each call for the same frame adds one more, until all are in. The masks,
+//!   the opaque image and the running mean are kept in the pool between those calls.
 
 use super::frame::{Frame, FrameInput, RenderStats, Technique};
 use super::passes::Pass;

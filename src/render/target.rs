@@ -1,7 +1,9 @@
-//! Render targets in screen pixels (origin top left): a multisampled colour and depth buffer, the
-//! resolved colour texture (what the viewer paints and the exporter reads back), and a
-//! single-sampled organ-ID buffer with its own depth for picking; float images for the transparency
-//! modes are made on first use.
+//! Render targets: a multisampled colour and depth buffer, the resolved colour texture (what the
+//! viewer paints and the exporter reads back), and a single-sampled organ-ID buffer with its own
+//! depth for picking.
+//!
+//! - Screen pixels, origin top left.
+//! - Float images for the transparency modes are made on first use.
 
 use crate::error::{Error, Result};
 

@@ -1,7 +1,9 @@
-//! Where screen-door's passes draw (thesis §4.2, made cheap): the faded organs are drawn once per
-//! pass, each pass into its own tile of an atlas, and each tile holds a copy of the rectangle of
-//! the screen that the faded organs cover (the opaque organs are drawn once, into the screen).
-//! Pixels, origin top left, x right and y down; NDC y up. Pure layout, no GPU.
+//! Where screen-door's passes draw (thesis §4.2, made cheap): each pass into its own tile of an
+//! atlas, each tile a copy of the rectangle of the screen that the faded organs cover.
+//!
+//! - Pixels, origin top left, x right and y down; NDC y up.
+//! - The faded organs are drawn once per pass; the opaque organs once, into the screen.
+//! - Pure layout, no GPU.
 
 /// A rectangle of pixels.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

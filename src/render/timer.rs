@@ -1,8 +1,11 @@
-//! GPU time of a frame from timestamp queries, where the adapter has them
-//! (`TIMESTAMP_QUERY` and `TIMESTAMP_QUERY_INSIDE_ENCODERS`; Mesa's lavapipe has both). One
-//! timestamp is written before the frame's first submission and one after its last, so the span
-//! covers every pass a technique submits, in milliseconds of the GPU's clock. Reading it back waits
-//! for the GPU, so the renderer takes it only when a frame asks ([`super::FrameInput::time_gpu`]).
+//! GPU time of a frame from timestamp queries, where the adapter has them.
+//!
+//! - The adapter needs `TIMESTAMP_QUERY` and `TIMESTAMP_QUERY_INSIDE_ENCODERS` (Mesa's lavapipe
+//!   has both).
+//! - One timestamp is written before the frame's first submission and one after its last, so the
+//!   span covers every pass a technique submits, in milliseconds of the GPU's clock.
+//! - Reading it back waits for the GPU, so the renderer takes it only when a frame asks
+//!   ([`super::FrameInput::time_gpu`]).
 
 use super::target::QueryReadback;
 use crate::error::Result;

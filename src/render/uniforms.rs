@@ -1,7 +1,9 @@
-//! The GPU structs shared with the WGSL shaders: `#[repr(C)]`, each named beside its WGSL struct in
-//! [`SHARED_STRUCTS`] so that a test compares their sizes with what naga reports. Buffers hold them
-//! in slots [`SLOT`] bytes apart, chosen by dynamic offsets (one per pass); the organs' data is an
-//! array in a storage buffer.
+//! The GPU structs shared with the WGSL shaders.
+//!
+//! - Each is `#[repr(C)]` and named beside its WGSL struct in [`SHARED_STRUCTS`], so that a test
+//!   compares their sizes with what naga reports.
+//! - Buffers hold them in slots [`SLOT`] bytes apart, chosen by dynamic offsets (one per pass).
+//! - The organs' data is an array in a storage buffer.
 
 /// Distance between slots of a uniform buffer (the largest alignment a device may require).
 pub(super) const SLOT: u64 = 256;

@@ -1,6 +1,9 @@
-//! Weighted blended order-independent transparency (McGuire and Bavoil 2013), a comparison mode,
-//! in screen pixels: the opaque image with depth, then weighted sums of the transparent organs
-//! over that depth, then the resolve over the opaque image.
+//! Weighted blended order-independent transparency, a comparison mode: the opaque image with
+//! depth, then weighted sums of the transparent organs over that depth, then the resolve over the
+//! opaque image.
+//!
+//! - Screen pixels.
+//! - Implements McGuire and Bavoil 2013.
 
 use super::frame::{Frame, RenderStats, Technique};
 use super::passes::Pass;

@@ -1,12 +1,15 @@
-//! Where logical sub-samples lie. The renderer reaches n = 4P sub-samples with P passes of 4x
-//! MSAA: bit b of a GPU mask is MSAA sample b % 4 of pass b / 4, and pass p draws the faded organs
-//! shifted by [`pass_offset`], so the P passes sample 4P distinct positions (at 64, spread over the
-//! pixel and at most a sixteenth of a pixel beyond it). The opaque organs are drawn once,
-//! unshifted; their depth and colour serve every pass. Logical sub-sample i (the masks' index) goes to pass
-//! `radical_inverse(i % P)` and sample `(i / P) % 4`, so that any run of logical sub-samples the
-//! mask table hands out is spread evenly over the passes, and the first k passes alone show each
-//! mask's coverage to within one sub-sample: what progressive refinement shows before the last
-//! pass. Positions are in pixel units, 0..1 from the pixel's top-left corner, y down.
+//! Where logical sub-samples lie: the renderer reaches n = 4P sub-samples with P passes of 4x
+//! MSAA.
+//!
+//! - Positions are in pixel units, 0..1 from the pixel's top-left corner, y down.
+//! - Bit b of a GPU mask is MSAA sample b % 4 of pass b / 4.
+//! - Pass p draws the faded organs shifted by [`pass_offset`], so the P passes sample 4P distinct
+//!   positions (at 64, spread over the pixel and at most a sixteenth of a pixel beyond it).
+//! - The opaque organs are drawn once, unshifted; their depth and colour serve every pass.
+//! - Logical sub-sample i (the masks' index) goes to pass `radical_inverse(i % P)` and sample
+//!   `(i / P) % 4`, so that any run of logical sub-samples the mask table hands out is spread
+//!   evenly over the passes, and the first k passes alone show each mask's coverage to within one
+//!   sub-sample: what progressive refinement shows before the last pass.
 
 use glam::Vec2;
 

@@ -1,5 +1,8 @@
-//! A mask: a set of sub-samples given by logical index `0..n` (n <= [`MAX_SUBSAMPLES`]). Where a
-//! logical sub-sample lies in the pixel is [`super::layout`]'s business.
+//! A mask: a set of sub-samples given by logical index `0..n` (n <= [`MAX_SUBSAMPLES`]).
+//!
+//! - Indices are logical: where a logical sub-sample lies in the pixel is [`super::layout`]'s
+//!   business.
+//! - The largest mask is 32x32 sub-samples, the thesis's largest experiment.
 
 /// The largest mask: 32x32 sub-samples, the thesis's largest experiment.
 pub const MAX_SUBSAMPLES: usize = 1024;

@@ -1,11 +1,16 @@
-//! Masks regenerated every frame per screen region (thesis §4.3.4). Spaces: organ meshes in organ
-//! space, moved into world space by the layout and projected by the camera; regions are squares of
-//! `region_px` screen pixels (x right, y down); depth is NDC z (larger is farther).
+//! Masks regenerated every frame per screen region (thesis §4.3.4), as plain data for the
+//! renderer: a configuration per region and, per configuration, one GPU mask per organ.
 //!
+//! - Organ meshes in organ space, moved into world space by the layout and projected by the
+//!   camera; regions are squares of `region_px` screen pixels (x right, y down); depth is NDC z
+//!   (larger is farther).
+//! - A GPU mask's bit b is MSAA sample b % 4 of pass b / 4.
+//! - Per frame:
 //! 1. (`region_keys`) The leaves of each drawn transparent organ's hierarchy (at most 256
 //!    triangles each) are projected; every region a leaf's screen rectangle (grown by a pixel, for
-//!    MSAA samples and rounding, and by how far a pixel's region lookup moves) touches records the organ as present, with the nearest depth of
-//!    the leaf's box (a row of regions at a time). Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
+//!    MSAA samples and rounding, and by how far a pixel's region lookup moves) touches records the
+//!    organ as present, with the nearest depth of the leaf's box (a row of regions at a time).
+//!    Rectangles over-cover, so no organ drawn in a region is missed; box depths are a little
 //!    near, which only matters for which organs count as the K nearest (the thesis notes that the
 //!    compensation tolerates small depth changes within a region).
 //! 2. A region's configuration is the set of organs present and its K nearest, nearest first (K at
@@ -14,15 +19,11 @@
 //!    first) then the rest by organ index, each compensating for the nearest generated before it.
 //!    Configurations that begin alike share the masks they begin with ([`configuration_masks`]).
 //!    The result depends on the configuration only, never on the order organs are drawn in.
-//!
 //! 4. A [`MaskCache`] keeps the last frame's configurations and their masks: a configuration seen
 //!    again with the same sub-samples, K, method and opacities of its organs is not generated
-//!    again (most survive a small camera move or a slider dragged). It also keeps, per list of K nearest, what configurations with those
-//!    K nearest share ([`AfterNearest`]). Masks depend on the configuration only, so the images
-//!    do not change.
-//!
-//! The output is plain data for the renderer: a configuration per region and, per configuration,
-//! one GPU mask (bit b = MSAA sample b % 4 of pass b / 4) per organ.
+//!    again (most survive a small camera move or a slider dragged). It also keeps, per list of K
+//!    nearest, what configurations with those K nearest share ([`AfterNearest`]). Masks depend on
+//!    the configuration only, so the images do not change.
 
 use super::layout::{self, GpuBits};
 use super::region_keys::{covered_pixels, leaf_rects, region_keys, region_of, Grid};

@@ -1,23 +1,26 @@
-//! The tabular pixel mask (thesis §4.3) with neighbourhood error compensation (§4.3.3). Pure
-//! functions of opacities and priorities over logical sub-sample indices.
+//! The tabular pixel mask (thesis §4.3) with neighbourhood error compensation (§4.3.3).
 //!
-//! The table's rows are sub-sets of the mask's sub-samples. Adding a mask of opacity a splits each
-//! row of the last generation (the thesis's rows *start*..*end*) into a filled child of
-//! round(a * count + carried error) sub-samples and an empty child of the rest; the rounding error
-//! is carried to the next row split, and a child with no sub-sample is abandoned, so a generation
-//! never holds more rows than sub-samples. The new mask is the union of the filled children.
-//!
-//! Every row of the last generation lies wholly inside or wholly outside each earlier mask (rows
-//! only ever get split), so the order in which rows are split decides where rounding errors land.
-//! Neighbourhood error compensation orders the splits so that the errors cancel inside the filled
-//! (and inside the empty) regions of the K highest-priority, i.e. nearest, objects: rows inside the
-//! filled regions of all K first, then of the first K-1, ..., then the same for the empty regions.
-//! With the priorities in depth order, each group of empty rows is what one earlier mask shows (its
-//! *owner*), so the new mask's rounding error stays within a sub-sample for each level. Masks made
-//! out of depth order ([`SplitOrder::Neighbours`]) get the same from the union of the nearer masks as
-//! the top priority, followed by the K nearest farther masks.
-//! Table order without compensation is the plain tabular mask; a random order is Mulder's pixel
-//! tree with the sequential error carry (its empty nodes, which hold no sub-sample, are not kept).
+//! - Pure functions of opacities and priorities over logical sub-sample indices.
+//! - The table's rows are sub-sets of the mask's sub-samples. Adding a mask of opacity a splits
+//!   each row of the last generation (the thesis's rows *start*..*end*) into a filled child of
+//!   round(a * count + carried error) sub-samples and an empty child of the rest; the rounding
+//!   error is carried to the next row split, and a child with no sub-sample is abandoned, so a
+//!   generation never holds more rows than sub-samples. The new mask is the union of the filled
+//!   children.
+//! - Every row of the last generation lies wholly inside or wholly outside each earlier mask
+//!   (rows only ever get split), so the order in which rows are split decides where rounding
+//!   errors land.
+//! - Neighbourhood error compensation orders the splits so that the errors cancel inside the
+//!   filled (and inside the empty) regions of the K highest-priority, i.e. nearest, objects: rows
+//!   inside the filled regions of all K first, then of the first K-1, ..., then the same for the
+//!   empty regions.
+//! - With the priorities in depth order, each group of empty rows is what one earlier mask shows
+//!   (its *owner*), so the new mask's rounding error stays within a sub-sample for each level.
+//! - Masks made out of depth order ([`SplitOrder::Neighbours`]) get the same from the union of the
+//!   nearer masks as the top priority, followed by the K nearest farther masks.
+//! - Table order without compensation is the plain tabular mask; a random order is Mulder's pixel
+//!   tree with the sequential error carry (its empty nodes, which hold no sub-sample, are not
+//!   kept).
 
 use super::Mask;
 

@@ -1,5 +1,8 @@
-//! White-noise masks: round(alpha * n) sub-samples chosen at random. Right on their own (first
-//! order), but stacked they keep the wrong counts, by chance (thesis §4.2, Mulder et al. 1998).
+//! White-noise masks: round(alpha * n) sub-samples chosen at random.
+//!
+//! - Right on their own (first order), but stacked they keep the wrong counts, by chance (thesis
+//!   §4.2, Mulder et al. 1998).
+//! - Alpha is clamped to 0..=1; the choice draws on the caller's `XorShift`.
 
 use super::Mask;
 use crate::rng::XorShift;

@@ -1,9 +1,12 @@
-//! Labels drawn into a rendered image (screen pixels, origin top left, y down), for `vbrain
-//! render --labels` and exports: anchors and placement from [`vbrain::labels`], then for each a
-//! dot on the organ, a leader line and the organ's name in light text on a dark plate (legible on
-//! any background). Sizes follow the image's height, so a 4096-pixel export has the same figure
-//! as a 1024-pixel one. Text uses egui's fonts (Ubuntu Light, then Hack for what it lacks); a
-//! character neither has is drawn as a box, never a panic.
+//! Labels drawn into a rendered image, for `vbrain render --labels` and exports: anchors and
+//! placement from [`vbrain::labels`], then for each a dot on the organ, a leader line and the
+//! organ's name in light text on a dark plate (legible on any background).
+//!
+//! - Coordinates are screen pixels, origin top left, y down.
+//! - Sizes follow the image's height, so a 4096-pixel export has the same figure as a 1024-pixel
+//!   one.
+//! - Text uses egui's fonts (Ubuntu Light, then Hack for what it lacks); a character neither has
+//!   is drawn as a box, never a panic.
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use image::RgbaImage;

@@ -1,7 +1,8 @@
 //! The viewer's lecture exports, *File > Export video...* and *File > Export PDF handout...*: the
 //! current view (turned around once, or as one labelled figure) or the open lesson, written as
-//! `vbrain video` and `vbrain lesson pdf` write them. Run off the UI thread; `progress(done,
-//! total)` returning false cancels, leaving no file.
+//! `vbrain video` and `vbrain lesson pdf` write them.
+//!
+//! - Run off the UI thread; `progress(done, total)` returning false cancels, leaving no file.
 
 use crate::annotate::Labels;
 use crate::handout::{Handout, Paper, Sheet};

@@ -1,10 +1,10 @@
 //! vbrain's desktop viewer (eframe + wgpu) and its command line.
 //!
-//! The viewer draws through the core's offscreen renderer into a texture that egui paints, so the
-//! viewport, exported screenshots and `vbrain render` show the same pixels. Modules: [`viewer`]
-//! (the desktop app), [`cli`] (the headless commands), [`lab`] (the experiments the commands
-//! report: benchmarks, mask and occluder experiments, plots), [`annotate`] (labels on figures)
-//! and [`anki`] (Anki decks of a set's structures).
+//! - The viewer draws through the core's offscreen renderer into a texture that egui paints, so
+//!   the viewport, exported screenshots and `vbrain render` show the same pixels.
+//! - Modules: [`viewer`] (the desktop app), [`cli`] (the headless commands), [`lab`] (the
+//!   experiments the commands report: benchmarks, mask and occluder experiments, plots),
+//!   [`annotate`] (labels on figures) and [`anki`] (Anki decks of a set's structures).
 
 pub mod anki;
 pub mod annotate;

@@ -1,4 +1,7 @@
 //! `vbrain`: with no subcommand, the desktop viewer; with one, a headless command (see `cli`).
+//!
+//! - The viewer's errors go to stderr with a failure exit status; a command's exit status is
+//!   `cli::run`'s.
 
 use clap::Parser;
 use vbrain_ui::cli;

@@ -5,7 +5,7 @@
 //! - Images are sRGB RGBA, origin top left, y down; labels are drawn into them at `px` pixels high.
 //! - A step's caption band below its figure takes at most [`CAPTION_SHARE`] of the picture.
 //! - A lesson step seen from its angles (no camera of its own) frames the brain whole and centred
-//!   ([`step_navigator`]), so every command shows a step alike.
+//!   ([`Studio::step_navigator`]), so every command shows a step alike.
 
 use crate::annotate::Labels;
 use anyhow::Result;

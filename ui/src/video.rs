@@ -1,6 +1,6 @@
 //! Videos of a set for slides: a turntable around a view's target (elevation kept), or a lesson
 //! played, each step eased in as the viewer eases it ([`vbrain::transition`]) and held. The CLI
-//! (`vbrain video`) and the viewer (*File > Export video...*) both call [`write`].
+//! (`vbrain video`) and the viewer (*File > Export video...*) both call [`write()`].
 //!
 //! - Frames are sRGB RGBA, `size` pixels, top row first; time runs at `fps` frames a second.
 //! - GIF through the `gif` crate (a palette of 256 colours per frame, NeuQuant); MP4 (H.264) and
@@ -165,7 +165,7 @@ impl Plan {
     }
 }
 
-/// What [`write`] did.
+/// What [`write()`] did.
 pub struct Written {
     pub frames: usize,
     /// Seconds spent rendering frames and in all.

@@ -1,13 +1,16 @@
-//! The raster's exact test, in culling pixels, NDC depth (larger is farther).
+//! The raster's exact test, for the pixels where the patch overlaps itself on screen.
 //!
-//! Where the patch overlaps itself on screen (two triangles hold the pixel's centre: the near wall
-//! of a shell joined round its rim to the far wall) the farthest would bound the pixel by the far
-//! layer, and an outline edge of the far layer would cut the near layer's coverage. Those pixels
-//! (overlapping, or touched by an outline edge next to an overlap) go to the exact test: the
-//! triangles' *fragments* there, joined across edges that touch the pixel, form local components;
-//! one none of whose touching edges leads to a triangle outside it has no border inside the pixel,
-//! and if it also holds the centre the pixel lies wholly inside its image. The pixel is then
-//! covered as deep as that component's farthest fragment (the nearest such component counts).
+//! - Culling pixels; depth = NDC z (larger is farther).
+//! - Where the patch overlaps itself (two triangles hold the pixel's centre: the near wall of a
+//!   shell joined round its rim to the far wall) the farthest would bound the pixel by the far
+//!   layer, and an outline edge of the far layer would cut the near layer's coverage.
+//! - Those pixels (overlapping, or touched by an outline edge next to an overlap) go to the exact
+//!   test: the triangles' *fragments* there, joined across edges that touch the pixel, form local
+//!   components.
+//! - A component none of whose touching edges leads to a triangle outside it has no border inside
+//!   the pixel, and if it also holds the centre the pixel lies wholly inside its image.
+//! - The pixel is then covered as deep as that component's farthest fragment (the nearest such
+//!   component counts).
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Fragment {

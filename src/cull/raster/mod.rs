@@ -1,22 +1,23 @@
-//! The software occluder rasteriser, in culling pixels (x right, y down, pixel (i, j) covers
-//! [i, i+1) x [j, j+1); depth = NDC z, larger is farther). It is conservative by construction.
+//! The software occluder rasteriser: occluder triangles into coverage and depth, conservative by
+//! construction.
 //!
-//! Occluders come as triangles that all project with the same winding (the camera-facing side of
-//! organ surfaces), each with its neighbours across its three edges that are occluders too. Joined
-//! across those edges, they form connected **patches**, each rasterised on its own and then merged
-//! (a pixel covered by several patches takes the nearest's depth).
-//!
-//! Within a patch, an edge with no neighbour is an *outline* edge, and the union of the patch's
-//! triangles on screen has its boundary on outline edges only (across any other edge the two
-//! triangles lie side by side, so the points of the edge are inside). So a pixel that no outline
-//! edge touches and whose centre a triangle holds lies wholly inside the union: it is **covered**.
-//! Its **depth** is the farthest over the pixel of the triangles that reach it (each triangle's
-//! depth plane at the pixel's farthest corner, capped by its vertices); a triangle reaching the
-//! pixel without holding its centre would have an edge in it, one leading to an outline edge
-//! there, so where only one triangle holds the centre they all form one surface in the pixel.
-//!
-//! Where the patch overlaps itself on screen, pixels go to the [`exact`] test.
-//! Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
+//! - Culling pixels: x right, y down, pixel (i, j) covers [i, i+1) x [j, j+1); depth = NDC z,
+//!   larger is farther.
+//! - Occluders come as triangles that all project with the same winding (the camera-facing side of
+//!   organ surfaces), each with its neighbours across its three edges that are occluders too.
+//! - Joined across those edges, they form connected **patches**, each rasterised on its own and
+//!   then merged (a pixel covered by several patches takes the nearest's depth).
+//! - Within a patch, an edge with no neighbour is an *outline* edge, and the union of the patch's
+//!   triangles on screen has its boundary on outline edges only (across any other edge the two
+//!   triangles lie side by side, so the points of the edge are inside).
+//! - So a pixel that no outline edge touches and whose centre a triangle holds lies wholly inside
+//!   the union: it is **covered**.
+//! - Its **depth** is the farthest over the pixel of the triangles that reach it (each triangle's
+//!   depth plane at the pixel's farthest corner, capped by its vertices); a triangle reaching the
+//!   pixel without holding its centre would have an edge in it, one leading to an outline edge
+//!   there, so where only one triangle holds the centre they all form one surface in the pixel.
+//! - Where the patch overlaps itself on screen, pixels go to the [`exact`] test.
+//! - Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
 
 mod exact;
 mod patch;

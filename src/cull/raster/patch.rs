@@ -1,6 +1,7 @@
 //! One patch's working state in the raster: per pixel of its bounding rectangle the farthest
-//! depth, the flags of the first pass, and which pixels are left to the exact test. Patch
-//! coordinates: culling pixels from the rectangle's top-left corner (x right, y down).
+//! depth, the flags of the first pass, and which pixels are left to the exact test.
+//!
+//! - Patch coordinates: culling pixels from the rectangle's top-left corner (x right, y down).
 
 use crate::bvh::NONE;
 use crate::cull::rect::PixelRect;

@@ -1,5 +1,9 @@
 //! `vbrain anki`: an Anki deck of a set's, a scene's or a lesson's structures ([`crate::anki`]),
 //! with a progress bar.
+//!
+//! - In scope: a set's structures, those a scene shows, or those a lesson's steps highlight (and
+//!   its quiz's questions); `--group` narrows them.
+//! - Refuses an existing `--out` without `--force`, and an `--out` that is the input.
 
 use super::common::{database, open_set};
 use super::AnkiArgs;
@@ -9,13 +13,8 @@ use std::time::Instant;
 use vbrain::scene_file::SceneFile;
 
 pub fn run(args: &AnkiArgs) -> Result<bool> {
-    if args.out.exists() && !args.force {
-        bail!("{}: exists (use --force to replace it)", args.out.display());
-    }
     let input = args.set.clone().map_or_else(|| vbrain::data_dir::default_set().map_err(|e| anyhow!(e)), Ok)?;
-    if super::common::same_file(&input, &args.out) {
-        bail!("{}: is the input; give another --out", args.out.display());
-    }
+    super::outputs::file(&args.out, super::outputs::Kind::New("apkg"), args.force, &[&input])?;
     let extension = input.extension().and_then(|e| e.to_str()).unwrap_or("");
     let is_lesson = extension == vbrain::lesson::EXTENSION || (!input.exists() && extension.is_empty());
     // The structures in scope: the set's, or those the scene shows, or those the lesson highlights.

@@ -1,4 +1,8 @@
 //! `vbrain bench`: culling modes compared over the same camera path (see [`crate::lab::bench`]).
+//!
+//! - The arguments become plain options for the lab; with `--lod`, moving frames are timed by
+//!   render scale instead, printed as text or as `{"lod": ...}`.
+//! - Refuses more than [`vbrain::clip::MAX_PLANES`] `--clip` planes.
 
 use super::common::{database, layout, open_set};
 use super::BenchArgs;
@@ -9,6 +13,7 @@ use vbrain::cull::CullSettings;
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &BenchArgs) -> Result<bool> {
+    super::outputs::experiment_folder(&args.out, args.force)?;
     let set = open_set(&args.path)?;
     let layout = layout(&set, &args.layout)?;
     let settings = CullSettings {

@@ -1,4 +1,8 @@
 //! `vbrain bench-sections`: slice panes and MRI cut faces ([`crate::lab::sections_bench`]).
+//!
+//! - Needs a set with an MRI (default: the default brain); a set without one is refused.
+//! - Prints the slice pane's median and slowest redraw, and a coronally cut frame's time with
+//!   coloured and with MRI cut faces, in milliseconds; with `--json`, the report as one object.
 
 use super::common::open_set;
 use super::{count, values, Report, Size};

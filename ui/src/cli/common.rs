@@ -1,5 +1,11 @@
 //! What the commands share: opening a set with its problems reported on stderr, applying
-//! `--show`/`--hide`/`--opacity` by organ id or group, the summary of a written set, and progress bars.
+//! `--show`/`--hide`/`--opacity`, the summary of a written set, and progress bars.
+//!
+//! - Organs are named by organ id or group; a name the set has neither of is refused.
+//! - A command that writes from a set leaves a broken organ out with a warning and exits 0;
+//!   `info`, which checks a set, exits 1 for it.
+//! - Text from a file is made safe to print on a terminal (`terminal_safe`): control characters
+//!   written out, never sent raw.
 
 use super::{LayoutArgs, SectionArgs};
 use anyhow::{anyhow, bail, Result};
@@ -117,51 +123,6 @@ pub fn organs(set: &OrganSet, key: &str) -> Result<Vec<usize>> {
     Ok(found)
 }
 
-/// Refuses an output folder that already holds files (a user's organ set, say) unless `force`,
-/// and a path that is not a folder.
-pub fn writable_folder(out: &Path, force: bool) -> Result<()> {
-    let held = vbrain::atomic::folder_entries(out)?;
-    if held > 0 && !force {
-        bail!(
-            "{}: already holds {held} files or folders; give --force to replace them, or a new folder",
-            out.display()
-        );
-    }
-    Ok(())
-}
-
-/// Refuses to write an image over a file that is not a PNG image (a manifest, say) unless `force`.
-pub fn writable_png(out: &Path, force: bool) -> Result<()> {
-    const SIGNATURE: &[u8] = b"\x89PNG\r\n\x1a\n";
-    match std::fs::metadata(out) {
-        Err(_) => Ok(()),
-        Ok(m) if m.is_dir() => bail!("{}: is a folder; give a file name ending in .png", out.display()),
-        Ok(_) if force => Ok(()),
-        Ok(_) => {
-            let mut head = [0u8; 8];
-            let png = std::fs::File::open(out)
-                .and_then(|mut f| std::io::Read::read_exact(&mut f, &mut head))
-                .is_ok_and(|()| head == SIGNATURE);
-            if !png {
-                bail!("{}: exists and is not a PNG image; give --force to replace it", out.display());
-            }
-            Ok(())
-        }
-    }
-}
-
-/// Refuses to write a scene over a folder, or over a file that is not a vbrain scene (an organ
-/// set's manifest, say) unless `force`.
-pub fn writable_scene(out: &Path, force: bool) -> Result<()> {
-    if out.is_dir() {
-        bail!("{}: is a folder; give a file name ending in .vbscene", out.display());
-    }
-    if out.exists() && !force && SceneFile::load(out).is_err() {
-        bail!("{}: exists and is not a vbrain scene; give --force to replace it", out.display());
-    }
-    Ok(())
-}
-
 /// Text from a file as a terminal may show it: control characters (escape sequences that would
 /// recolour or clear the terminal, say) written out as `\u{1b}`, never sent raw.
 pub fn terminal_safe(text: &str) -> String {
@@ -193,21 +154,4 @@ pub fn progress_bar(len: u64) -> indicatif::ProgressBar {
         bar.set_style(style);
     }
     bar
-}
-
-/// Refuses to write over a folder, or over an existing file unless `force`; `extension` names
-/// the kind of file wanted, for the message.
-pub fn writable_file(out: &Path, extension: &str, force: bool) -> Result<()> {
-    if out.is_dir() {
-        bail!("{}: is a folder; give a file name ending in .{extension}", out.display());
-    }
-    if out.exists() && !force {
-        bail!("{}: exists; give --force to replace it", out.display());
-    }
-    Ok(())
-}
-
-/// Do `a` and `b` name one existing file?
-pub fn same_file(a: &Path, b: &Path) -> bool {
-    matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
 }

@@ -8,7 +8,8 @@
 //!   from a set with `--seed`.
 //! - `--scorm OUT.zip` packages that page for a learning platform ([`vbrain::scorm`]).
 
-use super::common::{apply_layout_args, open_set, section, writable_folder};
+use super::common::{apply_layout_args, open_set, section};
+use super::outputs::{self, Kind};
 use super::ExportArgs;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
@@ -23,32 +24,16 @@ use vbrain::scene_file::SceneFile;
 use vbrain::web_page::{camera, labelled, Page, PageQuiz, View};
 
 pub fn run(args: &ExportArgs) -> Result<bool> {
-    if let Some(out) = &args.gltf {
-        if out.is_dir() {
-            bail!("{}: is a folder; give a file name ending in .glb", out.display());
-        }
-        if out.exists() && !args.force {
-            bail!("{}: already exists; give --force to replace it", out.display());
-        }
-    }
-    if let Some(out) = &args.scorm {
-        if out.is_dir() {
-            bail!("{}: is a folder; give a file name ending in .zip", out.display());
-        }
-        if out.exists() && !args.force {
-            bail!("{}: already exists; give --force to replace it", out.display());
-        }
-    }
-    if let Some(dir) = &args.web {
-        writable_folder(dir, args.force)?;
-    }
     let path = vbrain::data_dir::set_or_default(args.path.as_deref())?;
-    for out in [&args.gltf, &args.scorm].into_iter().flatten() {
-        if same_file(out, &path) {
-            bail!("{}: is what is exported; give another file to write", out.display());
-        }
-    }
     let (source, set_path) = open_source(&path)?;
+    let inputs = [path.as_path(), set_path.as_path()];
+    let gltf = args.gltf.as_ref().map(|o| outputs::file(o, Kind::New("glb"), args.force, &inputs)).transpose()?;
+    let scorm = args.scorm.as_ref().map(|o| outputs::file(o, Kind::New("zip"), args.force, &inputs)).transpose()?;
+    if let Some(dir) = &args.web {
+        outputs::folder(dir, args.force, &inputs)?;
+    }
+    let files: Vec<&Path> = [&args.gltf, &args.scorm].into_iter().flatten().map(|p| p.as_path()).collect();
+    outputs::apart(&files, &args.web.iter().map(|p| p.as_path()).collect::<Vec<_>>())?;
     let set = open_set(&set_path)?;
     let (mut page, lesson) = match source {
         Source::Set => (scene_page(&set, None, &path, args)?, None),
@@ -60,14 +45,15 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         bail!("{}: has no quiz to grade; --scorm needs a lesson with a quiz, or --quiz N", path.display());
     }
     let mut summary = json!({});
-    if let Some(out) = &args.gltf {
+    if let Some(out) = &gltf {
         // A lesson's file is its first step; a scene's or set's is what the page shows.
         let (layout, section) = match page.lesson {
             true => (&page.views[0].layout, &page.views[0].section),
             false => (&page.layout, &page.section),
         };
         let glb = vbrain::gltf::glb(&set, layout, section, vbrain::gltf::Encoding::Float);
-        vbrain::atomic::write(out, |w| w.write_all(&glb.bytes)).map_err(|e| anyhow!(e))?;
+        out.write(|w| w.write_all(&glb.bytes))?;
+        let out = out.path();
         if !args.report.json {
             println!("wrote {} ({} organs, {:.1} MB)", out.display(), glb.organs, glb.bytes.len() as f64 / 1e6);
         }
@@ -81,8 +67,9 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         }
         summary["web"] = json!({"out": dir, "bytes": bytes, "steps": page.views.len()});
     }
-    if let Some(out) = &args.scorm {
-        let bytes = vbrain::scorm::write(out, &page).map_err(|e| anyhow!(e))?;
+    if let Some(out) = &scorm {
+        let bytes = vbrain::scorm::write(out.path(), &page, out.replaces()).map_err(|e| anyhow!(e))?;
+        let out = out.path();
         let quiz = page.quiz.as_ref().map(|q| (q.questions.len(), q.pass_mark)).unwrap_or_default();
         if !args.report.json {
             println!(
@@ -99,11 +86,6 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         println!("{summary}");
     }
     Ok(true)
-}
-
-/// Whether `a` and `b` name one file (both existing).
-fn same_file(a: &Path, b: &Path) -> bool {
-    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 
 /// The page's quiz: a lesson's own (none where it has none), or `--quiz N` questions drawn from

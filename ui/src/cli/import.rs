@@ -1,12 +1,15 @@
 //! `vbrain import`: a label volume (NIfTI) and its label table become an organ set.
+//!
+//! - Written into `--out`, refusing a folder that already holds files unless `--force`.
+//! - The label table's and the import's warnings go to stderr.
 
-use super::common::{progress_bar, summary, writable_folder};
+use super::common::{progress_bar, summary};
 use super::ImportArgs;
 use anyhow::Result;
 use vbrain::organ_set::import;
 
 pub fn run(args: &ImportArgs) -> Result<bool> {
-    writable_folder(&args.out.out, args.out.force)?;
+    super::outputs::folder(&args.out.out, args.out.force, &[&args.volume, &args.labels])?;
     let table = import::read_label_table(&args.labels)?;
     let vol = import::read_volume(&args.volume)?;
     let title = args.title.clone().unwrap_or_else(|| {

@@ -33,32 +33,34 @@ pub fn warn_unknown(lesson: &Lesson, file: &std::path::Path, set: &vbrain::organ
 pub fn render(args: &LessonRenderArgs) -> Result<bool> {
     let forced = args.labels.as_deref().map(Which::parse);
     let (lesson, file, set_path) = open(&args.lesson)?;
+    super::outputs::folder(&args.out, args.force, &[&file, &set_path])?;
     let set = open_set(&set_path)?;
     warn_unknown(&lesson, &file, &set);
-    std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
     let mut studio = Studio::new(&set, database(&set_path, &set))?;
     let mut markdown = format!("# {}\n", lesson.title);
     let (mut files, mut labelled) = (Vec::new(), Vec::new());
-    for (k, step) in lesson.steps.iter().enumerate() {
-        let [w, h] = [args.size.width, args.size.height];
-        let lines = args.caption.then(|| caption_lines(step, w, h));
-        let (image, placed) =
-            StepFrame::new(&mut studio, step, forced.as_ref(), [w, h], lines)?.draw(&mut studio, None)?;
-        labelled.push(placed);
-        let name = format!("{:02}.png", k + 1);
-        let file = args.out.join(&name);
-        vbrain::atomic::write_png(&file, &image, true)?;
-        markdown.push_str(&format!(
-            "\n## {}. {}\n\n![{}]({name})\n\n{}\n",
-            k + 1,
-            step.title,
-            step.title,
-            step.caption
-        ));
-        files.push(file);
-    }
+    vbrain::atomic::write_folder(&args.out, |staging| {
+        for (k, step) in lesson.steps.iter().enumerate() {
+            let [w, h] = [args.size.width, args.size.height];
+            let lines = args.caption.then(|| caption_lines(step, w, h));
+            let (image, placed) =
+                StepFrame::new(&mut studio, step, forced.as_ref(), [w, h], lines)?.draw(&mut studio, None)?;
+            labelled.push(placed);
+            let name = format!("{:02}.png", k + 1);
+            vbrain::atomic::write_png(&staging.join(&name), &image, false)?;
+            markdown.push_str(&format!(
+                "\n## {}. {}\n\n![{}]({name})\n\n{}\n",
+                k + 1,
+                step.title,
+                step.title,
+                step.caption
+            ));
+            files.push(args.out.join(name));
+        }
+        vbrain::atomic::write_new(&staging.join("lesson.md"), |w| w.write_all(markdown.as_bytes()))?;
+        anyhow::Ok(())
+    })?;
     let md = args.out.join("lesson.md");
-    vbrain::atomic::write(&md, |w| w.write_all(markdown.as_bytes())).map_err(|e| anyhow!(e))?;
     if args.report.json {
         println!(
             "{}",
@@ -74,12 +76,9 @@ pub fn render(args: &LessonRenderArgs) -> Result<bool> {
 
 /// `vbrain lesson pdf`: a handout of the lesson ([`crate::handout::of_lesson`]).
 pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
-    super::common::writable_file(&args.out, "pdf", args.force)?;
     let forced = args.labels.as_deref().map(Which::parse);
     let (lesson, file, set_path) = open(&args.lesson)?;
-    if super::common::same_file(&file, &args.out) {
-        anyhow::bail!("{}: is the lesson; give another --out", args.out.display());
-    }
+    let out = super::outputs::file(&args.out, super::outputs::Kind::New("pdf"), args.force, &[&file])?;
     let set = open_set(&set_path)?;
     warn_unknown(&lesson, &file, &set);
     let mut studio = Studio::new(&set, database(&set_path, &set))?;
@@ -90,7 +89,7 @@ pub fn pdf(args: &LessonPdfArgs) -> Result<bool> {
     })?;
     bar.finish_and_clear();
     let bytes = crate::handout::pdf(&handout, args.paper)?;
-    vbrain::atomic::write(&args.out, |w| w.write_all(&bytes)).map_err(|e| anyhow!(e))?;
+    out.write(|w| w.write_all(&bytes))?;
     if args.report.json {
         println!("{}", serde_json::to_string_pretty(&json!({"out": args.out, "pages": lesson.steps.len() + 1}))?);
     } else {

@@ -1,6 +1,10 @@
 //! `vbrain completions SHELL` and `vbrain manual --out DIR`: shell completion scripts and manual
 //! pages generated from the clap definitions ([`super::Args`]), so they never drift from the
-//! options. The packages ship both (scripts/package.sh).
+//! options.
+//!
+//! - Completion scripts go to standard output; manual pages into `DIR` (created if missing;
+//!   existing pages are replaced).
+//! - The packages ship both (scripts/package.sh).
 
 use super::{Args, CompletionsArgs, ManualArgs};
 use anyhow::{Context, Result};

@@ -1,9 +1,11 @@
 //! The headless commands of `vbrain`: their clap definitions here, one file per command with its
-//! `run`. Each prints a human summary, or with `--json` one JSON object on stdout; errors go to
-//! stderr and make the exit status non-zero (2 for arguments clap refuses, 1 for the rest).
+//! `run`.
 //!
-//! Values are checked while parsing ([`values`]); what needs the organ set (organ ids) is
-//! checked once it is open ([`common`]).
+//! - Each prints a human summary, or with `--json` one JSON object on stdout.
+//! - Errors go to stderr and make the exit status non-zero: 2 for arguments clap refuses, 1 for
+//!   the rest.
+//! - Values are checked while parsing ([`values`]); what needs the organ set (organ ids) is
+//!   checked once it is open ([`common`]).
 
 mod anki;
 mod bench;
@@ -18,6 +20,7 @@ mod lesson;
 mod manual;
 mod masks;
 mod occluders;
+pub mod outputs;
 mod quiz;
 mod render;
 mod scale;
@@ -232,7 +235,7 @@ pub struct QuizArgs {
     /// The PDF's paper size
     #[arg(long, value_enum, default_value = "a4")]
     pub paper: crate::handout::Paper,
-    /// Replace --pdf if it exists
+    /// Replace --out's folder whole even where it already holds files, and --pdf if it exists
     #[arg(long)]
     pub force: bool,
     #[command(flatten)]
@@ -282,6 +285,9 @@ pub struct LessonRenderArgs {
     /// Put each step's title and caption in its picture, in a band below the figure
     #[arg(long)]
     pub caption: bool,
+    /// Replace --out's folder whole even where it already holds files
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }
@@ -438,6 +444,10 @@ pub struct BenchArgs {
     /// Folder for bench.csv and bench.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }
@@ -465,6 +475,10 @@ pub struct MasksArgs {
     /// Folder for masks.csv and masks.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }
@@ -481,6 +495,10 @@ pub struct BenchTransparencyArgs {
     /// Folder for transparency.csv, transparency.png and transparency-sheet.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }
@@ -518,6 +536,10 @@ pub struct OccludersArgs {
     /// Folder for occluders.csv and occluders.png (experiment)
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
     #[command(flatten)]
     pub report: Report,
 }

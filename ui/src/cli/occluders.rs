@@ -1,5 +1,8 @@
 //! `vbrain occluders`: minimum occluder sets pre-computed beside a set, or with `--experiment`
 //! the occluder-selection experiment (see [`crate::lab::occluders`]).
+//!
+//! - The layout is the set's default with `--show` and `--hide` applied.
+//! - The pre-computed sets are written beside the set (`occluders.json`).
 
 use super::common::{apply_visibility, open_set};
 use super::OccludersArgs;
@@ -20,6 +23,7 @@ pub fn run(args: &OccludersArgs) -> Result<bool> {
         json: args.report.json,
     };
     if args.experiment {
+        super::outputs::experiment_folder(&args.out, args.force)?;
         occluders::experiment(&set, &layout, &opts)?;
     } else {
         occluders::preprocess(&args.path, &set, &layout, &opts)?;

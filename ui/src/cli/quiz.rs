@@ -38,10 +38,12 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
     if let Some(note) = &generated.note {
         eprintln!("note: {note}");
     }
-    if let Some(pdf) = &args.pdf {
-        super::common::writable_file(pdf, "pdf", args.force)?;
-    }
-    std::fs::create_dir_all(&args.out).map_err(|e| anyhow!("{}: {e}", args.out.display()))?;
+    use super::outputs::{self, Kind as Out};
+    outputs::folder(&args.out, args.force, &[&path])?;
+    let pdf = args.pdf.as_ref().map(|p| outputs::file(p, Out::New("pdf"), args.force, &[&path])).transpose()?;
+    outputs::apart(&args.pdf.iter().map(std::path::PathBuf::as_path).collect::<Vec<_>>(), &[&args.out])?;
+    // The folder's files, written together once every question is drawn.
+    let mut files: Vec<(String, Vec<u8>)> = Vec::new();
     let gpu = GpuContext::headless()?;
     let renderer = Renderer::new(&gpu.device, &set)?;
     let mut target = Target::new(&gpu.device, args.size.width, args.size.height)?;
@@ -108,7 +110,9 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         let px = (args.size.height as f32 * LETTER_SHARE).max(14.0);
         let placed = crate::annotate::draw_sized(&mut image, &seen, &labels, name, px);
         let file = format!("q{:02}.png", k + 1);
-        vbrain::atomic::write_png(&args.out.join(&file), &image, true)?;
+        let mut png = Vec::new();
+        image.write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+        files.push((file.clone(), png));
         let answer = &set.organs[q.organ].name;
         let question_start = questions_md.len();
         match q.kind {
@@ -159,12 +163,15 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
             "slice": slice,
         }));
     }
-    let write = |name: &str, text: &str| {
-        vbrain::atomic::write(&args.out.join(name), |w| w.write_all(text.as_bytes())).map_err(|e| anyhow!(e))
-    };
-    write("questions.md", &questions_md)?;
-    write("answers.md", &answers_md)?;
-    if let Some(pdf) = &args.pdf {
+    files.push(("questions.md".into(), questions_md.into_bytes()));
+    files.push(("answers.md".into(), answers_md.clone().into_bytes()));
+    vbrain::atomic::write_folder::<vbrain::Error>(&args.out, |staging| {
+        for (name, bytes) in &files {
+            vbrain::atomic::write_new(&staging.join(name), |w| w.write_all(bytes))?;
+        }
+        Ok(())
+    })?;
+    if let Some(pdf) = &pdf {
         let key = answers_md.lines().filter(|l| l.starts_with(|c: char| c.is_ascii_digit()));
         sheets.push(Sheet {
             heading: "Answer key".into(),
@@ -178,7 +185,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         subtitle.extend(crate::handout::attribution(&set));
         let handout = Handout { title: format!("Quiz: {title}"), subtitle, sheets };
         let bytes = crate::handout::pdf(&handout, args.paper)?;
-        vbrain::atomic::write(pdf, |w| w.write_all(&bytes)).map_err(|e| anyhow!(e))?;
+        pdf.write(|w| w.write_all(&bytes))?;
     }
     if args.report.json {
         println!("{}", serde_json::to_string_pretty(&json!({"questions": listed, "note": generated.note}))?);

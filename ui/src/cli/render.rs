@@ -1,16 +1,21 @@
-//! `vbrain render`: one picture of a set through the viewer's renderer, written as PNG; with
-//! `--scene`, of a saved scene (options given override it), and with `--save-scene`, the scene it
-//! rendered written out. Standard views and orbits place the camera as the viewer's navigator does
-//! (and over the same bounds: what is drawn and the set's default layout), so a scene renders
-//! alike here and in the viewer.
+//! `vbrain render`: one picture of a set through the viewer's renderer, written as PNG.
+//!
+//! - With `--scene`, of a saved scene (options given override it); with `--save-scene`, the
+//!   scene it rendered written out.
+//! - Standard views and orbits place the camera as the viewer's navigator does (and over the same
+//!   bounds: what is drawn and the set's default layout), so a scene renders alike here and in
+//!   the viewer.
+//! - Never writes over a file that is not a PNG image (for `--save-scene`, not a vbrain scene)
+//!   without `--force`.
 
 use super::common::{apply_layout_args, database, open_set, organs, section};
+use super::outputs::{self, Kind};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
 use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Culler};
 use vbrain::labels::Which;
@@ -22,10 +27,16 @@ use vbrain::scene_file::{CameraMode, CameraState, RenderState, SceneFile};
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &RenderArgs) -> Result<bool> {
-    super::common::writable_png(&args.picture.out, args.picture.force)?;
-    if let Some(out) = &args.save_scene {
-        super::common::writable_scene(out, args.picture.force)?;
-    }
+    let force = args.picture.force;
+    let inputs: Vec<&Path> = args.path.iter().chain(&args.scene).map(PathBuf::as_path).collect();
+    let picture = outputs::file(&args.picture.out, Kind::Png, force, &inputs)?;
+    let saved = match &args.save_scene {
+        Some(out) if out == &args.picture.out => {
+            bail!("{}: is --out too; give --save-scene another file", out.display())
+        }
+        Some(out) => Some(outputs::file(out, Kind::Scene, force, &inputs)?),
+        None => None,
+    };
     let (width, height) = (args.picture.size.width, args.picture.size.height);
     let scene = match &args.scene {
         Some(p) => Some((p, SceneFile::load(p).map_err(|e| anyhow!(e))?)),
@@ -152,9 +163,10 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         let ids = target.read_ids(&gpu.device, &gpu.queue)?;
         crate::annotate::draw(&mut image, &ids, &labels, |o| set.organs[o].name.clone());
     }
-    vbrain::atomic::write_png(&args.picture.out, &image, true)?;
-    if let Some((out, file)) = &scene_out {
-        file.save(out).map_err(|e| anyhow!(e))?;
+    picture.write_png(&image)?;
+    if let (Some((out, file)), Some(saved)) = (&scene_out, &saved) {
+        let text = vbrain::json_file::to_json(file, out).map_err(|e| anyhow!(e))?;
+        saved.write(|w| w.write_all(text.as_bytes()))?;
     }
     if args.report.json {
         let out = json!({

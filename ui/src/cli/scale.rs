@@ -1,12 +1,17 @@
 //! `vbrain scale`: a denser copy of a set (each triangle subdivided n x n), for benchmarks.
+//!
+//! - Refused before any subdividing: a set with organs that did not load, and a factor whose copy
+//!   would need more than 80 % of the memory available or an organ past 2^32 vertices.
+//! - Written into `--out`, refusing a folder that already holds files unless `--force`, and one
+//!   that holds the set it scales even then.
 
-use super::common::{open_reporting, progress_bar, summary, writable_folder};
+use super::common::{open_reporting, progress_bar, summary};
 use super::ScaleArgs;
 use anyhow::{bail, Result};
 use vbrain::organ_set::scale;
 
 pub fn run(args: &ScaleArgs) -> Result<bool> {
-    writable_folder(&args.out.out, args.out.force)?;
+    super::outputs::folder(&args.out.out, args.out.force, &[&args.set])?;
     let (set, ok) = open_reporting(&args.set)?;
     if !ok {
         bail!("{}: some organs did not load (above); a scaled copy would leave them out", args.set.display());

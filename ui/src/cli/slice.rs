@@ -1,7 +1,13 @@
 //! `vbrain slice`: one axis-aligned slice of a set as a radiology-style figure (PNG): the set's
 //! MRI with organ outlines, side letters and labels ([`crate::slice_figure`]).
+//!
+//! - The plane's position is in world RAS millimetres; the display is radiological unless
+//!   `--neurological` (the patient's right on the right).
+//! - A set without an MRI shows its organs filled in their colours.
+//! - A figure has at most 4096x4096 pixels; a file that is not a PNG image is not replaced
+//!   without `--force`.
 
-use super::common::{apply_layout_args, open_set, organs, writable_png};
+use super::common::{apply_layout_args, open_set, organs};
 use super::{values, LayoutArgs, Report};
 use crate::annotate::Labels;
 use anyhow::{anyhow, bail, Result};
@@ -41,7 +47,8 @@ pub struct SliceArgs {
 }
 
 pub fn run(args: &SliceArgs) -> Result<bool> {
-    writable_png(&args.picture.out, args.picture.force)?;
+    let inputs: Vec<&std::path::Path> = args.path.iter().map(PathBuf::as_path).collect();
+    let picture = super::outputs::file(&args.picture.out, super::outputs::Kind::Png, args.picture.force, &inputs)?;
     let (width, height) = (args.picture.size.width, args.picture.size.height);
     if width as usize * height as usize > MAX_PIXELS {
         bail!("--size {width}x{height}: a slice figure has at most {MAX_PIXELS} pixels (4096x4096)");
@@ -76,7 +83,7 @@ pub fn run(args: &SliceArgs) -> Result<bool> {
         highlight: None,
     };
     let (image, ids) = crate::slice_figure::draw(&set, &layout, &pane, &options);
-    vbrain::atomic::write_png(&args.picture.out, &image, true)?;
+    picture.write_png(&image)?;
     let mut seen: Vec<usize> = ids.iter().filter(|&&i| i > 0).map(|&i| i as usize - 1).collect();
     seen.sort_unstable();
     seen.dedup();

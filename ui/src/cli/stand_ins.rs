@@ -1,10 +1,15 @@
-//! `vbrain stand-ins`: occluder stand-ins for a set's closed organs. Each is a coarse mesh inside
-//! its organ (offset inward, simplified, each triangle verified inside) that occlusion culling
-//! rasterises in the organ's place; kept only with at most half the organ's triangles. And for
-//! each solid, a stand-in inside its organs' union (kept on the same terms) and the faces inside it
-//! ([`vbrain::organ_set::hidden_faces`]), which culling leaves out while the solid is intact.
+//! `vbrain stand-ins`: occluder stand-ins for a set's closed organs, and for each solid a
+//! stand-in and the faces inside it ([`vbrain::organ_set::hidden_faces`]).
+//!
+//! - An organ's stand-in is a coarse mesh inside it (offset inward, simplified, each triangle
+//!   verified inside) that occlusion culling rasterises in the organ's place; kept only with at
+//!   most half the organ's triangles.
+//! - A solid's stand-in lies inside its organs' union (kept on the same terms); culling leaves
+//!   the faces inside it out while the solid is intact.
+//! - Offsets are in millimetres. Written into the set's own folder (only the stand-ins and the
+//!   manifest), or into `--out`, refusing a folder that already holds files unless `--force`.
 
-use super::common::{open_set, progress_bar, writable_folder};
+use super::common::{open_set, progress_bar};
 use super::StandInsArgs;
 use anyhow::{bail, Result};
 use serde_json::json;
@@ -25,7 +30,7 @@ pub fn run(args: &StandInsArgs) -> Result<bool> {
         bail!("--solid-offset {} must be a positive number of millimetres", args.solid_offset);
     }
     if let Some(out) = out {
-        writable_folder(out, args.force)?;
+        super::outputs::folder(out, args.force, &[path])?;
     }
     if out.is_none() && !path.join(organ_set::MANIFEST_FILE).is_file() {
         bail!("{}: not an organ set folder (no {}); give --out", path.display(), organ_set::MANIFEST_FILE);

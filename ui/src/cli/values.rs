@@ -1,9 +1,10 @@
-//! The command line's value types and their clap parsers: the core's enums offered by name
-//! (thin [`clap::ValueEnum`] wrappers, so every value and its help come from the core's `ALL` and
-//! `name()`), sizes `WxH`, orbits `AZ,EL`, opacities `ID=A` and bench routes `ROUTE:FRAME`.
+//! The command line's value types and their clap parsers: the core's enums offered by name,
+//! sizes `WxH`, orbits `AZ,EL`, opacities `ID=A` and bench routes `ROUTE:FRAME`.
 //!
-//! A bad value is refused while the arguments are parsed, before any file is read, with clap's
-//! message naming the option (and listing the choices, for enums).
+//! - Enums are thin [`clap::ValueEnum`] wrappers, so every value and its help come from the
+//!   core's `ALL` and `name()`.
+//! - A bad value is refused while the arguments are parsed, before any file is read, with clap's
+//!   message naming the option (and listing the choices, for enums).
 
 use anyhow::{anyhow, bail, Result};
 use clap::builder::{EnumValueParser, PossibleValue, TypedValueParser};

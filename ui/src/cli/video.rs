@@ -22,9 +22,6 @@ use vbrain::scene_file::SceneFile;
 pub fn run(args: &VideoArgs) -> Result<bool> {
     let format = crate::video::Format::of(&args.out)?;
     let input = args.path.clone().map_or_else(|| vbrain::data_dir::default_set().map_err(|e| anyhow!(e)), Ok)?;
-    if super::common::same_file(&input, &args.out) {
-        bail!("{}: is the input; give another --out", args.out.display());
-    }
     let extension = input.extension().and_then(|e| e.to_str()).unwrap_or("");
     let is_lesson = extension == vbrain::lesson::EXTENSION || (!input.exists() && extension.is_empty());
     let size = [args.size.width, args.size.height];
@@ -61,7 +58,7 @@ pub fn run(args: &VideoArgs) -> Result<bool> {
         println!("{}", serde_json::to_string_pretty(&report)?);
         return Ok(true);
     }
-    super::common::writable_file(&args.out, "gif, .mp4 or .webm", args.force)?;
+    super::outputs::file(&args.out, super::outputs::Kind::New("mp4, .webm or .gif"), args.force, &[&input])?;
     let bar = super::common::progress_bar(frames as u64);
     bar.set_message(format!("frames of {}", args.out.display()));
     let written = crate::video::write(&mut studio, &plan, size, args.fps, &args.out, args.force, &mut |done, _| {

@@ -1,7 +1,8 @@
 //! The culling benchmark behind `vbrain bench`: the thesis's Virtual Brain run (camera orbiting
-//! the set) over the listed culling modes, with a summary, a CSV of every frame, a PNG plot like
-//! thesis Figure 22 (culled % and frame time per frame) and, with `--json`, a machine-readable
-//! summary keyed by mode.
+//! the set) over the listed culling modes.
+//!
+//! - Reports a summary, a CSV of every frame, a PNG plot like thesis Figure 22 (culled % and
+//!   frame time per frame) and, with `--json`, a machine-readable summary keyed by mode.
 
 use anyhow::{bail, Result};
 use serde_json::json;

@@ -1,8 +1,10 @@
 //! The k analysis of `vbrain bench-transparency` (Callahan 2005, Fig. 4.7 and Table 4.2): per
 //! bench view, the share of pixels that need k <= 2, 3..=6 and > 6 k-buffer slots for an exact
-//! result. A pixel needs as many slots as it has faded fragments in front of the opaque organs
-//! (then no drawing order can make it wrong); the stream's rough sort often makes fewer do. Shares
-//! are of the pixels with at least one faded fragment, in per cent.
+//! result.
+//!
+//! - A pixel needs as many slots as it has faded fragments in front of the opaque organs (then no
+//!   drawing order can make it wrong); the stream's rough sort often makes fewer do.
+//! - Shares are of the pixels with at least one faded fragment, in per cent.
 
 use anyhow::Result;
 use serde::Serialize;

@@ -1,7 +1,8 @@
 //! The mask experiment behind `vbrain masks` (thesis Figures 19 and 20) for white-noise,
-//! pixel-tree, tabular and compensated tabular masks: faulty pixels per stacking level
-//! (min/mean/max over the trials), printed, as CSV and as a PNG plot, and with `--json` as one
-//! object.
+//! pixel-tree, tabular and compensated tabular masks: faulty pixels per stacking level.
+//!
+//! - Per level, min/mean/max over the trials: printed, as CSV and as a PNG plot, and with
+//!   `--json` as one object.
 
 use anyhow::{bail, Result};
 use serde_json::json;

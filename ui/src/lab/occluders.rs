@@ -1,7 +1,10 @@
-//! Behind `vbrain occluders`: the minimum occluder set pre-processing (writes `occluders.json`
-//! beside the set, with a progress bar and the time taken) and, with `--experiment`, the
-//! occluder-selection experiment of thesis Figure 14 (printed, CSV, PNG plot, and with `--json`
-//! one object keyed `ps`, `fh`, `mos`).
+//! Behind `vbrain occluders`: the minimum occluder set pre-processing and, with `--experiment`,
+//! the occluder-selection experiment of thesis Figure 14.
+//!
+//! - The pre-processing writes `occluders.json` beside the set, with a progress bar and the time
+//!   taken.
+//! - The experiment is printed, written as CSV and a PNG plot, and with `--json` as one object
+//!   keyed `ps`, `fh`, `mos`.
 
 use anyhow::{bail, Result};
 use serde_json::json;

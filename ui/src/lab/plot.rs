@@ -1,5 +1,7 @@
-//! Line charts for the benchmark commands: stacked panels, one line per series, written as a PNG
-//! (atomically). Text uses egui's bundled font, so no system fonts are needed.
+//! Line charts for the benchmark commands: stacked panels, one line per series.
+//!
+//! - Written as a PNG, atomically.
+//! - Text uses egui's bundled font, so no system fonts are needed.
 
 use anyhow::{anyhow, Result};
 use plotters::prelude::*;

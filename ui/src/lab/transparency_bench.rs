@@ -1,14 +1,16 @@
 //! Behind `vbrain bench-transparency`: every transparency mode against the exact reference on
-//! views of the set with 1 to 99 transparent organs: mean absolute and 99th-percentile per-pixel
-//! error (8-bit sRGB units, the largest of the three channels), frame time and, where the adapter
-//! has timestamp queries, GPU time, all in one run;
-//! per view the same view with nothing faded (`opaque_frame_ms`, the base of the cost ratios),
-//! screen-door's frame while moving (its interactive sub-samples; the viewer's cheapest moving
-//! frame is the weighted blended one), and an error-against-time curve
-//! (screen-door at 4..64 sub-samples, the peeling modes at 1..8 layers). CSV, a PNG plot and a
-//! contact sheet (one row per view, one column per mode in the order printed). It also times mask
-//! regeneration at 1920x1080 with every organ at 50 % opacity, and per view counts the k-buffer
-//! slots each pixel needs ([`super::k_analysis`]).
+//! views of the set with 1 to 99 transparent organs, all in one run.
+//!
+//! - Per mode: mean absolute and 99th-percentile per-pixel error (8-bit sRGB units, the largest
+//!   of the three channels), frame time and, where the adapter has timestamp queries, GPU time.
+//! - Per view: the same view with nothing faded (`opaque_frame_ms`, the base of the cost ratios),
+//!   screen-door's frame while moving (its interactive sub-samples; the viewer's cheapest moving
+//!   frame is the weighted blended one), and an error-against-time curve (screen-door at 4..64
+//!   sub-samples, the peeling modes at 1..8 layers).
+//! - Writes a CSV, a PNG plot and a contact sheet (one row per view, one column per mode in the
+//!   order printed).
+//! - Also times mask regeneration at 1920x1080 with every organ at 50 % opacity, and per view
+//!   counts the k-buffer slots each pixel needs ([`super::k_analysis`]).
 
 use anyhow::{bail, Result};
 use serde_json::json;

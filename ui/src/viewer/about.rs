@@ -1,7 +1,9 @@
 //! Help > About: the version and commit, the code's licence, and the attributions of the data
-//! shown and exported: the organ set's sources, read from its README's "Sources, licences and
-//! attribution" section (the same text the set ships with, never a copy), and three.js's licence
-//! as exported web pages carry it.
+//! shown and exported.
+//!
+//! - The organ set's sources are read from its README's "Sources, licences and attribution"
+//!   section (the same text the set ships with, never a copy).
+//! - three.js's licence is shown as exported web pages carry it.
 
 use eframe::egui;
 use std::path::{Path, PathBuf};

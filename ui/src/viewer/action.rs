@@ -1,7 +1,8 @@
-//! What the viewer's components ask for. A component reads the scene and returns actions: scene
-//! changes as [`Edit`]s, everything else (open, import, export, camera, selection, windows,
-//! notifications) as commands. [`crate::viewer::App::perform`] carries them out in order, in one
-//! place.
+//! What the viewer's components ask for.
+//!
+//! - A component reads the scene and returns actions: scene changes as [`Edit`]s, everything else
+//!   (open, import, export, camera, selection, windows, notifications) as commands.
+//! - [`crate::viewer::App::perform`] carries them out in order, in one place.
 
 use glam::Vec3;
 use std::path::PathBuf;

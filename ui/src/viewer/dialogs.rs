@@ -1,6 +1,8 @@
 //! The viewer's file windows, kept together: open a set or mesh files, import a label volume,
 //! export a screenshot, a glTF model, a web page, an Anki deck, a SCORM package, a video or a
 //! PDF handout.
+//!
+//! - The windows live in [`files`] and [`export`]; each returns actions, which the app performs.
 
 use super::action::ModelKind;
 pub mod export;

@@ -1,7 +1,9 @@
 //! The right-hand dock: the inspector, the lesson, the quiz and the sections share one panel as
 //! tabs, so that opening them all never squeezes the 3-D view or pushes a panel off the window.
-//! The panel is resizable by its edge and collapses to a strip; the dock keeps only which tab is
-//! in front and whether it is collapsed (what each tab shows is its component's).
+//!
+//! - The panel is resizable by its edge and collapses to a strip.
+//! - The dock keeps only which tab is in front and whether it is collapsed; what each tab shows
+//!   is its component's.
 
 use eframe::egui;
 

@@ -1,11 +1,12 @@
-//! The open scene file (`.vbscene`): where it lives, whether the organs changed since it was saved,
-//! the Save Scene window, the question before unsaved changes would be lost, the recovery file,
-//! and turning the viewer's state into a [`SceneFile`]. The app owns one [`Document`]; saving and
-//! opening go through [`crate::viewer::App::perform`].
+//! The open scene file (`.vbscene`): where it lives, whether the organs changed since it was
+//! saved, the Save Scene window, the question before unsaved changes would be lost, the recovery
+//! file, and turning the viewer's state into a [`SceneFile`].
 //!
-//! Recovery: while there are unsaved changes, the scene is written (atomically) to a recovery file
-//! at most every [`RECOVERY_SECONDS`]; a clean exit, a save or a discard removes it. A recovery file
-//! found at start is offered back.
+//! - The app owns one [`Document`]; saving and opening go through
+//!   [`crate::viewer::App::perform`].
+//! - While there are unsaved changes, the scene is written (atomically) to a recovery file at
+//!   most every [`RECOVERY_SECONDS`]; a clean exit, a save or a discard removes it.
+//! - A recovery file found at start is offered back.
 
 use super::action::Action;
 use super::scene::Scene;

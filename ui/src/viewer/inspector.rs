@@ -1,6 +1,9 @@
 //! The inspector of the selected organ: name, group, info text, triangles, opacity, colour,
-//! visibility, "Do not cut" and "Label", and its transform (translate in world millimetres, rotate in degrees, scale), with
-//! Reset transform, Isolate and Frame. It reads the scene and returns [`Action`]s.
+//! visibility, "Do not cut" and "Label", and its transform, with Reset transform, Isolate and
+//! Frame.
+//!
+//! - The transform translates in world millimetres, rotates in degrees and scales.
+//! - It reads the scene and returns [`Action`]s.
 
 use super::action::Action;
 use super::scene::Scene;

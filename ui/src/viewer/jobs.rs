@@ -1,5 +1,9 @@
 //! Work off the UI thread (loading and importing sets, long exports) with progress the UI can
 //! show, and a Cancel the worker checks.
+//!
+//! - A job runs on its own thread; the worker writes its progress (counts and a message), and
+//!   the UI reads it and polls for the result each frame.
+//! - Cancel only sets a flag, which the worker checks.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{mpsc, Arc, Mutex};

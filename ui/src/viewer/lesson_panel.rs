@@ -1,10 +1,13 @@
 //! The Lesson panel: a lesson's title, its steps (a list to jump to any), Previous and Next
-//! (buttons, Page Up and Page Down), and the current step's caption, whose simple markup
-//! (`**bold**`, `*italics*`, lines starting `- `) is drawn as such. With "Edit lesson" on, the
-//! same panel authors it: add a step from the current view (or update the current step from it),
-//! edit titles and captions, move and delete steps, save the lesson. The panel holds the lesson,
-//! the step shown and its own undo snapshots; every change is a [`LessonEdit`] that the app
-//! records in the scene's history beside layout edits, so Ctrl+Z undoes them in the order made.
+//! (buttons, Page Up and Page Down), and the current step's caption. With "Edit lesson" on, the
+//! same panel authors it.
+//!
+//! - A caption's simple markup (`**bold**`, `*italics*`, lines starting `- `) is drawn as such.
+//! - Authoring: add a step from the current view (or update the current step from it), edit
+//!   titles and captions, move and delete steps, save the lesson.
+//! - The panel holds the lesson, the step shown and its own undo snapshots; every change is a
+//!   [`LessonEdit`] that the app records in the scene's history beside layout edits, so Ctrl+Z
+//!   undoes them in the order made.
 
 use super::action::Action;
 use super::widgets::{accessible, PathField, Pick};

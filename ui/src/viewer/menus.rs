@@ -1,7 +1,9 @@
 //! The menu bar: File, Edit (undo, redo), View (camera, culling, transparency, panels,
-//! background), Organs, Lessons and Help, with the running job's progress at the end. One function per menu; each reads the scene and
-//! pushes [`Action`]s. The viewer's settings (culling, transparency, panels, background) are
-//! edited in place: they are preferences, not part of the scene.
+//! background), Organs, Lessons and Help, with the running job's progress at the end.
+//!
+//! - One function per menu; each reads the scene and pushes [`Action`]s.
+//! - The viewer's settings (culling, transparency, panels, background) are edited in place: they
+//!   are preferences, not part of the scene.
 
 use super::action::{Action, ModelKind, Window};
 use super::scene::Scene;

@@ -1,18 +1,21 @@
 //! The desktop viewer (eframe + wgpu).
 //!
-//! Conventions: the scene ([`scene::Scene`]: set, layout, renderer) is data that changes only by
-//! [`vbrain::edit::Edit`]s. Components (menus, organ panel, inspector, viewport, windows, status)
-//! read it and return [`Action`]s: edits, and commands for the rest (open, import, export, camera,
-//! selection); [`App::perform`] carries them out in one place. Components keep only their own UI
-//! state (a filter, a path field, the camera). Keyboard shortcuts come from one table
-//! ([`shortcuts`]). Input is in egui points, render targets in physical pixels, the scene in world
-//! millimetres (RAS).
-//!
-//! Modules: [`about`] (Help > About), [`dock`] (the right-hand panels as tabs), [`app`] (state, frame, actions), [`dialogs`] (the file windows), [`menus`], [`panels`] (organ tree), [`inspector`],
-//! [`viewport`] (drawing, camera, picking, organ moves by mouse), [`files`] (open, import, drops),
-//! [`export`] (screenshots), [`status`] (status bar, notifications), [`shortcuts`], [`jobs`] (work
-//! off the UI thread), [`settings`] (what persists), [`widgets`] (shared widgets), [`window`] (the native window),
-//! [`paths`] (the viewer's files), [`welcome`] (the view when no set is found).
+//! - The scene ([`scene::Scene`]: set, layout, renderer) is data that changes only by
+//!   [`vbrain::edit::Edit`]s.
+//! - Components (menus, organ panel, inspector, viewport, windows, status) read it and return
+//!   [`Action`]s: edits, and commands for the rest (open, import, export, camera, selection);
+//!   [`App::perform`] carries them out in one place.
+//! - Components keep only their own UI state (a filter, a path field, the camera).
+//! - Keyboard shortcuts come from one table ([`shortcuts`]).
+//! - Input is in egui points, render targets in physical pixels, the scene in world millimetres
+//!   (RAS).
+//! - Modules: [`about`] (Help > About), [`dock`] (the right-hand panels as tabs), [`app`] (state,
+//!   frame, actions), [`dialogs`] (the file windows), [`menus`], [`panels`] (organ tree),
+//!   [`inspector`], [`viewport`] (drawing, camera, picking, organ moves by mouse), [`dialogs::files`]
+//!   (open, import, drops), [`dialogs::export`] (screenshots), [`status`] (status bar, notifications),
+//!   [`shortcuts`], [`jobs`] (work off the UI thread), [`settings`] (what persists), [`widgets`]
+//!   (shared widgets), [`window`] (the native window), [`paths`] (the viewer's files),
+//!   [`welcome`] (the view when no set is found).
 
 pub mod about;
 pub mod action;

@@ -1,6 +1,7 @@
 //! The organ panel: the set's group tree with a search filter; per organ and per group: show,
-//! transparency toggle, opacity, colour; isolate on right-click of a name. It reads the scene and returns [`Action`]s
-//! (edits, selection); its own state is the filter.
+//! transparency toggle, opacity, colour; isolate on right-click of a name.
+//!
+//! - It reads the scene and returns [`Action`]s (edits, selection); its own state is the filter.
 
 use super::action::Action;
 use super::scene::Scene;

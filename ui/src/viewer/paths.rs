@@ -1,5 +1,8 @@
 //! Where the viewer keeps its files: the recovery and quiz-history files beside eframe's settings.
-//! (The default organ set is found by [`vbrain::data_dir`].)
+//!
+//! - Both are in eframe's storage folder for "vbrain" (`recovery.vbscene`, `quiz-history.csv`);
+//!   there are none where eframe has no storage folder.
+//! - The default organ set is found by [`vbrain::data_dir`], not here.
 
 use std::path::PathBuf;
 

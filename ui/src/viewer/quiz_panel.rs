@@ -1,10 +1,13 @@
 //! The Quiz panel: a student tests themself. Set up a quiz (a group to ask about, how many
 //! questions, locate / name / mixed, an optional time limit, a seed for a repeatable quiz), then
-//! answer: "Click the left caudate nucleus" is answered by clicking it in the view; "Name the
-//! outlined structure" by typing its name or picking one of four. Each answer is marked at once (a
-//! wrong click names what was clicked and outlines the right one); score, streak and time are
-//! shown; at the end a review flies to each missed structure with its label and info text. The
-//! panel holds the quiz's state; the app shows each question's view (see `app/quiz.rs`).
+//! answer.
+//!
+//! - "Click the left caudate nucleus" is answered by clicking it in the view; "Name the outlined
+//!   structure" by typing its name or picking one of four.
+//! - Each answer is marked at once (a wrong click names what was clicked and outlines the right
+//!   one); score, streak and time are shown.
+//! - At the end a review flies to each missed structure with its label and info text.
+//! - The panel holds the quiz's state; the app shows each question's view (see `app/quiz.rs`).
 
 use super::action::Action;
 use super::widgets::accessible;

@@ -1,7 +1,9 @@
-//! The scene: a loaded organ set with its renderer and the user's layout (world space,
-//! millimetres RAS). The layout changes only through [`Scene::apply`], one [`Edit`] at a time, and
-//! through undo and redo of its [`History`]; everything else reads it. The builders (`toggle_*`, `reset_layout`) make the edits that depend
-//! on the current state.
+//! The scene: a loaded organ set with its renderer and the user's layout.
+//!
+//! - The layout is in world space, millimetres RAS.
+//! - The layout changes only through [`Scene::apply`], one [`Edit`] at a time, and through undo
+//!   and redo of its [`History`]; everything else reads it.
+//! - The builders (`toggle_*`, `reset_layout`) make the edits that depend on the current state.
 
 use std::path::PathBuf;
 use vbrain::edit::{Edit, Organs};

@@ -1,11 +1,15 @@
-//! The Sections panel (a tab of the dock): the three anatomical planes (axial, coronal, sagittal) and one oblique
-//! plane, each on or off, at a position in millimetres (world RAS, kept within the set's bounds),
-//! cutting away the superior, anterior or right side or (flipped) the other one; the oblique
-//! plane's normal is set by "Align to view" (it then faces the camera and cuts away what lies
-//! nearer the eye). Buttons step a plane 1 mm or 5 mm at a time; while the panel is open each
-//! plane has a handle in the viewport to drag it along its normal. Solid cut faces on or off, and
-//! the organs kept whole (set from the inspector). What the panel sets is one
-//! [`vbrain::clip::Section`], drawn, picked, exported and saved in scenes and lesson steps.
+//! The Sections panel (a tab of the dock): the three anatomical planes (axial, coronal, sagittal)
+//! and one oblique plane, solid cut faces on or off, and the organs kept whole (set from the
+//! inspector).
+//!
+//! - Each plane is on or off, at a position in millimetres (world RAS, kept within the set's
+//!   bounds), cutting away the superior, anterior or right side or (flipped) the other one.
+//! - The oblique plane's normal is set by "Align to view": it then faces the camera and cuts away
+//!   what lies nearer the eye.
+//! - Buttons step a plane 1 mm or 5 mm at a time; while the panel is open each plane has a handle
+//!   in the viewport to drag it along its normal.
+//! - What the panel sets is one [`vbrain::clip::Section`], drawn, picked, exported and saved in
+//!   scenes and lesson steps.
 
 use eframe::egui;
 use glam::Vec3;

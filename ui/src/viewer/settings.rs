@@ -1,6 +1,8 @@
 //! What the viewer remembers between sessions (eframe storage): recent sets, the last set, and
-//! render and export settings. Window layout is persisted by eframe itself. A store that cannot be
-//! read falls back to the defaults.
+//! render and export settings.
+//!
+//! - Window layout is persisted by eframe itself.
+//! - A store that cannot be read falls back to the defaults.
 
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

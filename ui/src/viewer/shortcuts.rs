@@ -1,9 +1,11 @@
 //! The keyboard shortcuts: one table, [`SHORTCUTS`], drives the key handling, the shortcut texts
-//! in the menus and the Help menu. README.md's controls table lists the mouse controls
-//! ([`MOUSE`]) and then exactly these rows, input and description alike (a test checks).
+//! in the menus and the Help menu.
 //!
-//! Shortcuts with modifiers are consumed (so `Ctrl+R` never also presses `R`); plain keys act only
-//! without modifiers. Only rows marked `while_typing` act while a text field has the keyboard.
+//! - README.md's controls table lists the mouse controls ([`MOUSE`]) and then exactly these rows,
+//!   input and description alike (a test checks).
+//! - Shortcuts with modifiers are consumed (so `Ctrl+R` never also presses `R`); plain keys act
+//!   only without modifiers.
+//! - Only rows marked `while_typing` act while a text field has the keyboard.
 
 use eframe::egui::{self, Key, KeyboardShortcut, Modifiers};
 

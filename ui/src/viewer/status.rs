@@ -1,6 +1,7 @@
 //! The status bar (frames per second, triangles and organs drawn, camera and render modes, the
-//! selected organ) and the notifications (bottom right, newest first, each dismissible). Both only
-//! read; dismissing returns an [`Action`].
+//! selected organ) and the notifications (bottom right, newest first, each dismissible).
+//!
+//! - Both only read; dismissing returns an [`Action`].
 
 use super::action::Action;
 use super::scene::Scene;

@@ -1,13 +1,15 @@
 //! The viewport: draws the scene through the core renderer into a texture egui paints, and turns
-//! mouse and keys into camera moves (orbit, pan, zoom toward the cursor, walk-through), picking
-//! (click selects, double-click frames) and organ moves (Ctrl+drag move, Shift+drag rotate,
-//! Ctrl+Shift+drag and Ctrl+wheel resize). Input is in egui points; the target is in physical
-//! pixels.
+//! mouse and keys into camera moves, picking and organ moves.
 //!
-//! The camera, the render target, the culler's frame-to-frame state and the statistics are the
-//! viewport's own (camera moves are not edits); organ moves and selection are returned as
-//! [`Action`]s. A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its
-//! actions, then [`Viewport::draw`], so what is drawn includes this frame's moves.
+//! - Camera moves: orbit, pan, zoom toward the cursor, walk-through. Picking: click selects,
+//!   double-click frames. Organ moves: Ctrl+drag move, Shift+drag rotate, Ctrl+Shift+drag and
+//!   Ctrl+wheel resize.
+//! - Input is in egui points; the target is in physical pixels.
+//! - The camera, the render target, the culler's frame-to-frame state and the statistics are the
+//!   viewport's own (camera moves are not edits); organ moves and selection are returned as
+//!   [`Action`]s.
+//! - A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its actions, then
+//!   [`Viewport::draw`], so what is drawn includes this frame's moves.
 
 pub mod motion;
 

@@ -1,5 +1,7 @@
 //! The view the viewer opens on when no set was given and the default set is nowhere it looked:
 //! the places, in order ([`vbrain::data_dir`]), and *Open*.
+//!
+//! - It only reads; *Open* returns an action that shows the window to open a set or scene.
 
 use super::action::{Action, Window};
 use eframe::egui;

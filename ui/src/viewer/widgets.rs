@@ -1,5 +1,9 @@
-//! Small widgets the viewer's components share: accessible names (AccessKit, which screen readers
-//! and the tests use to find widgets) and a path field with a system file dialog.
+//! Small widgets the viewer's components share: accessible names and a path field with a system
+//! file dialog.
+//!
+//! - Accessible names are AccessKit's, which screen readers and the tests use to find widgets.
+//! - The path field's *Browse...* runs the system dialog on a worker thread, so the field works
+//!   where no file-dialog service runs; several paths are separated by `;`.
 
 use eframe::egui;
 use std::path::{Path, PathBuf};

@@ -1,5 +1,7 @@
-//! The viewer's native window: its options (default and smallest size, in egui points) and
-//! [`run`], which opens the window on an [`App`] with the files [`super::paths`] names.
+//! The viewer's native window: its options and [`run`], which opens the window on an [`App`] with
+//! the files [`super::paths`] names.
+//!
+//! - The options' sizes (default and smallest) are in egui points.
 
 use super::app::{App, AppOptions};
 use super::paths::{quiz_history_path, recovery_path};

@@ -12,7 +12,7 @@ fn stderr(o: &Output) -> String {
 }
 
 /// Fails (exit status 1 or 2, never a panic's 101) with `expect` in its message.
-fn refused(args: &[&str], expect: &str) {
+pub(crate) fn refused(args: &[&str], expect: &str) {
     let o = vbrain(args);
     let code = o.status.code();
     assert!(matches!(code, Some(1 | 2)), "{args:?} exited {code:?}: {}", stderr(&o));

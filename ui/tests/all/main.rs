@@ -20,3 +20,4 @@ mod shortcuts;
 mod slice;
 mod study;
 mod viewer;
+mod writers;

@@ -1,7 +1,9 @@
 //! The app's right-hand dock ([`crate::viewer::dock`]): which tabs are open (the inspector while
 //! an organ is selected, the lesson, the quiz, the sections), the panel with its tab bar, and the
-//! tab in front drawn by its component, whose actions are performed at once. A child module of
-//! the app, so it reaches its state.
+//! tab in front drawn by its component.
+//!
+//! - The front tab's actions are performed at once.
+//! - A child module of the app, so it reaches its state.
 
 use super::App;
 use crate::viewer::dock::{Request, Tab, DOCK_WIDTH};

@@ -1,6 +1,9 @@
 //! The app's figure: the Sections window (clip planes, cut faces, organs kept whole) with the
-//! planes' handles, the labels (which organs, the chosen list) and the exports (screenshot, glTF model). Changes to either count as
-//! unsaved changes of the scene. A child module of the app, so it reaches its state.
+//! planes' handles, the labels (which organs, the chosen list) and the exports (screenshot, glTF
+//! model).
+//!
+//! - Changes to the section or the labels count as unsaved changes of the scene.
+//! - A child module of the app, so it reaches its state.
 
 use super::App;
 use crate::viewer::action::ModelKind;
@@ -277,7 +280,7 @@ impl App {
                     anyhow::ensure!(!lesson.quiz.is_empty(), "the lesson \"{}\" has no quiz", lesson.title);
                     let path = export::file_path(typed, "zip")?;
                     anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
-                    let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?)?;
+                    let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?, false)?;
                     Ok((path, bytes))
                 }
                 // Written off the UI thread by `export_deck` and `export_lecture`.

@@ -1,7 +1,8 @@
 //! The app's lessons: opening one over its set (loading that first), going to a step with its
-//! half-second transition, and authoring: steps made from the current view, lesson edits recorded
-//! in the scene's history beside layout edits, new lessons, saving. A child module of the app, so
-//! it reaches its state.
+//! half-second transition, and authoring: steps made from the current view, new lessons, saving.
+//!
+//! - Lesson edits are recorded in the scene's history beside layout edits.
+//! - A child module of the app, so it reaches its state.
 
 use super::{Action, App, LessonPanel};
 use crate::viewer::action::LessonAction;

@@ -1,10 +1,12 @@
 //! The app's quizzes: starting one (from the Quiz panel's setup or a lesson's quiz), showing each
-//! question's view (the default layout with the organs hiding the target faded, found from the
-//! viewport's organ-ID buffer, and a camera from the target's side; shown in place of the scene's
-//! layout, which the quiz never changes; a question on a slice also brings up the slice panes
-//! through its structure), marking clicks, typed names and picks, the time limit,
-//! the review, the history of results per set and the CSV export. A child module of the app, so
-//! it reaches its state.
+//! question's view, marking clicks, typed names and picks, the time limit, the review, the
+//! history of results per set and the CSV export.
+//!
+//! - A question's view is the default layout with the organs hiding the target faded (found from
+//!   the viewport's organ-ID buffer) and a camera from the target's side.
+//! - It is shown in place of the scene's layout, which the quiz never changes.
+//! - A question on a slice also brings up the slice panes through its structure.
+//! - A child module of the app, so it reaches its state.
 
 use super::App;
 use crate::viewer::action::QuizAction;

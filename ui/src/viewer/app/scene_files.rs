@@ -1,6 +1,8 @@
 //! The app's scene files: opening a scene (over the set it names, loading that first), applying
-//! it, saving it, and what happens to unsaved changes (the question before they are lost, the
-//! recovery file kept and offered back). A child module of the app, so it reaches its state.
+//! it, saving it, and what happens to unsaved changes.
+//!
+//! - Unsaved changes: the question before they are lost, the recovery file kept and offered back.
+//! - A child module of the app, so it reaches its state.
 
 use super::{Action, App, Notification};
 use crate::viewer::action::DocumentAction;

@@ -1,6 +1,8 @@
-//! The app's organ sets: opening one (a set, a scene or a lesson by its file, or mesh files) in a
-//! background job, the import job's result, and installing a loaded set as the scene. A child
-//! module of the app, so it reaches its state.
+//! The app's organ sets: opening one (a set, a scene or a lesson by its file, or mesh files), the
+//! import job's result, and installing a loaded set as the scene.
+//!
+//! - A set is opened in a background job.
+//! - A child module of the app, so it reaches its state.
 
 use super::App;
 use crate::viewer::action::Action;

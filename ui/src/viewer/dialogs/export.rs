@@ -1,9 +1,11 @@
-//! Screenshot export: the current view rendered offscreen at the asked size through the same
-//! renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never over
-//! an existing file; and the export window, which asks for the size and the file and returns an
-//! [`Action::Export`]. The model windows ask for a file or a folder and return an
-//! [`Action::ExportModel`]: the scene as a glTF model ([`vbrain::gltf`]) or a web page
-//! ([`vbrain::web_page`]).
+//! Screenshot export, the export window that asks for it, and the model windows.
+//!
+//! - A screenshot is the current view rendered offscreen at the asked size through the same
+//!   renderer as the viewport (never an upscaled screen grab), written as PNG atomically, never
+//!   over an existing file.
+//! - The export window asks for the size and the file and returns an [`Action::Export`].
+//! - The model windows ask for a file or a folder and return an [`Action::ExportModel`]: the
+//!   scene as a glTF model ([`vbrain::gltf`]) or a web page ([`vbrain::web_page`]).
 
 use crate::viewer::action::{Action, ModelKind};
 use crate::viewer::settings::{ExportSettings, ExportSize};

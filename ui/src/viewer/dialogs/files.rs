@@ -1,6 +1,7 @@
 //! The file windows (open an organ set, open mesh files, import a label volume), files dropped
-//! onto the window, and the import job. Each window has a path field (see
-//! [`PathField`]) and returns [`Action`]s; the app runs them.
+//! onto the window, and the import job.
+//!
+//! - Each window has a path field (see [`PathField`]) and returns [`Action`]s; the app runs them.
 
 use crate::viewer::action::{Action, ImportRequest};
 use crate::viewer::jobs::Progress;
