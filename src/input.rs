@@ -5,6 +5,8 @@
 //!   what is larger than the limit of its kind.
 //! - [`inside`] refuses a path of a set that leaves the set's folder by any means (`..`, an
 //!   absolute path or a symbolic link).
+//! - What reading an input will take in memory is estimated first and compared with
+//!   [`available_memory`] (refused above 80 % of it) by the readers that can tell.
 
 use crate::error::{Error, Result};
 use std::io::Read;
@@ -117,9 +119,43 @@ pub fn inside(dir: &Path, relative: &str) -> Result<PathBuf> {
     }
 }
 
+/// The memory the system can give this process now (Linux's `MemAvailable`), where it says.
+pub fn available_memory() -> Option<u64> {
+    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024)
+}
+
+/// Refuses work on `path` that would take about `bytes` of memory where more than 80 % of the
+/// available memory would go to it (where the system says what is available).
+pub fn fits_in_memory(path: &Path, bytes: u64, what: &str) -> Result<()> {
+    match available_memory() {
+        Some(available) if bytes > available / 10 * 8 => Err(Error::parse(
+            path,
+            None,
+            format!(
+                "{what} would take about {:.1} GiB of memory and {:.1} GiB is available",
+                bytes as f64 / (1u64 << 30) as f64,
+                available as f64 / (1u64 << 30) as f64
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn work_beyond_the_available_memory_is_refused_with_its_file() {
+        let Some(available) = available_memory() else { return };
+        let path = Path::new("huge.obj");
+        assert!(fits_in_memory(path, available / 2, "reading it").is_ok());
+        let e = fits_in_memory(path, available, "reading its triangles").unwrap_err().to_string();
+        assert!(e.contains("huge.obj") && e.contains("GiB"), "{e}");
+    }
 
     #[test]
     fn refuses_folders_pipes_large_files_and_links_outside() {

@@ -343,7 +343,14 @@ impl OrganSet {
                 entry.occluder = o.stand_in.as_ref().map(|_| format!("meshes/{}.occluder.vbo", o.id));
             }
         }
-        manifest.solids = self.manifest().solids;
+        // Per solid entry that loaded, its files; an entry that did not load (a member's mesh
+        // missing, say) stays as it is.
+        for entry in &mut manifest.solids {
+            if let Some(s) = self.solids.iter().find(|s| s.id == entry.id) {
+                entry.occluder = s.stand_in.as_ref().map(|_| format!("meshes/{}.solid.vbo", s.id));
+                entry.hidden = (!s.hidden.is_empty()).then(|| format!("meshes/{}.hidden.json", s.id));
+            }
+        }
         write_manifest(dir, &manifest)
     }
 

@@ -44,6 +44,12 @@ pub struct ObjFile {
 /// range and the shading lose their precision.
 pub const MAX_COORDINATE: f32 = 1e6;
 
+/// Memory loading one triangle takes at most, in the OBJ reader and the mesh: three vertices of
+/// its own (position and normal), three indices, and its share of the hierarchy.
+const BYTES_PER_TRIANGLE: u64 = 160;
+/// And one `v`, `vt` or `vn` line, as the reader holds it.
+const BYTES_PER_VERTEX: u64 = 16;
+
 /// Reads an OBJ or VBO file from disk.
 pub fn read(path: &Path) -> Result<ObjFile> {
     let bytes = crate::input::read(path, crate::input::Kind::Mesh)?;
@@ -122,6 +128,8 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
     }
     let mut counts = [0usize; 3]; // v, vt, vn
     let mut faces = 0usize;
+    // Triangles the faces become (a face of n vertices makes n - 2).
+    let mut triangles = 0u64;
     let mut has_lines = false;
     for (n, raw) in bytes.split(|&b| b == b'\n').enumerate() {
         let line_no = n + 1;
@@ -179,6 +187,7 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
                 }
                 if keyword == "f" {
                     faces += 1;
+                    triangles += args.len() as u64 - 2;
                 } else {
                     has_lines = true;
                 }
@@ -190,6 +199,9 @@ pub fn check<'a>(bytes: &'a [u8], path: &Path) -> Result<std::borrow::Cow<'a, st
     if faces == 0 {
         return Err(Error::parse(path, None, "no faces (`f` lines): nothing to draw"));
     }
+    let vertices: u64 = counts.iter().map(|&c| c as u64).sum();
+    let memory = triangles * BYTES_PER_TRIANGLE + vertices * BYTES_PER_VERTEX + bytes.len() as u64;
+    crate::input::fits_in_memory(path, memory, &format!("reading its {triangles} triangles"))?;
     // Every line is UTF-8, hence the whole.
     let text = std::str::from_utf8(bytes).map_err(|_| Error::parse(path, None, "not UTF-8 text"))?;
     if !has_lines {

@@ -67,12 +67,9 @@ pub fn check_target(
     Ok(())
 }
 
-/// The memory the system can give now (Linux's `MemAvailable`), where it says.
+/// The memory the system can give now ([`crate::input::available_memory`]).
 pub fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
+    crate::input::available_memory()
 }
 
 #[cfg(test)]

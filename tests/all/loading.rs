@@ -316,3 +316,28 @@ fn many_organs_load_and_too_many_are_refused() {
     let e = organ_set::open(dir.path()).err().unwrap().to_string();
     assert!(e.contains("organset.json") && e.contains("at most 10000"), "{e}");
 }
+
+/// Writing stand-ins into a set rewrites its manifest: entries that did not load (an organ whose
+/// mesh is missing, a solid that names it) stay as they were, and so does every other field.
+#[test]
+fn saving_stand_ins_keeps_the_entries_that_did_not_load() {
+    let dir = tempfile::tempdir().unwrap();
+    write(dir.path(), "a.vbo", &format!("{QUAD}f 1 2 3\n"));
+    write(dir.path(), "b.vbo", &format!("{QUAD}f 1 2 3\n"));
+    let organs = [organ("a", "a.vbo", ""), organ("b", "b.vbo", ""), organ("c", "missing.vbo", "")].join(",");
+    let solids = r#""solids": [{"id": "ab", "organs": ["a", "b"]}, {"id": "bc", "organs": ["b", "c"]}]"#;
+    let text = manifest(&organs).replace(r#""organs": ["#, &format!(r#"{solids}, "description": "kept", "organs": ["#));
+    let path = write(dir.path(), "organset.json", &text);
+    let loaded = organ_set::open(dir.path()).unwrap();
+    assert_eq!(loaded.set.organs.len(), 2);
+    assert_eq!(loaded.set.solids.len(), 1, "the solid naming the missing organ is left out of the set");
+    loaded.set.save_stand_ins(dir.path()).unwrap();
+    let written: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let ids = |key: &str| -> Vec<String> {
+        written[key].as_array().unwrap().iter().map(|e| e["id"].as_str().unwrap().to_string()).collect()
+    };
+    assert_eq!(ids("organs"), ["a", "b", "c"]);
+    assert_eq!(ids("solids"), ["ab", "bc"], "the solid that did not load is kept in the manifest");
+    assert_eq!(written["solids"][1]["organs"], serde_json::json!(["b", "c"]));
+    assert_eq!(written["description"], "kept");
+}

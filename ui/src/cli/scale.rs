@@ -27,7 +27,7 @@ pub fn run(args: &ScaleArgs) -> Result<bool> {
             e.largest_organ_vertices
         );
     }
-    if let Some(available) = available_memory() {
+    if let Some(available) = vbrain::input::available_memory() {
         if e.memory_bytes > available / 10 * 8 {
             bail!(
                 "factor {}: the copy needs about {:.2} GiB and {:.2} GiB of memory is available; give a smaller --factor",
@@ -45,12 +45,4 @@ pub fn run(args: &ScaleArgs) -> Result<bool> {
     bar.finish_and_clear();
     scaled.save(&args.out.out)?;
     summary(args.report.json, "scale", &scaled, &args.out.out)
-}
-
-/// The memory the system can give this process now (Linux's MemAvailable), if it says.
-fn available_memory() -> Option<u64> {
-    let info = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024)
 }
