@@ -52,7 +52,12 @@ impl Kind {
 /// Checks that `path` is a regular file (following symbolic links) no larger than `kind`'s limit;
 /// gives its size.
 pub fn check_file(path: &Path, kind: Kind) -> Result<u64> {
-    let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    let meta = std::fs::metadata(path).map_err(|e| match path.symlink_metadata() {
+        Ok(link) if link.file_type().is_symlink() && e.kind() == std::io::ErrorKind::NotFound => {
+            Error::parse(path, None, "is a link to nothing (its target does not exist)")
+        }
+        _ => Error::io(path, e),
+    })?;
     if meta.is_dir() {
         return Err(Error::parse(path, None, format!("is a folder, not a {} file", kind.name())));
     }

@@ -442,7 +442,8 @@ pub fn open(path: &Path) -> Result<Loaded> {
     let meta = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if meta.is_dir() {
         let manifest = path.join(MANIFEST_FILE);
-        if manifest.is_file() {
+        // Present in any form (a FIFO, a link to nothing), it is read, and refused with its reason.
+        if manifest.symlink_metadata().is_ok() {
             open_manifest(&manifest)
         } else {
             open_files(&mesh_files_in(path)?, &title_of(path))

@@ -1,12 +1,14 @@
 //! Fuzz-style property tests of everything that parses a user's file: meshes (OBJ/VBO), manifests,
-//! scenes, lessons and label tables. Random text built from the files' own vocabulary (keywords,
+//! scenes, lessons (with many steps and planes), label tables and NIfTI volumes (with extensions,
+//! and header-only files paired with a data file beside them). Random text built from the files' own vocabulary (keywords,
 //! numbers at the edges of f32, quotes, commas, huge and negative counts) must give a value or an
 //! error naming the file, never a panic, and what is accepted must be usable: finite meshes with
 //! area, cameras and transforms that are numbers.
 
 use proptest::prelude::*;
 use std::path::Path;
-use vbrain::lesson::Lesson;
+use vbrain::clip::{MAX_OFFSET_MM, MAX_PLANES};
+use vbrain::lesson::{Lesson, MAX_STEPS};
 use vbrain::organ_set::{label_table, obj};
 use vbrain::scene_file::SceneFile;
 
@@ -158,5 +160,157 @@ proptest! {
             prop_assert!(s.view.iter().all(|a| a.is_finite()) && s.zoom.is_finite() && s.zoom > 0.0);
             prop_assert!(s.place.values().all(|p| p.scale.is_finite() && p.translation.iter().all(|t| t.is_finite())));
         }
+    }
+}
+
+/// A clip plane as files spell it: a normal and an offset, numbers at the edges.
+fn plane_json() -> impl Strategy<Value = String> {
+    (proptest::collection::vec(json_number(), 3), json_number())
+        .prop_map(|(n, d)| format!(r#"{{"normal": [{}], "d": {d}}}"#, n.join(",")))
+}
+
+/// A lesson of `steps` steps, each cut by the planes given (cycled).
+fn lesson_of(steps: usize, planes: &[Vec<String>]) -> String {
+    let step = |k: usize| {
+        let clip = planes.get(k % planes.len().max(1)).map(|p| p.join(",")).unwrap_or_default();
+        format!(r#"{{"title": "s{k}", "caption": "", "clip": [{clip}]}}"#)
+    };
+    let steps: Vec<String> = (0..steps).map(step).collect();
+    format!(r#"{{"format": "vbrain-lesson/1", "title": "t", "set": "s", "steps": [{}]}}"#, steps.join(","))
+}
+
+/// A NIfTI-1 file's bytes: the 348-byte header as given, the extension flag, `extension` bytes,
+/// then `data` (whatever `vox_offset` says).
+fn nifti_bytes(
+    dims: [i16; 4],
+    datatype: (i16, i16),
+    vox_offset: f32,
+    magic: &[u8; 4],
+    extension: &[u8],
+    data: &[u8],
+) -> Vec<u8> {
+    let mut h = vec![0u8; 348];
+    let mut put = |at: usize, bytes: &[u8]| h[at..at + bytes.len()].copy_from_slice(bytes);
+    put(0, &348i32.to_le_bytes());
+    for (i, d) in dims.iter().enumerate() {
+        put(40 + 2 * i, &d.to_le_bytes());
+    }
+    put(48, &1i16.to_le_bytes());
+    put(70, &datatype.0.to_le_bytes());
+    put(72, &datatype.1.to_le_bytes());
+    for i in 0..4 {
+        put(76 + 4 * i, &1f32.to_le_bytes());
+    }
+    put(108, &vox_offset.to_le_bytes());
+    put(344, magic);
+    let flag = if extension.is_empty() { [0u8; 4] } else { [1, 0, 0, 0] };
+    h.extend_from_slice(&flag);
+    h.extend_from_slice(extension);
+    h.extend_from_slice(data);
+    h
+}
+
+/// An extension block as NIfTI spells it (size, code, content), its size field possibly lying.
+fn extension() -> impl Strategy<Value = Vec<u8>> {
+    prop_oneof![
+        Just(Vec::new()),
+        (
+            prop_oneof![Just(16i32), Just(i32::MAX), Just(-8), Just(0), 8i32..4096],
+            proptest::collection::vec(any::<u8>(), 0..64)
+        )
+            .prop_map(|(size, body)| {
+                let mut e = size.to_le_bytes().to_vec();
+                e.extend_from_slice(&4i32.to_le_bytes());
+                e.extend(body);
+                e
+            }),
+    ]
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    /// Lessons of up to twice the bound in steps, each with up to six planes of any numbers: parsed
+    /// within the bounds (steps, planes a step, planes that are planes), or refused naming the file.
+    #[test]
+    fn lessons_with_many_steps_and_planes_stay_within_their_bounds(
+        steps in prop_oneof![0usize..8, (MAX_STEPS - 2)..(MAX_STEPS + 3), 900usize..1000],
+        planes in proptest::collection::vec(proptest::collection::vec(plane_json(), 0..7), 1..4),
+    ) {
+        match Lesson::parse(&lesson_of(steps, &planes), Path::new("many.vblesson")) {
+            Ok(l) => {
+                prop_assert!(l.steps.len() <= MAX_STEPS);
+                for s in &l.steps {
+                    prop_assert!(s.clip.len() <= MAX_PLANES);
+                    for p in &s.clip {
+                        let n = glam::Vec3::from(p.normal);
+                        prop_assert!(n.is_finite() && (n.length() - 1.0).abs() < 1e-3, "{p:?}");
+                        prop_assert!(p.d.is_finite() && p.d.abs() <= MAX_OFFSET_MM, "{p:?}");
+                    }
+                }
+            }
+            Err(e) => prop_assert!(e.to_string().starts_with("many.vblesson"), "{e}"),
+        }
+    }
+
+    /// NIfTI files with lying extension sizes, offsets, dimensions and types, cut short or not:
+    /// a volume of the size the header gives, or an error naming the file; never a panic or an
+    /// allocation the header alone asked for.
+    #[test]
+    fn nifti_volumes_with_extensions_read_or_name_the_file(
+        dims in (1i16..5, 1i16..5, prop_oneof![1i16..5, Just(i16::MAX)], prop_oneof![Just(1i16), Just(2)]),
+        datatype in prop_oneof![Just((2i16, 8i16)), Just((4, 16)), Just((16, 32)), Just((64, 64)), Just((128, 24)), Just((99, 8))],
+        extra in prop_oneof![Just(0f32), Just(16.0), Just(4e9), Just(-4.0), Just(f32::NAN), 0f32..100.0],
+        extension in extension(),
+        data in proptest::collection::vec(any::<u8>(), 0..600),
+        gz in any::<bool>(),
+    ) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join(if gz { "fuzz.nii.gz" } else { "fuzz.nii" });
+        let vox_offset = 352.0 + extension.len() as f32 + extra;
+        let [x, y, z, t] = [dims.0, dims.1, dims.2, dims.3];
+        let mut bytes = nifti_bytes([3 + i16::from(t > 1), x, y, z], datatype, vox_offset, b"n+1\0", &extension, &data);
+        bytes[48..50].copy_from_slice(&t.to_le_bytes());
+        if gz {
+            use std::io::Write;
+            let mut e = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+            e.write_all(&bytes).unwrap();
+            bytes = e.finish().unwrap();
+        }
+        std::fs::write(&path, &bytes).unwrap();
+        match vbrain::nifti_file::read(&path, "label volume", 1 << 20) {
+            Ok(v) => {
+                prop_assert_eq!(v.dims, [x as usize, y as usize, z as usize]);
+                prop_assert!((0..v.len()).all(|i| v.value(i).is_finite() || v.is_float()));
+            }
+            Err(e) => prop_assert!(e.to_string().contains("fuzz.nii"), "{e}"),
+        }
+    }
+}
+
+/// A header-only NIfTI file (magic `ni1`) beside each kind of data file a user or an attacker
+/// might leave there (a file, a named pipe, a link out, nothing): refused at once, naming the
+/// header, and the data file never opened (a pipe would hang the reader).
+#[test]
+fn header_only_nifti_files_are_refused_whatever_lies_beside_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let outside = dir.path().join("secret");
+    std::fs::write(&outside, [7u8; 8]).unwrap();
+    for beside in ["file", "pipe", "link", "nothing"] {
+        let sub = dir.path().join(beside);
+        std::fs::create_dir(&sub).unwrap();
+        let header = sub.join("v.nii");
+        std::fs::write(&header, nifti_bytes([3, 2, 2, 2], (2, 8), 0.0, b"ni1\0", &[], &[])).unwrap();
+        let img = sub.join("v.img");
+        match beside {
+            "file" => std::fs::write(&img, [1u8; 8]).unwrap(),
+            "pipe" => assert!(std::process::Command::new("mkfifo").arg(&img).status().unwrap().success()),
+            "link" => std::os::unix::fs::symlink(&outside, &img).unwrap(),
+            _ => {}
+        }
+        let started = std::time::Instant::now();
+        let e = vbrain::nifti_file::read(&header, "label volume", 1 << 20).err().map(|e| e.to_string());
+        assert!(e.as_deref().is_some_and(|e| e.contains("v.nii") && e.contains("header-only")), "{beside}: {e:?}");
+        assert!(started.elapsed().as_secs() < 5, "{beside}: the reader waited on the data file");
     }
 }

@@ -249,3 +249,19 @@ fn a_scenes_unknown_whole_organ_warns_but_the_option_is_refused() {
     let run = vbrain(&["render", "--scene", s, "--size", "48x32", "--out", p, "--whole", "nope"]);
     assert!(!run.status.success() && stderr(&run).contains("--whole"), "{}", stderr(&run));
 }
+
+/// A manifest that is there but cannot be read (a named pipe, a link to nothing) is named with
+/// its reason, not taken for a folder without a manifest.
+#[test]
+fn a_manifest_that_is_a_pipe_or_a_dangling_link_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let piped = dir.path().join("piped");
+    std::fs::create_dir(&piped).unwrap();
+    let made = std::process::Command::new("mkfifo").arg(piped.join("organset.json")).status().unwrap();
+    assert!(made.success());
+    refused(&["info", piped.to_str().unwrap()], "organset.json: is not a regular file");
+    let linked = dir.path().join("linked");
+    std::fs::create_dir(&linked).unwrap();
+    std::os::unix::fs::symlink(dir.path().join("nowhere.json"), linked.join("organset.json")).unwrap();
+    refused(&["info", linked.to_str().unwrap()], "organset.json: is a link to nothing");
+}
