@@ -28,13 +28,21 @@ pub fn guarded<T>(device: &wgpu::Device, what: &'static str, work: impl FnOnce()
     let internal = device.push_error_scope(wgpu::ErrorFilter::Internal);
     let result = work();
     // Scopes pop innermost first; each pop takes effect at once.
-    let errors = [internal.pop(), validation.pop(), oom.pop()];
-    let first = errors.into_iter().find_map(pollster::block_on);
-    match first {
+    let errors: Vec<wgpu::Error> =
+        [internal.pop(), validation.pop(), oom.pop()].into_iter().filter_map(pollster::block_on).collect();
+    match cause(errors) {
         Some(wgpu::Error::OutOfMemory { .. }) => Err(Error::GpuMemory { what }),
         Some(e) => Err(Error::gpu(what, e)),
         None => result,
     }
+}
+
+/// The error that explains the others: running out of memory leaves the resource it was making
+/// invalid, and every later use of it raises a validation error ("... is invalid") that would
+/// hide the cause. So out-of-memory first, then the first of the rest.
+fn cause(errors: Vec<wgpu::Error>) -> Option<wgpu::Error> {
+    let oom = errors.iter().position(|e| matches!(e, wgpu::Error::OutOfMemory { .. }));
+    errors.into_iter().nth(oom.unwrap_or(0))
 }
 
 /// Makes `device` report errors that no scope catches on stderr instead of panicking.
@@ -75,6 +83,18 @@ pub fn available_memory() -> Option<u64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn running_out_of_memory_is_the_cause_over_the_invalid_uses_it_leaves() {
+        let invalid = || wgpu::Error::Validation {
+            source: Box::new(std::io::Error::other("Texture with '' label is invalid")),
+            description: "Texture with '' label is invalid".into(),
+        };
+        let oom = wgpu::Error::OutOfMemory { source: Box::new(std::io::Error::other("out of memory")) };
+        assert!(matches!(cause(vec![invalid(), oom]), Some(wgpu::Error::OutOfMemory { .. })));
+        assert!(matches!(cause(vec![invalid()]), Some(wgpu::Error::Validation { .. })));
+        assert!(cause(Vec::new()).is_none());
+    }
 
     #[test]
     fn targets_beyond_the_limits_or_the_memory_are_refused() {
