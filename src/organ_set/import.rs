@@ -35,6 +35,24 @@ pub const MAX_VOXELS: usize = 1 << 28;
 /// label must then be a whole number.
 pub fn read_volume(path: &Path) -> Result<LabelVolume> {
     let raw = crate::nifti_file::read(path, "label volume", MAX_VOXELS)?;
+    // The surfaces lie inside the voxel grid's corners: where the affine puts one beyond what a
+    // mesh may hold, the set would be written and then refused by every command.
+    let limit = super::obj::MAX_COORDINATE;
+    for corner in 0..8u32 {
+        let at = |axis: usize| if corner & (1 << axis) == 0 { -0.5 } else { raw.dims[axis] as f32 - 0.5 };
+        let p = raw.affine.transform_point3(glam::Vec3::new(at(0), at(1), at(2)));
+        if !p.is_finite() || p.abs().max_element() > limit {
+            return Err(Error::parse(
+                path,
+                None,
+                format!(
+                    "header fields srow/qform: the volume's corner lies at ({:.0}, {:.0}, {:.0}) mm, beyond +-{limit} mm \
+                     (1 km) where vbrain's meshes lie; is its affine in millimetres?",
+                    p.x, p.y, p.z
+                ),
+            ));
+        }
+    }
     let labels = decode_labels(&raw).map_err(|m| Error::parse(path, None, m))?;
     Ok(LabelVolume { dims: raw.dims, labels, affine: raw.affine })
 }

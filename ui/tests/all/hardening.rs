@@ -265,3 +265,21 @@ fn a_manifest_that_is_a_pipe_or_a_dangling_link_says_so() {
     std::os::unix::fs::symlink(dir.path().join("nowhere.json"), linked.join("organset.json")).unwrap();
     refused(&["info", linked.to_str().unwrap()], "organset.json: is a link to nothing");
 }
+
+/// A label volume whose affine puts it beyond where meshes may lie (1 km) is refused at import,
+/// naming the file, instead of writing a set that no command can open.
+#[test]
+fn an_import_refuses_a_volume_placed_beyond_a_kilometre() {
+    let dir = tempfile::tempdir().unwrap();
+    let volume = two_blobs(dir.path(), "far.nii");
+    let mut bytes = std::fs::read(&volume).unwrap();
+    // srow_x's translation (bytes 292..296): 2 km to the right.
+    bytes[292..296].copy_from_slice(&2e6f32.to_le_bytes());
+    std::fs::write(&volume, bytes).unwrap();
+    let labels = dir.path().join("labels.csv");
+    std::fs::write(&labels, "index,name\n17,Left\n53,Right\n").unwrap();
+    let out = dir.path().join("set");
+    let (v, l, o) = (volume.to_str().unwrap(), labels.to_str().unwrap(), out.to_str().unwrap());
+    refused(&["import", v, "--labels", l, "--out", o], "far.nii: header fields srow/qform");
+    assert!(!out.exists(), "no set written");
+}
