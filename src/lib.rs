@@ -36,6 +36,7 @@ pub mod lab;
 pub mod labels;
 pub mod layout;
 pub mod lesson;
+pub mod lod;
 pub mod mesh;
 pub mod mos;
 pub mod mri;

@@ -75,6 +75,10 @@ pub struct OrganEntry {
     /// as an occluder (relative path, like `mesh`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub occluder: Option<String>,
+    /// Optional levels of detail of the mesh, drawn while the view moves ([`crate::lod`]; relative
+    /// path, like `mesh`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lod: Option<String>,
     /// `#rrggbb` (sRGB).
     pub colour: String,
     #[serde(default = "one")]
@@ -170,8 +174,11 @@ impl OrganEntry {
             mesh_path_ok(p).map_err(|problem| EntryProblem::Path { id: id(), what, path: p.to_string(), problem })
         };
         path("mesh", &self.mesh)?;
-        match &self.occluder {
-            Some(p) => path("occluder", p),
+        if let Some(p) = &self.occluder {
+            path("occluder", p)?;
+        }
+        match &self.lod {
+            Some(p) => path("lod", p),
             None => Ok(()),
         }
     }

@@ -46,6 +46,8 @@ pub struct Organ {
     /// A mesh with fewer triangles on or inside this organ's surface (organ space) that stands in
     /// for it as an occluder, e.g. the original of a subdivided set.
     pub(crate) stand_in: Option<StandIn>,
+    /// Levels of detail ([`crate::lod`]): triangles over the mesh's own vertices, coarsest last.
+    pub(crate) lods: Vec<Vec<u32>>,
     /// [`Mesh::is_closed_outward`]: drawn with its back faces culled.
     closed: bool,
     /// Its hierarchy's nodes and parts made only of faces inside solids ([`OrganSet::index_hidden_faces`]).
@@ -93,6 +95,7 @@ impl Organ {
             mesh,
             bvh,
             stand_in: None,
+            lods: Vec::new(),
             inside: hidden_faces::Inside::default(),
             first_order: None,
         }
@@ -130,6 +133,16 @@ impl Organ {
         self.stand_in = stand_in;
     }
 
+    /// Its levels of detail ([`crate::lod`]), coarsest last; none where the set has none.
+    pub fn lods(&self) -> &[Vec<u32>] {
+        &self.lods
+    }
+
+    /// Builds its levels of detail from its mesh ([`crate::lod::levels`]).
+    pub fn build_lods(&mut self) {
+        self.lods = crate::lod::levels(&self.mesh, self.closed);
+    }
+
     /// Replaces the mesh, rebuilding the hierarchy; the occluder stand-in is dropped (it may no
     /// longer lie inside).
     pub fn set_mesh(&mut self, mut mesh: Mesh) {
@@ -137,6 +150,7 @@ impl Organ {
         self.closed = mesh.is_closed_outward();
         self.mesh = mesh;
         self.stand_in = None;
+        self.lods = Vec::new();
         self.inside = hidden_faces::Inside::default();
         self.first_order = None;
     }
@@ -260,6 +274,9 @@ impl OrganSet {
                     name: o.name.clone(),
                     mesh: format!("meshes/{}.vbo", o.id),
                     occluder: o.stand_in.as_ref().map(|_| format!("meshes/{}.occluder.vbo", o.id)),
+                    // Levels name the vertices as the mesh file loads them: a set written from this
+                    // has none until `vbrain lod` builds them over its new files.
+                    lod: None,
                     colour: manifest::format_colour(o.colour),
                     opacity: o.opacity,
                     visible: o.visible,
@@ -323,6 +340,34 @@ impl OrganSet {
             hidden_faces::write(&dir.join("meshes").join(format!("{}.hidden.json", s.id)), self, &s.hidden, number)?;
         }
         Ok(())
+    }
+
+    /// Builds every organ's levels of detail, organs in parallel ([`Organ::build_lods`]).
+    pub fn build_lods(&mut self) {
+        use rayon::prelude::*;
+        self.organs.par_iter_mut().for_each(Organ::build_lods);
+    }
+
+    /// Writes the organs' levels of detail into the set's folder `dir` (`meshes/<id>.lod`, each
+    /// atomically) and names them in its `organset.json`, leaving everything else there as it is.
+    /// The levels must have been built over the meshes as this set loaded them from `dir`.
+    pub fn save_lods(&self, dir: &Path) -> Result<()> {
+        let path = dir.join(MANIFEST_FILE);
+        let text = crate::input::read_text(&path, crate::input::Kind::Manifest)?;
+        let mut manifest: Manifest =
+            serde_json::from_str(&text).map_err(|e| Error::parse(&path, Some(e.line()), e.to_string()))?;
+        let meshes = dir.join("meshes");
+        std::fs::create_dir_all(&meshes).map_err(|e| Error::io(&meshes, e))?;
+        for o in self.organs.iter().filter(|o| !o.lods.is_empty()) {
+            let file = meshes.join(format!("{}.lod", o.id));
+            crate::atomic::write(&file, |w| crate::lod::write(&o.lods, o.mesh.positions.len(), w))?;
+        }
+        for entry in &mut manifest.organs {
+            if let Some(o) = self.organs.iter().find(|o| o.id == entry.id) {
+                entry.lod = (!o.lods.is_empty()).then(|| format!("meshes/{}.lod", o.id));
+            }
+        }
+        write_manifest(dir, &manifest)
     }
 
     /// Writes the occluder stand-ins and the faces hidden inside solids into the set's folder `dir`
@@ -432,8 +477,7 @@ impl OrganSet {
 /// Writes `organset.json` into `dir`, atomically.
 fn write_manifest(dir: &Path, manifest: &Manifest) -> Result<()> {
     let path = dir.join(MANIFEST_FILE);
-    let json = serde_json::to_string_pretty(manifest)
-        .map_err(|e| Error::Encode { path: path.clone(), message: e.to_string() })?;
+    let json = crate::json_file::to_json(manifest, &path)?;
     crate::atomic::write(&path, |w| w.write_all(json.as_bytes()))
 }
 
@@ -608,8 +652,23 @@ fn load_entry(entry: &OrganEntry, dir: &Path, manifest_path: &Path) -> Result<(O
     // A broken stand-in costs only speed: the organ occludes with its own triangles.
     let owner = format!("organ \"{}\"", entry.id);
     let stand_in = entry.occluder.as_ref().and_then(|p| read_stand_in(dir, p, &owner, &mut warnings));
+    // Broken or stale levels cost only speed while moving: the organ is drawn whole.
+    let (vertices, indices) = (mesh.positions.len(), mesh.indices.len());
+    let lods = match entry
+        .lod
+        .as_ref()
+        .map(|p| crate::input::inside(dir, p).and_then(|p| crate::lod::read(&p, vertices, indices)))
+    {
+        Some(Ok(levels)) => levels,
+        Some(Err(e)) => {
+            warnings.push(format!("{owner}: levels of detail ignored: {e}"));
+            Vec::new()
+        }
+        None => Vec::new(),
+    };
     let organ = Organ {
         stand_in,
+        lods,
         group: entry.group.clone(),
         opacity: entry.opacity,
         visible: entry.visible,

@@ -99,6 +99,30 @@ impl Renderer {
         }
     }
 
+    /// Draws organs coarser (Callahan 2005, ch. 5), aware of culling: each organ with
+    /// `levels[organ]` k > 0 is drawn whole at its level of detail k (its coarsest, where it has
+    /// fewer) in place of what culling kept of its full mesh, where that level has fewer triangles
+    /// than culling kept. An organ culling removed stays removed, so culling stays conservative
+    /// at any level; one mostly hidden keeps its culled full mesh.
+    pub fn coarsen(&self, draw: &mut crate::cull::DrawList, levels: &[u8]) {
+        for (organ, (ranges, &k)) in draw.ranges.iter_mut().zip(levels).enumerate() {
+            let mine = self.scene.levels(organ);
+            if k == 0 || mine.is_empty() {
+                continue;
+            }
+            let level = &mine[(k as usize).min(mine.len()) - 1];
+            let kept: u32 = ranges.iter().map(|r| r.end - r.start).sum();
+            if kept > level.end - level.start {
+                *ranges = vec![level.clone()];
+            }
+        }
+    }
+
+    /// Whether the set has levels of detail to draw while moving (some organ has one).
+    pub fn has_levels(&self) -> bool {
+        (0..self.scene.organ_count()).any(|o| !self.scene.levels(o).is_empty())
+    }
+
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones
     /// as `frame.transparency` says, then the outlines of highlighted and selected organs.
     pub fn render(

@@ -48,6 +48,10 @@ struct GpuMesh {
     closed: bool,
     /// Organ-space bounds, to tell which organs the clip planes cut.
     bounds: crate::mesh::Bounds,
+    /// Its levels of detail ([`crate::lod`]), coarsest last: index ranges relative to
+    /// `first_index`, after every organ's full mesh in the batch (so that full meshes stay
+    /// neighbours, and runs of them one draw call).
+    levels: Vec<Range<u32>>,
 }
 
 pub(super) struct GpuScene {
@@ -162,14 +166,31 @@ impl GpuScene {
             indices.clear();
         };
         let vertex_bytes = std::mem::size_of::<Vertex>() as u64;
+        // The organs of the batch being filled, with their vertices' base: their levels go last.
+        let mut pending: Vec<(usize, u32)> = Vec::new();
+        let mut pending_levels = 0u64;
+        let append_levels = |indices: &mut Vec<u32>, meshes: &mut Vec<GpuMesh>, pending: &mut Vec<(usize, u32)>| {
+            for (organ, base) in pending.drain(..) {
+                let m = &mut meshes[organ];
+                for level in set.organs[organ].lods() {
+                    let start = indices.len() as u32 - m.first_index;
+                    indices.extend(level.iter().map(|&v| v + base));
+                    m.levels.push(start..indices.len() as u32 - m.first_index);
+                }
+            }
+        };
         for (i, o) in set.organs.iter().enumerate() {
             let (nv, ni) = (o.mesh.positions.len() as u64, o.mesh.indices.len() as u64);
-            let bytes = (nv * vertex_bytes).max(ni * 4);
+            let nl: u64 = o.lods().iter().map(|l| l.len() as u64).sum();
+            let bytes = (nv * vertex_bytes).max((ni + nl) * 4);
             if bytes > max {
                 return Err(Error::BufferTooLarge { organ: o.id.clone(), bytes, max });
             }
-            let full = (vertices.len() as u64 + nv) * vertex_bytes > cap || (indices.len() as u64 + ni) * 4 > cap;
+            let full = (vertices.len() as u64 + nv) * vertex_bytes > cap
+                || (indices.len() as u64 + pending_levels + ni + nl) * 4 > cap;
             if full && !vertices.is_empty() {
+                append_levels(&mut indices, &mut meshes, &mut pending);
+                pending_levels = 0;
                 flush(&mut vertices, &mut indices, &mut batches);
             }
             let base = vertices.len() as u32;
@@ -187,9 +208,13 @@ impl GpuScene {
                 center: o.mesh.bounds().center(),
                 closed: o.closed(),
                 bounds: o.mesh.bounds(),
+                levels: Vec::new(),
             });
+            pending.push((i, base));
+            pending_levels += nl;
         }
         if !vertices.is_empty() || batches.is_empty() {
+            append_levels(&mut indices, &mut meshes, &mut pending);
             flush(&mut vertices, &mut indices, &mut batches);
         }
         let layout_of = |label, ty| {
@@ -375,6 +400,11 @@ impl GpuScene {
         }
         queue.write_buffer(&self.organ_buffer, section * self.section_bytes, bytemuck::cast_slice(&data));
         Shown { capped }
+    }
+
+    /// Its levels of detail, coarsest last, as index ranges a draw list may hold.
+    pub fn levels(&self, organ: usize) -> &[Range<u32>] {
+        self.meshes.get(organ).map_or(&[], |m| m.levels.as_slice())
     }
 
     /// Index ranges of an organ to draw: the draw list's, or all of it.

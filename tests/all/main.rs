@@ -12,6 +12,7 @@ mod culling;
 mod default_set;
 mod input_fuzz;
 mod loading;
+mod lod;
 mod mri;
 mod occluders;
 mod quiz;

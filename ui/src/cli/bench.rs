@@ -1,7 +1,7 @@
 //! `vbrain bench`: culling modes compared over the same camera path (see [`crate::lab::bench`]).
 //!
 //! - The arguments become plain options for the lab; with `--lod`, moving frames are timed by
-//!   render scale instead, printed as text or as `{"lod": ...}`.
+//!   level of detail and render scale instead, printed as text or as `{"lod": ...}`.
 //! - Refuses more than [`vbrain::clip::MAX_PLANES`] `--clip` planes.
 
 use super::common::{database, layout, open_set};

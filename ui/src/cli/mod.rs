@@ -17,6 +17,7 @@ mod export;
 mod import;
 mod info;
 mod lesson;
+mod lod;
 mod manual;
 mod masks;
 mod occluders;
@@ -92,6 +93,9 @@ pub enum Command {
     /// which occlusion culling rasterises in its place (written as meshes/ID.occluder.vbo); and
     /// for each solid, the faces inside it (meshes/SOLID.hidden.json)
     StandIns(StandInsArgs),
+    /// Build each organ's levels of detail (meshes/ID.lod, about a quarter and a sixteenth of its
+    /// triangles), which the viewer draws while the view moves
+    Lod(lod::LodArgs),
     /// Export a scene, set or lesson as glTF 2.0 (.glb) for Blender, slides and web viewers (the
     /// organs it shows, with names, colours, opacities, transforms, groups and info, cut by its
     /// planes) or as a web page that opens in any browser
@@ -341,6 +345,10 @@ pub struct RenderArgs {
     /// Show what culling removed in colour through a translucent grey model (thesis Figure 21)
     #[arg(long)]
     pub debug_culled: bool,
+    /// Draw each organ at its level of detail K, 0..=2 (as the viewer's moving frames do), where
+    /// that level has fewer triangles than culling keeps of it; 0 is the full meshes
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u8).range(0..=2))]
+    pub lod: u8,
     /// Transparency: how faded organs are drawn [default: screendoor]
     #[arg(long, value_parser = values::transparency_mode())]
     pub transparency: Option<TransparencyMode>,
@@ -437,8 +445,9 @@ pub struct BenchArgs {
     /// Cut the set, as `render --clip` does (with solid cut faces; repeatable, up to 4)
     #[arg(long, allow_hyphen_values = true, value_parser = values::clip_plane)]
     pub clip: Vec<vbrain::clip::ClipPlane>,
-    /// Level of detail instead of culling: time moving frames at full size, at each smaller render
-    /// scale the viewer uses and as the viewer chooses (auto), each scale's error against full size
+    /// Level of detail instead of culling: time moving frames at full detail, with each organ's
+    /// level from its projected size (area), with every organ at level 1 or 2, at each smaller
+    /// render scale the viewer uses, and as the viewer chooses (auto), each with its error
     #[arg(long)]
     pub lod: bool,
     /// Folder for bench.csv and bench.png
@@ -694,6 +703,7 @@ fn run_command(command: Command) -> anyhow::Result<bool> {
         Command::City(args) => city::run(&args),
         Command::Scale(args) => scale::run(&args),
         Command::StandIns(args) => stand_ins::run(&args),
+        Command::Lod(args) => lod::run(&args),
         Command::Export(args) => export::run(&args),
         Command::Completions(args) => manual::completions(&args),
         Command::Manual(args) => manual::pages(&args),

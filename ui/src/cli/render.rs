@@ -143,7 +143,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         time_gpu: args.report.json,
         ..FrameInput::new(&set, &camera, &layout)
     };
-    let (draw, cull) = culler.cull_frame(&renderer.cull_input(&input, &target), &settings);
+    let (mut draw, cull) = culler.cull_frame(&renderer.cull_input(&input, &target), &settings);
+    renderer.coarsen(&mut draw, &vec![args.lod; set.organs.len()]);
     let input = FrameInput { draw: Some(&draw), ..input };
     let stats = if args.debug_culled {
         renderer.render_cull_debug(&gpu.device, &gpu.queue, &mut target, &input)?

@@ -20,8 +20,9 @@ pub struct Status<'a> {
     pub loading: bool,
     /// The last frame's counts, the frame rate, and whether the camera walks (not orbits).
     pub frame: (vbrain::render::RenderStats, f32, bool),
-    /// The last frame's render scale: below 1 while moving frames are drawn smaller.
-    pub scale: f32,
+    /// The last frame's render scale (below 1 while moving frames are drawn smaller) and level of
+    /// detail (above 0 while they draw coarser organs).
+    pub detail: (f32, u8),
     /// Where the last frame's occluders came from.
     pub occluders: Option<vbrain::cull::OccluderSource>,
     pub settings: &'a Settings,
@@ -42,11 +43,16 @@ pub fn status_bar(ui: &mut egui::Ui, s: &Status) {
         ui.label(format!("{} / {} triangles drawn", stats.triangles_drawn, scene.set().triangle_count()));
         ui.separator();
         ui.label(format!("{} organs drawn", stats.organs_drawn));
-        if s.scale < 1.0 {
+        let (scale, level) = s.detail;
+        if scale < 1.0 || level > 0 {
             ui.separator();
-            let r = ui.label(format!("moving: drawn at {:.0} % size", s.scale * 100.0));
+            let coarser = if level > 0 { format!("organs at level of detail {level}") } else { String::new() };
+            let smaller = if scale < 1.0 { format!("drawn at {:.0} % size", scale * 100.0) } else { String::new() };
+            let both = if level > 0 && scale < 1.0 { ", " } else { "" };
+            let r = ui.label(format!("moving: {coarser}{both}{smaller}"));
             r.on_hover_text(
-                "While the view moves slowly, frames are drawn smaller and scaled up; still frames are full size",
+                "While the view moves slowly, organs are drawn with fewer triangles, then frames smaller and \
+                 scaled up; still frames are full detail and size",
             );
         }
         ui.separator();

@@ -68,6 +68,8 @@ pub struct Viewport {
     reduced: Option<(Target, egui::TextureId)>,
     /// The render scale of the frame last drawn (1 at full size).
     scale: f32,
+    /// The level of detail of the frame last drawn (0: full meshes).
+    level: u8,
     /// The rectangle the viewport last occupied (points).
     rect: Rect,
     frame_times: VecDeque<Instant>,
@@ -95,6 +97,7 @@ impl Default for Viewport {
             target: None,
             reduced: None,
             scale: 1.0,
+            level: 0,
             rect: Rect::NOTHING,
             frame_times: VecDeque::new(),
             labels: Default::default(),
@@ -152,6 +155,11 @@ impl Viewport {
     /// The render scale of the frame last drawn: below 1 while moving frames are drawn smaller.
     pub fn scale(&self) -> f32 {
         self.scale
+    }
+
+    /// The last frame's level of detail: above 0 while moving frames draw coarser organs.
+    pub fn level(&self) -> u8 {
+        self.level
     }
 
     pub fn fly(&self) -> bool {
@@ -489,7 +497,11 @@ impl Viewport {
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
         let cull_input = scene.renderer().cull_input(&frame, target);
-        let (draw, cull) = self.culler.cull_frame(&cull_input, &settings.cull);
+        let (mut draw, cull) = self.culler.cull_frame(&cull_input, &settings.cull);
+        let level = if self.moving { self.motion.0.level() } else { 0 };
+        if level > 0 {
+            scene.renderer().coarsen(&mut draw, &vec![level; scene.set().organs.len()]);
+        }
         let frame = FrameInput { draw: Some(&draw), ..frame };
         let faded = frame.has_transparent();
         let stats = if settings.cull_debug {
@@ -522,10 +534,11 @@ impl Viewport {
         self.stats = stats;
         self.cull = cull;
         self.scale = scale;
+        self.level = level;
         let now = Instant::now();
         let (quality, last) = &mut self.motion;
         if let (true, Some(last)) = (self.moving, *last) {
-            quality.observe_scale(now - last);
+            quality.observe_detail(now - last);
         }
         // Only frames whose faded organs screen-door draws tell how it fares.
         let screendoor = faded && settings.transparency.mode.mask_method().is_some();

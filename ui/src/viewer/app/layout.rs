@@ -29,7 +29,7 @@ impl App {
             scene: self.scene.as_ref(),
             loading: self.is_loading(),
             frame: (self.viewport.stats(), self.viewport.fps(), self.viewport.fly()),
-            scale: self.viewport.scale(),
+            detail: (self.viewport.scale(), self.viewport.level()),
             occluders: self.viewport.cull_stats().source,
             settings: &self.settings,
             selected: self.selected,

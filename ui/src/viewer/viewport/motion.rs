@@ -6,10 +6,11 @@
 //! opaque frame), so that a drag stays responsive on a heavy scene or a slow machine. When the
 //! motion stops, the still image converges to the full sub-samples. Times are the wall clock
 //! between two moving frames of the viewer.
-//! - Render scale (level of detail by pixels, Callahan 2005 §5): moving frames are drawn into a
-//!   smaller image, its sides one of [`SCALES`] of the view's, a step down while they take longer
-//!   than [`SCALE_BUDGET`] and a step up while they take under a third of it; still frames are
-//!   drawn at full size.
+//! - Level of detail (Callahan 2005, ch. 5): moving frames step down the ladder [`DETAIL`] while
+//!   they take longer than [`SCALE_BUDGET`] and up while they take under a third of it: first
+//!   smaller images, their sides one of [`SCALES`] of the view's, scaled up (the least error for
+//!   the time saved), then the organs' coarser levels of detail (where they have fewer triangles
+//!   than culling keeps). Still frames are drawn at full detail and size.
 
 use std::time::Duration;
 use vbrain::transparency::{clamp_subsamples, TransparencyMode, TransparencySettings};
@@ -22,6 +23,10 @@ pub const SCALE_BUDGET: Duration = Duration::from_millis(50);
 
 /// The render scales moving frames step through: each about halves the pixels of the one before.
 pub const SCALES: [f32; 4] = [1.0, 0.71, 0.5, 0.35];
+
+/// The steps moving frames take to hold their rate, cheapest in error first: the render scale,
+/// then the organs' level of detail ([`vbrain::lod`]).
+pub const DETAIL: [(u8, f32); 6] = [(0, 1.0), (0, 0.71), (0, 0.5), (0, 0.35), (1, 0.35), (2, 0.35)];
 
 /// How a moving frame draws faded organs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,8 +41,8 @@ pub enum Moving {
 pub struct MotionQuality {
     /// Where moving frames had to come down from the setting.
     down: Option<Moving>,
-    /// The render scale of moving frames: an index into [`SCALES`].
-    scale: usize,
+    /// The detail of moving frames: an index into [`DETAIL`].
+    detail: usize,
 }
 
 impl MotionQuality {
@@ -69,16 +74,21 @@ impl MotionQuality {
 
     /// The side of the next moving frame's image, as a share of the view's.
     pub fn scale(&self) -> f32 {
-        SCALES[self.scale.min(SCALES.len() - 1)]
+        DETAIL[self.detail.min(DETAIL.len() - 1)].1
     }
 
-    /// After a moving frame (of any kind) came `took` after the one before: a smaller image next
-    /// while frames are slow, a larger one while they are quick.
-    pub fn observe_scale(&mut self, took: Duration) {
+    /// The level of detail the next moving frame draws organs at (0: their full meshes).
+    pub fn level(&self) -> u8 {
+        DETAIL[self.detail.min(DETAIL.len() - 1)].0
+    }
+
+    /// After a moving frame (of any kind) came `took` after the one before: less detail next
+    /// while frames are slow, more while they are quick.
+    pub fn observe_detail(&mut self, took: Duration) {
         if took > SCALE_BUDGET {
-            self.scale = (self.scale + 1).min(SCALES.len() - 1);
+            self.detail = (self.detail + 1).min(DETAIL.len() - 1);
         } else if took < SCALE_BUDGET / 3 {
-            self.scale = self.scale.saturating_sub(1);
+            self.detail = self.detail.saturating_sub(1);
         }
     }
 
@@ -105,17 +115,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn slow_moving_frames_are_drawn_smaller_and_quick_ones_larger() {
+    fn slow_moving_frames_are_drawn_smaller_then_coarser_and_quick_ones_finer() {
         let mut q = MotionQuality::default();
-        assert_eq!(q.scale(), 1.0, "full size at first");
-        for expected in [0.71, 0.5, 0.35, 0.35] {
-            q.observe_scale(Duration::from_millis(80));
-            assert_eq!(q.scale(), expected);
+        assert_eq!((q.level(), q.scale()), (0, 1.0), "full detail at first");
+        for expected in [(0, 0.71), (0, 0.5), (0, 0.35), (1, 0.35), (2, 0.35), (2, 0.35)] {
+            q.observe_detail(Duration::from_millis(80));
+            assert_eq!((q.level(), q.scale()), expected);
         }
-        q.observe_scale(Duration::from_millis(30));
-        assert_eq!(q.scale(), 0.35, "within the budget: kept");
-        q.observe_scale(Duration::from_millis(10));
-        assert_eq!(q.scale(), 0.5, "well within it: larger");
+        q.observe_detail(Duration::from_millis(30));
+        assert_eq!(q.level(), 2, "within the budget: kept");
+        q.observe_detail(Duration::from_millis(10));
+        assert_eq!((q.level(), q.scale()), (1, 0.35), "well within it: finer");
+        for _ in 0..4 {
+            q.observe_detail(Duration::from_millis(10));
+        }
+        assert_eq!((q.level(), q.scale()), (0, 1.0), "back at full detail");
     }
 
     #[test]
