@@ -18,6 +18,10 @@ use std::path::Path;
 /// Each level's share of the organ's triangles.
 pub const RATIOS: [f32; 2] = [0.25, 0.0625];
 
+/// The most a level may depart from the organ's surface, as a share of the mesh's extent
+/// (meshopt's relative error): a level stops short of its triangle count where it would go further.
+pub const MAX_ERROR: f32 = 0.02;
+
 /// Organs with fewer triangles get no levels: they cost little to draw whole.
 pub const MIN_TRIANGLES: usize = 512;
 
@@ -37,7 +41,7 @@ pub fn levels(mesh: &Mesh, closed: bool) -> Vec<Vec<u32>> {
     for ratio in RATIOS {
         let source = out.last().unwrap_or(&mesh.indices);
         let target = ((triangles as f32 * ratio) as usize).max(4) * 3;
-        let level = meshopt::simplify(source, &adapter, target, 0.05, meshopt::SimplifyOptions::LockBorder, None);
+        let level = meshopt::simplify(source, &adapter, target, MAX_ERROR, meshopt::SimplifyOptions::LockBorder, None);
         // A level that saves little, or opens a closed organ, ends the chain.
         let opened = closed && {
             let m = Mesh { positions: mesh.positions.clone(), normals: Vec::new(), indices: level.clone() };

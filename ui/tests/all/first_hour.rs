@@ -319,4 +319,5 @@ fn slow_moving_frames_are_drawn_smaller_and_still_ones_in_full() {
     let budget = vbrain_ui::viewer::viewport::motion::SCALE_BUDGET;
     assert!(slowest <= budget || smallest < 1.0, "moving frames took up to {slowest:?}, yet all were full size");
     assert_eq!(h.state().viewport().scale(), 1.0, "the still view is drawn at full size");
+    assert_eq!(h.state().viewport().level(), 0, "and with the organs' full meshes");
 }
