@@ -24,6 +24,8 @@ pub struct FrameRecord {
     pub frame: usize,
     pub cull_ms: f64,
     pub frame_ms: f64,
+    /// The frame's GPU time, where the adapter has timestamp queries.
+    pub gpu_ms: Option<f64>,
     pub triangles: usize,
     pub triangles_drawn: usize,
     pub culled_percent: f64,
@@ -176,16 +178,22 @@ pub fn run(
         // Each mode culls its frames in turn, as a viewer would.
         let mut culler = Culler::new(database.cloned());
         // One frame: cull, draw, wait for the GPU.
-        let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats)> {
+        let mut frame = |i: usize| -> Result<(DrawList, crate::cull::CullStats, Option<f64>)> {
             let camera = route.camera(&home, i, frames);
             let exact_cuts = renderer.cuts_geometry();
             let cull = CullInput { section, exact_cuts, ..CullInput::new(set, layout, &camera, target.aspect()) };
             let (draw, stats) = culler.cull_frame(&cull, &settings);
-            let input =
-                FrameInput { draw: Some(&draw), transparency, section, ..FrameInput::new(set, &camera, layout) };
-            renderer.render(&gpu.device, &gpu.queue, &mut target, &input)?;
+            // The frame waits for the GPU anyway: its GPU time costs nothing more.
+            let input = FrameInput {
+                draw: Some(&draw),
+                transparency,
+                section,
+                time_gpu: true,
+                ..FrameInput::new(set, &camera, layout)
+            };
+            let drawn = renderer.render(&gpu.device, &gpu.queue, &mut target, &input)?;
             wait()?;
-            Ok((draw, stats))
+            Ok((draw, stats, drawn.gpu_ms))
         };
         // Warm up pipelines and caches.
         for i in 0..3.min(frames) {
@@ -193,7 +201,7 @@ pub fn run(
         }
         for (i, hidden) in hidden.iter().enumerate() {
             let started = Instant::now();
-            let (draw, stats) = frame(i)?;
+            let (draw, stats, gpu_ms) = frame(i)?;
             let frame_ms = started.elapsed().as_secs_f64() * 1000.0;
             let exact = hidden_leaves_culled(set, layout, &draw, hidden, &first_id);
             records.push(FrameRecord {
@@ -201,6 +209,7 @@ pub fn run(
                 frame: i,
                 cull_ms: stats.cull_ms,
                 frame_ms,
+                gpu_ms,
                 triangles: stats.triangles,
                 triangles_drawn: stats.drawn,
                 culled_percent: stats.culled_percent(),
@@ -259,6 +268,10 @@ fn hidden_leaves_culled(set: &OrganSet, layout: &Layout, draw: &DrawList, hidden
 pub struct Summary {
     pub median_frame_ms: f64,
     pub median_cull_ms: f64,
+    /// Median GPU time of a frame, where the adapter has timestamp queries.
+    pub median_gpu_ms: Option<f64>,
+    /// Median triangles drawn in a frame.
+    pub median_triangles_drawn: f64,
     pub mean_culled_percent: f64,
     pub max_culled_percent: f64,
     /// Share (percent) of the exactly hidden leaves that were culled, over all frames.
@@ -300,6 +313,11 @@ pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
     Summary {
         median_frame_ms: median(r.iter().map(|r| r.frame_ms).collect()),
         median_cull_ms: median(r.iter().map(|r| r.cull_ms).collect()),
+        median_gpu_ms: r
+            .iter()
+            .all(|r| r.gpu_ms.is_some())
+            .then(|| median(r.iter().filter_map(|r| r.gpu_ms).collect())),
+        median_triangles_drawn: median(r.iter().map(|r| r.triangles_drawn as f64).collect()),
         mean_culled_percent: r.iter().map(|r| r.culled_percent).sum::<f64>() / n,
         max_culled_percent: r.iter().map(|r| r.culled_percent).fold(0.0, f64::max),
         hidden_leaves_culled_percent: if exact == 0 { 100.0 } else { 100.0 * culled as f64 / exact as f64 },
@@ -311,9 +329,47 @@ pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
     }
 }
 
+/// What drawing a triangle must cost (nanoseconds) for `with` culling to pay against `without`
+/// (frustum culling or none): its extra CPU time per frame over the triangles a frame it spares.
+/// `None` where it spares none.
+pub fn break_even_ns(with: &Summary, without: &Summary) -> Option<f64> {
+    let spared = without.median_triangles_drawn - with.median_triangles_drawn;
+    (spared > 0.0).then(|| (with.median_cull_ms - without.median_cull_ms).max(0.0) * 1e6 / spared)
+}
+
+/// What drawing a triangle costs on this adapter (nanoseconds): a frame's GPU time (or, without
+/// timestamp queries, its time less culling) over the triangles it drew, with `summary`'s culling.
+pub fn draw_ns_per_triangle(summary: &Summary) -> Option<f64> {
+    let draw_ms = summary.median_gpu_ms.unwrap_or(summary.median_frame_ms - summary.median_cull_ms);
+    (summary.median_triangles_drawn > 0.0).then(|| draw_ms * 1e6 / summary.median_triangles_drawn)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn culling_pays_while_a_triangle_costs_more_than_the_culling_per_triangle_spared() {
+        let summary = |cull: f64, drawn: f64| Summary {
+            median_frame_ms: 10.0,
+            median_cull_ms: cull,
+            median_gpu_ms: Some(4.0),
+            median_triangles_drawn: drawn,
+            mean_culled_percent: 0.0,
+            max_culled_percent: 0.0,
+            hidden_leaves_culled_percent: 0.0,
+            exact_hidden_triangles_percent: 0.0,
+            back_face_culled_percent: 0.0,
+            clip_culled_percent: 0.0,
+            inside_culled_percent: 0.0,
+            drawn_over_visible: 0.0,
+        };
+        // 5 ms more culling spares 200,000 triangles: it pays above 25 ns a triangle.
+        let (with, without) = (summary(5.5, 50_000.0), summary(0.5, 250_000.0));
+        assert_eq!(break_even_ns(&with, &without), Some(25.0));
+        assert_eq!(break_even_ns(&without, &with), None, "sparing nothing never pays");
+        assert_eq!(draw_ns_per_triangle(&without), Some(16.0), "4 ms of GPU time over 250,000");
+    }
 
     #[test]
     fn medians() {

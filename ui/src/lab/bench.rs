@@ -62,9 +62,17 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
     let drawn_triangles = records.first().map(|r| r.triangles).unwrap_or(0);
     if opts.json {
         let mut out = serde_json::Map::new();
+        let none = modes.contains(&CullMode::None).then(|| bench::summarise(&records, CullMode::None));
         for &m in modes {
-            out.insert(m.name().into(), serde_json::to_value(bench::summarise(&records, m))?);
+            let s = bench::summarise(&records, m);
+            let mut value = serde_json::to_value(s)?;
+            if let (Some(none), serde_json::Value::Object(fields)) = (&none, &mut value) {
+                fields.insert("break_even_ns_per_triangle".into(), json!(bench::break_even_ns(&s, none)));
+            }
+            out.insert(m.name().into(), value);
         }
+        let none_draw = none.as_ref().and_then(bench::draw_ns_per_triangle);
+        out.insert("draw_ns_per_triangle".into(), json!(none_draw));
         out.insert("triangles".into(), json!(triangles));
         out.insert("triangles_drawn_organs".into(), json!(drawn_triangles));
         out.insert("frames".into(), json!(opts.frames));
@@ -103,21 +111,34 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
                 s.hidden_leaves_culled_percent
             );
         }
+        if let Some(none) = modes.contains(&CullMode::None).then(|| bench::summarise(&records, CullMode::None)) {
+            let here = bench::draw_ns_per_triangle(&none).unwrap_or(0.0);
+            for &m in modes.iter().filter(|&&m| m != CullMode::None) {
+                if let Some(ns) = bench::break_even_ns(&bench::summarise(&records, m), &none) {
+                    let verdict = if here > ns { "pays here" } else { "does not pay here" };
+                    println!(
+                        "{}: pays while a triangle takes over {ns:.1} ns to draw; this adapter takes {here:.1} ns ({verdict})",
+                        m.name()
+                    );
+                }
+            }
+        }
         println!("wrote {} and {}", csv.display(), plot.display());
     }
     Ok(())
 }
 
 fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(w, "mode,frame,cull_ms,frame_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,inside_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
+    writeln!(w, "mode,frame,cull_ms,frame_ms,gpu_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,inside_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
     for r in records {
         writeln!(
             w,
-            "{},{},{:.4},{:.4},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{:.4},{:.4},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
             r.mode.name(),
             r.frame,
             r.cull_ms,
             r.frame_ms,
+            r.gpu_ms.map_or(String::new(), |g| format!("{g:.4}")),
             r.triangles,
             r.triangles_drawn,
             r.culled_percent,

@@ -11,6 +11,7 @@
 //! - A frame is [`Viewport::allocate`], [`Viewport::input`], the app performing its actions, then
 //!   [`Viewport::draw`], so what is drawn includes this frame's moves.
 
+pub mod cull_choice;
 pub mod motion;
 
 use super::action::Action;
@@ -59,6 +60,8 @@ pub struct Viewport {
     cull: CullStats,
     /// Culls frame after frame, keeping where each organ's last traversal stopped.
     culler: Culler,
+    /// Whether occlusion culling pays here, measured now and then (the setting "occlusion").
+    cull_choice: cull_choice::CullChoice,
     /// The camera or an organ moved this frame: screen-door draws with fewer sub-samples.
     moving: bool,
     /// How moving frames draw faded organs, and when the last one was drawn.
@@ -92,6 +95,7 @@ impl Default for Viewport {
             stats: RenderStats::default(),
             cull: CullStats::default(),
             culler: Culler::default(),
+            cull_choice: Default::default(),
             moving: false,
             motion: Default::default(),
             target: None,
@@ -497,12 +501,19 @@ impl Viewport {
             ..FrameInput::new(scene.set(), &camera, scene.shown())
         };
         let cull_input = scene.renderer().cull_input(&frame, target);
-        let (mut draw, cull) = self.culler.cull_frame(&cull_input, &settings.cull);
+        // With the setting "occlusion", frustum culling where occlusion culling does not pay.
+        let (mut cull_settings, mut probe) = (settings.cull, false);
+        if cull_settings.mode == vbrain::cull::CullMode::Occlusion && !settings.cull_debug {
+            let key = cull_choice::layout_key(scene.shown());
+            (cull_settings.mode, probe) = self.cull_choice.next(Instant::now(), key);
+        }
+        let started = Instant::now();
+        let (mut draw, cull) = self.culler.cull_frame(&cull_input, &cull_settings);
         let level = if self.moving { self.motion.0.level() } else { 0 };
         if level > 0 {
             scene.renderer().coarsen(&mut draw, &vec![level; scene.set().organs.len()]);
         }
-        let frame = FrameInput { draw: Some(&draw), ..frame };
+        let frame = FrameInput { draw: Some(&draw), time_gpu: probe, ..frame };
         let faded = frame.has_transparent();
         let stats = if settings.cull_debug {
             scene.renderer().render_cull_debug(&rs.device, &rs.queue, target, &frame)
@@ -513,10 +524,19 @@ impl Viewport {
             Ok(s) => (s, None),
             Err(e) => (RenderStats::default(), Some(format!("drawing failed: {e}"))),
         };
+        if probe {
+            // Its drawing time: the GPU's, else the wall time until the GPU has finished.
+            let draw_ms = stats.gpu_ms.unwrap_or_else(|| {
+                let _ = rs.device.poll(wgpu::PollType::wait_indefinitely());
+                started.elapsed().as_secs_f64() * 1000.0 - cull.cull_ms
+            });
+            self.cull_choice.observe(cull_settings.mode, cull.cull_ms + draw_ms);
+        }
         let uv = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
-            overlay(ui, rect, (settings, &transparency), &cull, &stats, faded);
+            let why = (settings.cull.mode == vbrain::cull::CullMode::Occlusion).then(|| self.cull_choice.reason());
+            overlay(ui, rect, (settings, &transparency), (&cull, why), &stats, faded);
         }
         if input.labels != crate::annotate::Labels::None {
             self.paint_labels(ui, rect, input, &input.labels);
@@ -589,15 +609,16 @@ fn overlay(
     ui: &egui::Ui,
     rect: Rect,
     (settings, transparency): (&Settings, &vbrain::transparency::TransparencySettings),
-    cull: &CullStats,
+    (cull, why): (&CullStats, Option<String>),
     stats: &RenderStats,
     faded: bool,
 ) {
     let mut lines = Vec::new();
     if settings.cull.mode != vbrain::cull::CullMode::None {
         lines.push(format!(
-            "culling: {}\n{:.1} % culled ({} frustum, {} occlusion{}, {} facing away{} triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
+            "culling: {}{}\n{:.1} % culled ({} frustum, {} occlusion{}, {} facing away{} triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
             settings.cull.mode.name(),
+            why.map_or(String::new(), |w| format!(" ({w})")),
             cull.culled_percent(),
             cull.frustum_culled,
             cull.occlusion_culled,

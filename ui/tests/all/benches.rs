@@ -47,6 +47,10 @@ fn bench_draws_faded_organs_as_told_and_counts_what_it_culls() {
     assert!(v["occlusion"]["exact_hidden_triangles_percent"].as_f64().unwrap() > 10.0);
     assert_eq!(v["none"]["hidden_leaves_culled_percent"].as_f64(), Some(0.0));
     assert!(v["occlusion"]["hidden_leaves_culled_percent"].as_f64().unwrap() > 0.0);
+    // Where culling stops paying: its extra time over the triangles it spares, against what a
+    // triangle takes this adapter to draw.
+    let (spared, here) = (v["occlusion"]["break_even_ns_per_triangle"].as_f64(), v["draw_ns_per_triangle"].as_f64());
+    assert!(spared.is_some_and(|ns| ns > 0.0) && here.is_some_and(|ns| ns > 0.0), "{spared:?} {here:?}");
     assert!(dir.path().join("bench.csv").is_file());
     // Every organ faded: nothing is hidden from the exact pass's point of view.
     let v = bench(&["--opacity", "all=0.5", "--transparency", "weighted-blended"]);
