@@ -11,9 +11,9 @@
 //!   ([`vbrain::atomic::write_folder`]), so `--force` replaces the folder, never mixes into it.
 //! - The outputs of one run never lie inside one another (a model inside a page's folder).
 //! - An experiment's folder (`bench`, `masks`, ...) is its own once an experiment has written it
-//!   (a [`EXPERIMENT_MARK`] file inside says so): later runs replace their files there. A folder
-//!   that holds anything else is refused unless `--force`; the experiments never touch the other
-//!   files in it.
+//!   (a [`crate::lab::EXPERIMENT_MARK`] file inside says so): later runs replace their files
+//!   there. A folder that holds anything else is refused unless `--force`; the experiments never
+//!   touch the other files in it.
 
 use anyhow::{bail, Result};
 use std::io::Write;
@@ -122,22 +122,17 @@ pub fn folder(dir: &Path, force: bool, inputs: &[&Path]) -> Result<()> {
     Ok(())
 }
 
-/// The file that marks a folder as written by vbrain's experiments.
-pub const EXPERIMENT_MARK: &str = ".vbrain-experiments";
-
-/// Checks the folder of an experiment's results, makes it, and marks it as the experiments' own.
+/// Checks the folder of an experiment's results (the experiment makes and marks it,
+/// [`crate::lab::output_folder`], once its own arguments are checked).
 pub fn experiment_folder(dir: &Path, force: bool) -> Result<()> {
     let held = vbrain::atomic::folder_entries(dir)?;
-    if held > 0 && !force && !dir.join(EXPERIMENT_MARK).is_file() {
+    if held > 0 && !force && !dir.join(crate::lab::EXPERIMENT_MARK).is_file() {
         bail!(
             "{}: already holds {held} files or folders that no vbrain experiment wrote; give --force to write \
              there anyway (only the experiment's own files are replaced), or a new folder",
             dir.display()
         );
     }
-    std::fs::create_dir_all(dir).map_err(|e| anyhow::anyhow!("{}: {e}", dir.display()))?;
-    let note = "Results of vbrain's experiments: a later run writes its files here again.\n";
-    vbrain::atomic::write(&dir.join(EXPERIMENT_MARK), |w| w.write_all(note.as_bytes()))?;
     Ok(())
 }
 

@@ -17,11 +17,15 @@ pub mod transparency_bench;
 use anyhow::{anyhow, Result};
 use std::path::Path;
 
-/// Makes the output folder `out` and checks that it takes files, before an experiment runs (a
-/// long run must not end on an unwritable folder).
+/// The file that marks a folder as written by vbrain's experiments: their later runs write there
+/// again without `--force` (`crate::cli::outputs::experiment_folder`).
+pub const EXPERIMENT_MARK: &str = ".vbrain-experiments";
+
+/// Makes the output folder `out`, checks that it takes files (a long run must not end on an
+/// unwritable folder) and marks it as the experiments' own, before an experiment runs.
 pub fn output_folder(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| anyhow!("{}: {e}", out.display()))?;
-    let probe = out.join(format!(".vbrain-probe-{}", std::process::id()));
-    std::fs::write(&probe, b"").map_err(|e| anyhow!("{}: cannot write there: {e}", out.display()))?;
-    std::fs::remove_file(&probe).map_err(|e| anyhow!("{}: {e}", probe.display()))
+    let note = "Results of vbrain's experiments: a later run writes its files here again.\n";
+    vbrain::atomic::write(&out.join(EXPERIMENT_MARK), |w| w.write_all(note.as_bytes()))
+        .map_err(|e| anyhow!("{}: cannot write there: {e}", out.display()))
 }

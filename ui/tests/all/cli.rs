@@ -528,6 +528,7 @@ fn quiz_writes_a_worksheet_with_an_answer_key() {
         assert!(q["choices"].as_array().unwrap().iter().any(|c| c == organ));
     }
     assert_eq!(answers.lines().filter(|l| l.starts_with(char::is_numeric)).count(), 8);
+    // The same seed again, over the first worksheet (replaced whole with --force).
     let again = vbrain(&[
         "quiz",
         &brain(),
@@ -537,6 +538,7 @@ fn quiz_writes_a_worksheet_with_an_answer_key() {
         "3",
         "--size",
         "160x120",
+        "--force",
         "--out",
         out.to_str().unwrap(),
         "--json",
