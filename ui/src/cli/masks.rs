@@ -3,10 +3,41 @@
 //! - `--mask WxH` counts sub-samples (W x H of them); the arguments become the core's experiment,
 //!   which the lab runs and writes into `--out`.
 
-use super::MasksArgs;
 use crate::lab::masks::{self, MasksOptions};
 use anyhow::Result;
+use std::path::PathBuf;
 use vbrain::lab::masks::Experiment;
+
+#[derive(clap::Args)]
+pub struct MasksArgs {
+    /// Mask size, WxH sub-samples (the thesis: 16x16 and 32x32)
+    #[arg(long, default_value = "16x16", value_parser = super::values::size)]
+    pub mask: super::Size,
+    /// Transparent objects stacked per trial, 1..=256
+    #[arg(long, default_value_t = 16, value_parser = super::count(1, 256))]
+    pub objects: usize,
+    /// Trials, 1..=1000000
+    #[arg(long, default_value_t = 1000, value_parser = super::count(1, 1_000_000))]
+    pub trials: usize,
+    /// One opacity for every object, 0..=1 (default: random per object)
+    #[arg(long, value_parser = super::values::unit)]
+    pub alpha: Option<f32>,
+    /// Farther objects a new mask's error compensation weighs (the nearer ones all count, merged
+    /// into one), 1..=64
+    #[arg(long, default_value_t = vbrain::transparency::DEFAULT_K, value_parser = super::k())]
+    pub k: usize,
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Folder for masks.csv and masks.png
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
+    #[command(flatten)]
+    pub report: super::Report,
+}
 
 pub fn run(args: &MasksArgs) -> Result<bool> {
     super::outputs::experiment_folder(&args.out, args.force)?;

@@ -38,7 +38,7 @@ use values::{Orbit, OrganOpacity, RouteFrame, Size};
 use vbrain::camera::View;
 use vbrain::cull::{CullMode, CullSettings, Selection};
 use vbrain::lab::bench::Route;
-use vbrain::transparency::{TransparencyMode, TransparencySettings};
+use vbrain::transparency::TransparencyMode;
 
 #[derive(Parser)]
 #[command(name = "vbrain", version = crate::VERSION, about = "Explore the brain as a set of organs: viewer and headless tools")]
@@ -75,10 +75,10 @@ pub enum Command {
     /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
     Bench(BenchArgs),
     /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
-    Masks(MasksArgs),
+    Masks(masks::MasksArgs),
     /// Compare the transparency modes against the exact reference on views with 4 to 99
     /// transparent organs; also time mask regeneration at 1920x1080
-    BenchTransparency(BenchTransparencyArgs),
+    BenchTransparency(bench_transparency::BenchTransparencyArgs),
     /// What sectional anatomy costs: a 512x512 slice pane's redraw, and a frame with the MRI on
     /// its cut faces against one with coloured cut faces
     BenchSections(bench_sections::BenchSectionsArgs),
@@ -451,57 +451,6 @@ pub struct BenchArgs {
     #[arg(long)]
     pub lod: bool,
     /// Folder for bench.csv and bench.png
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
-    #[command(flatten)]
-    pub report: Report,
-}
-
-#[derive(clap::Args)]
-pub struct MasksArgs {
-    /// Mask size, WxH sub-samples (the thesis: 16x16 and 32x32)
-    #[arg(long, default_value = "16x16", value_parser = values::size)]
-    pub mask: Size,
-    /// Transparent objects stacked per trial, 1..=256
-    #[arg(long, default_value_t = 16, value_parser = count(1, 256))]
-    pub objects: usize,
-    /// Trials, 1..=1000000
-    #[arg(long, default_value_t = 1000, value_parser = count(1, 1_000_000))]
-    pub trials: usize,
-    /// One opacity for every object, 0..=1 (default: random per object)
-    #[arg(long, value_parser = values::unit)]
-    pub alpha: Option<f32>,
-    /// Farther objects a new mask's error compensation weighs (the nearer ones all count, merged
-    /// into one), 1..=64
-    #[arg(long, default_value_t = vbrain::transparency::DEFAULT_K, value_parser = k())]
-    pub k: usize,
-    #[arg(long, default_value_t = 1)]
-    pub seed: u64,
-    /// Folder for masks.csv and masks.png
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
-    #[command(flatten)]
-    pub report: Report,
-}
-
-#[derive(clap::Args)]
-pub struct BenchTransparencyArgs {
-    pub path: PathBuf,
-    /// Image size, WxH
-    #[arg(long, default_value = "384x384", value_parser = values::size)]
-    pub size: Size,
-    /// Screen-door mask region side in pixels
-    #[arg(long, default_value_t = TransparencySettings::default().region_px, value_parser = region())]
-    pub region: u32,
-    /// Folder for transparency.csv, transparency.png and transparency-sheet.png
     #[arg(long, default_value = "bench-out")]
     pub out: PathBuf,
     /// Write into --out even where it holds files no vbrain experiment wrote (only the
