@@ -345,13 +345,14 @@ fn import_a_label_volume_then_scale_it() {
     // A folder that holds a set is not written over without --force, nor a manifest by an image.
     let before = std::fs::read(out.join("organset.json")).unwrap();
     let (o, s) = (out.to_str().unwrap(), scaled.to_str().unwrap());
-    for args in [
-        &["import", vol.to_str().unwrap(), "--labels", csv.to_str().unwrap(), "--out", o][..],
-        &["scale", o, "--factor", "4", "--out", o],
-        &["scale", o, "--factor", "4", "--out", s],
+    for (args, says) in [
+        (&["import", vol.to_str().unwrap(), "--labels", csv.to_str().unwrap(), "--out", o][..], "--force"),
+        // Its own input, which --force would not change.
+        (&["scale", o, "--factor", "4", "--out", o], "holds what this command reads"),
+        (&["scale", o, "--factor", "4", "--out", s], "--force"),
     ] {
         let r = vbrain(args);
-        assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains("--force"), "{args:?}");
+        assert!(!r.status.success() && String::from_utf8_lossy(&r.stderr).contains(says), "{args:?}");
     }
     let manifest = out.join("organset.json");
     let r = vbrain(&["render", o, "--size", "32x32", "--out", manifest.to_str().unwrap()]);
