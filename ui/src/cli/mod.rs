@@ -76,7 +76,7 @@ pub enum Command {
     Bench(BenchArgs),
     /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
     Masks(masks::MasksArgs),
-    /// Compare the transparency modes against the exact reference on views with 4 to 99
+    /// Compare the transparency modes against the exact reference on views with 1 to 99
     /// transparent organs; also time mask regeneration at 1920x1080
     BenchTransparency(bench_transparency::BenchTransparencyArgs),
     /// What sectional anatomy costs: a 512x512 slice pane's redraw, and a frame with the MRI on
