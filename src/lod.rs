@@ -117,35 +117,9 @@ pub fn read(path: &Path, vertices: usize, indices: usize) -> Result<Vec<Vec<u32>
 mod tests {
     use super::*;
 
-    /// A closed UV sphere of `rings` x `segments`, vertices shared.
-    fn sphere(rings: u32, segments: u32) -> Mesh {
-        let mut positions = vec![[0.0, 0.0, 10.0]];
-        for r in 1..rings {
-            let theta = std::f32::consts::PI * r as f32 / rings as f32;
-            for s in 0..segments {
-                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-                positions.push([10.0 * theta.sin() * phi.cos(), 10.0 * theta.sin() * phi.sin(), 10.0 * theta.cos()]);
-            }
-        }
-        positions.push([0.0, 0.0, -10.0]);
-        let (ring, south) = (|r: u32, s: u32| 1 + (r - 1) * segments + s % segments, positions.len() as u32 - 1);
-        let mut indices = Vec::new();
-        for s in 0..segments {
-            indices.extend([0, ring(1, s), ring(1, s + 1)]);
-            indices.extend([south, ring(rings - 1, s + 1), ring(rings - 1, s)]);
-            for r in 1..rings - 1 {
-                let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
-                indices.extend([a, c, d, a, d, b]);
-            }
-        }
-        let mut m = Mesh { positions, normals: vec![], indices };
-        m.compute_normals();
-        m
-    }
-
     #[test]
     fn a_chain_shrinks_stays_closed_and_reads_back() {
-        let mesh = sphere(32, 64);
+        let mesh = Mesh::uv_sphere(10.0, 32, 64);
         assert!(mesh.is_closed_outward());
         let levels = levels(&mesh, true);
         assert_eq!(levels.len(), 2, "two levels of a sphere of {} triangles", mesh.triangle_count());
@@ -171,7 +145,7 @@ mod tests {
 
     #[test]
     fn a_small_mesh_gets_no_levels() {
-        let mesh = sphere(8, 8);
+        let mesh = Mesh::uv_sphere(10.0, 8, 8);
         assert!(mesh.triangle_count() < MIN_TRIANGLES);
         assert!(levels(&mesh, true).is_empty());
     }

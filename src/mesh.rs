@@ -164,6 +164,36 @@ impl Mesh {
         m
     }
 
+    /// A closed UV sphere of `radius` at the origin, `rings` x `segments`, wound outward, vertices
+    /// shared, with normals.
+    pub fn uv_sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
+        let mut positions = vec![[0.0, 0.0, radius]];
+        for r in 1..rings {
+            let theta = std::f32::consts::PI * r as f32 / rings as f32;
+            for s in 0..segments {
+                let phi = std::f32::consts::TAU * s as f32 / segments as f32;
+                positions.push(
+                    (glam::Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()) * radius)
+                        .to_array(),
+                );
+            }
+        }
+        positions.push([0.0, 0.0, -radius]);
+        let (ring, south) = (|r: u32, s: u32| 1 + (r - 1) * segments + s % segments, positions.len() as u32 - 1);
+        let mut indices = Vec::new();
+        for s in 0..segments {
+            indices.extend([0, ring(1, s), ring(1, s + 1)]);
+            indices.extend([south, ring(rings - 1, s + 1), ring(rings - 1, s)]);
+            for r in 1..rings - 1 {
+                let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
+                indices.extend([a, c, d, a, d, b]);
+            }
+        }
+        let mut m = Mesh { positions, normals: vec![], indices };
+        m.compute_normals();
+        m
+    }
+
     /// Checks the invariants stated on [`Mesh`]; returns the first violation.
     pub fn validate(&self) -> Result<(), MeshDefect> {
         if self.normals.len() != self.positions.len() {

@@ -38,9 +38,9 @@ pub fn read_volume(path: &Path) -> Result<LabelVolume> {
     // The surfaces lie inside the voxel grid's corners: where the affine puts one beyond what a
     // mesh may hold, the set would be written and then refused by every command.
     let limit = super::obj::MAX_COORDINATE;
-    for corner in 0..8u32 {
-        let at = |axis: usize| if corner & (1 << axis) == 0 { -0.5 } else { raw.dims[axis] as f32 - 0.5 };
-        let p = raw.affine.transform_point3(glam::Vec3::new(at(0), at(1), at(2)));
+    let grid = crate::mesh::Bounds { min: [-0.5; 3], max: raw.dims.map(|d| d as f32 - 0.5) };
+    for corner in grid.corners() {
+        let p = raw.affine.transform_point3(corner);
         if !p.is_finite() || p.abs().max_element() > limit {
             return Err(Error::parse(
                 path,

@@ -118,11 +118,6 @@ impl Renderer {
         }
     }
 
-    /// Whether the set has levels of detail to draw while moving (some organ has one).
-    pub fn has_levels(&self) -> bool {
-        (0..self.scene.organ_count()).any(|o| !self.scene.levels(o).is_empty())
-    }
-
     /// Draws the frame into `target`'s colour image: opaque organs with depth, then transparent ones
     /// as `frame.transparency` says, then the outlines of highlighted and selected organs.
     pub fn render(

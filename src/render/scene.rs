@@ -149,7 +149,22 @@ impl GpuScene {
         let cap = max.min(BATCH_BYTES);
         let mut meshes = Vec::with_capacity(set.organs.len());
         let (mut batches, mut vertices, mut indices) = (Vec::new(), Vec::<Vertex>::new(), Vec::<u32>::new());
-        let flush = |vertices: &mut Vec<Vertex>, indices: &mut Vec<u32>, batches: &mut Vec<Batch>| {
+        let vertex_bytes = std::mem::size_of::<Vertex>() as u64;
+        // The organs of the batch being filled, with their vertices' base: their levels of detail
+        // go after all of the batch's full meshes, when the batch is closed.
+        let (mut pending, mut pending_levels): (Vec<(usize, u32)>, u64) = (Vec::new(), 0);
+        let close = |vertices: &mut Vec<Vertex>,
+                     indices: &mut Vec<u32>,
+                     (meshes, pending): (&mut Vec<GpuMesh>, &mut Vec<(usize, u32)>),
+                     batches: &mut Vec<Batch>| {
+            for (organ, base) in pending.drain(..) {
+                let m = &mut meshes[organ];
+                for level in set.organs[organ].lods() {
+                    let start = indices.len() as u32 - m.first_index;
+                    indices.extend(level.iter().map(|&v| v + base));
+                    m.levels.push(start..indices.len() as u32 - m.first_index);
+                }
+            }
             let buffer = |contents: &[u8], usage| {
                 device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some("organs"), contents, usage })
             };
@@ -165,20 +180,6 @@ impl GpuScene {
             vertices.clear();
             indices.clear();
         };
-        let vertex_bytes = std::mem::size_of::<Vertex>() as u64;
-        // The organs of the batch being filled, with their vertices' base: their levels go last.
-        let mut pending: Vec<(usize, u32)> = Vec::new();
-        let mut pending_levels = 0u64;
-        let append_levels = |indices: &mut Vec<u32>, meshes: &mut Vec<GpuMesh>, pending: &mut Vec<(usize, u32)>| {
-            for (organ, base) in pending.drain(..) {
-                let m = &mut meshes[organ];
-                for level in set.organs[organ].lods() {
-                    let start = indices.len() as u32 - m.first_index;
-                    indices.extend(level.iter().map(|&v| v + base));
-                    m.levels.push(start..indices.len() as u32 - m.first_index);
-                }
-            }
-        };
         for (i, o) in set.organs.iter().enumerate() {
             let (nv, ni) = (o.mesh.positions.len() as u64, o.mesh.indices.len() as u64);
             let nl: u64 = o.lods().iter().map(|l| l.len() as u64).sum();
@@ -189,9 +190,8 @@ impl GpuScene {
             let full = (vertices.len() as u64 + nv) * vertex_bytes > cap
                 || (indices.len() as u64 + pending_levels + ni + nl) * 4 > cap;
             if full && !vertices.is_empty() {
-                append_levels(&mut indices, &mut meshes, &mut pending);
+                close(&mut vertices, &mut indices, (&mut meshes, &mut pending), &mut batches);
                 pending_levels = 0;
-                flush(&mut vertices, &mut indices, &mut batches);
             }
             let base = vertices.len() as u32;
             let first_index = indices.len() as u32;
@@ -214,8 +214,7 @@ impl GpuScene {
             pending_levels += nl;
         }
         if !vertices.is_empty() || batches.is_empty() {
-            append_levels(&mut indices, &mut meshes, &mut pending);
-            flush(&mut vertices, &mut indices, &mut batches);
+            close(&mut vertices, &mut indices, (&mut meshes, &mut pending), &mut batches);
         }
         let layout_of = |label, ty| {
             device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -37,7 +37,7 @@ fn a_coarser_frame_draws_fewer_triangles_looks_alike_and_keeps_culling() {
     let gpu = gpu();
     let set = default_set();
     let renderer = Renderer::new(&gpu.device, set).unwrap();
-    assert!(renderer.has_levels());
+    assert!(set.organs.iter().any(|o| !o.lods().is_empty()));
     let mut layout = Layout::new(set);
     for o in set.select("Left hemisphere") {
         layout.organs[o].opacity = 0.5;

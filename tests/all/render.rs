@@ -198,7 +198,7 @@ fn no_white_matter_shows_between_the_gyri() {
 fn outlines_ring_the_silhouette_in_their_colours() {
     use vbrain::organ_set::Organ;
     let gpu = gpu();
-    let sphere = crate::sections::sphere(20.0, 24, 48);
+    let sphere = vbrain::mesh::Mesh::uv_sphere(20.0, 24, 48);
     let set = OrganSet { organs: vec![Organ::new("s".into(), "S".into(), [0.5; 3], sphere)], ..Default::default() };
     let renderer = Renderer::new(&gpu.device, &set).unwrap();
     let layout = Layout::new(&set);

@@ -11,39 +11,12 @@ use vbrain::mesh::Mesh;
 use vbrain::organ_set::{Organ, OrganSet};
 use vbrain::render::{linear_to_srgb, FrameInput, Renderer, Target};
 
-/// A closed UV sphere of `radius` at the origin, wound outward, vertices shared.
-pub(crate) fn sphere(radius: f32, rings: u32, segments: u32) -> Mesh {
-    let mut positions = vec![[0.0, 0.0, radius]];
-    for r in 1..rings {
-        let theta = std::f32::consts::PI * r as f32 / rings as f32;
-        for s in 0..segments {
-            let phi = std::f32::consts::TAU * s as f32 / segments as f32;
-            positions
-                .push((Vec3::new(theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()) * radius).to_array());
-        }
-    }
-    positions.push([0.0, 0.0, -radius]);
-    let (ring, south) = (|r: u32, s: u32| 1 + (r - 1) * segments + s % segments, positions.len() as u32 - 1);
-    let mut indices = Vec::new();
-    for s in 0..segments {
-        indices.extend([0, ring(1, s), ring(1, s + 1)]);
-        indices.extend([south, ring(rings - 1, s + 1), ring(rings - 1, s)]);
-        for r in 1..rings - 1 {
-            let (a, b, c, d) = (ring(r, s), ring(r, s + 1), ring(r + 1, s), ring(r + 1, s + 1));
-            indices.extend([a, c, d, a, d, b]);
-        }
-    }
-    let mut m = Mesh { positions, normals: vec![], indices };
-    m.compute_normals();
-    m
-}
-
 #[test]
 fn a_sphere_cut_through_its_centre_shows_a_solid_disc() {
     let gpu = gpu();
     let colour = [0.8, 0.3, 0.2];
     let set = OrganSet {
-        organs: vec![Organ::new("ball".into(), "Ball".into(), colour, sphere(20.0, 24, 48))],
+        organs: vec![Organ::new("ball".into(), "Ball".into(), colour, Mesh::uv_sphere(20.0, 24, 48))],
         ..Default::default()
     };
     assert!(set.organs[0].closed(), "the test sphere is closed");
@@ -99,7 +72,7 @@ fn the_mri_shows_on_the_cut_face_where_its_voxels_are_and_moves_with_its_organ()
     use vbrain::mri::{Mri, Window};
     let gpu = gpu();
     let mut set = OrganSet {
-        organs: vec![Organ::new("ball".into(), "Ball".into(), [0.8, 0.3, 0.2], sphere(20.0, 24, 48))],
+        organs: vec![Organ::new("ball".into(), "Ball".into(), [0.8, 0.3, 0.2], Mesh::uv_sphere(20.0, 24, 48))],
         ..Default::default()
     };
     let n = 41;

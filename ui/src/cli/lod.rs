@@ -36,13 +36,7 @@ pub fn run(args: &LodArgs) -> Result<bool> {
     let full: usize = rows.iter().map(|r| r.1).sum();
     // The set's triangles with every organ at level k, or its coarsest where it has fewer.
     let per_level: Vec<usize> = (1..=vbrain::lod::RATIOS.len())
-        .map(|k| {
-            rows.iter()
-                .map(|(_, t, levels)| {
-                    levels.get(..k).and_then(|l| l.last()).copied().or(levels.last().copied()).unwrap_or(*t)
-                })
-                .sum()
-        })
+        .map(|k| rows.iter().map(|(_, t, levels)| levels.get(k - 1).or(levels.last()).copied().unwrap_or(*t)).sum())
         .collect();
     if args.report.json {
         let organs: Vec<_> =

@@ -75,12 +75,10 @@ pub fn levels_by_area(set: &OrganSet, layout: &Layout, camera: &vbrain::camera::
             if o.lods().is_empty() || !state.is_drawn() {
                 return 0;
             }
-            let (b, model) = (o.bounds(), state.transform.matrix());
+            let model = state.transform.matrix();
             let (mut lo, mut hi) = (glam::Vec2::splat(f32::MAX), glam::Vec2::splat(f32::MIN));
-            for corner in 0..8 {
-                let pick = |axis: usize| if corner & (1 << axis) == 0 { b.min[axis] } else { b.max[axis] };
-                let clip =
-                    view_projection * model.transform_point3(glam::Vec3::new(pick(0), pick(1), pick(2))).extend(1.0);
+            for corner in o.bounds().corners() {
+                let clip = view_projection * model.transform_point3(corner).extend(1.0);
                 if clip.w <= 1e-6 {
                     return 0;
                 }
