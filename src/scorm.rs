@@ -75,16 +75,11 @@ pub fn package(page: &Page) -> std::io::Result<Vec<u8>> {
     Ok(zip.finish()?.into_inner())
 }
 
-/// Writes the package of `page` to `out` (atomically; with `replace` false, only as a new file, so
-/// that another writer's file is never replaced); gives its size in bytes.
-pub fn write(out: &Path, page: &Page, replace: bool) -> Result<usize> {
+/// Writes the package of `page` to the new file `out` (atomically, and only as a new file, so that
+/// another writer's file is never replaced); gives its size in bytes.
+pub fn write(out: &Path, page: &Page) -> Result<usize> {
     let bytes = package(page).map_err(|e| Error::io(out, e))?;
-    let fill = |w: &mut dyn Write| w.write_all(&bytes);
-    if replace {
-        crate::atomic::write(out, fill)?;
-    } else {
-        crate::atomic::write_new(out, fill)?;
-    }
+    crate::atomic::write_new(out, |w| w.write_all(&bytes))?;
     Ok(bytes.len())
 }
 

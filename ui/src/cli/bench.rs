@@ -13,7 +13,7 @@ use vbrain::cull::CullSettings;
 use vbrain::transparency::TransparencySettings;
 
 pub fn run(args: &BenchArgs) -> Result<bool> {
-    super::outputs::experiment_folder(&args.out, args.force)?;
+    args.results.check()?;
     let set = open_set(&args.path)?;
     let layout = layout(&set, &args.layout)?;
     let settings = CullSettings {
@@ -37,7 +37,7 @@ pub fn run(args: &BenchArgs) -> Result<bool> {
         modes: &args.cull,
         route: args.route,
         json: args.report.json,
-        out: &args.out,
+        out: &args.results.out,
         settings,
         transparency,
         database: database(&args.path, &set),

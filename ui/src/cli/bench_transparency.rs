@@ -17,21 +17,16 @@ pub struct BenchTransparencyArgs {
     /// Screen-door mask region side in pixels
     #[arg(long, default_value_t = vbrain::transparency::TransparencySettings::default().region_px, value_parser = super::region())]
     pub region: u32,
-    /// Folder for transparency.csv, transparency.png and transparency-sheet.png
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub results: super::ExperimentOut,
     #[command(flatten)]
     pub report: super::Report,
 }
 
 pub fn run(args: &BenchTransparencyArgs) -> Result<bool> {
-    super::outputs::experiment_folder(&args.out, args.force)?;
+    args.results.check()?;
     let set = open_set(&args.path)?;
     let size = (args.size.width, args.size.height);
-    crate::lab::transparency_bench::run(&set, size, args.region, &args.out, args.report.json)?;
+    crate::lab::transparency_bench::run(&set, size, args.region, &args.results.out, args.report.json)?;
     Ok(true)
 }

@@ -68,8 +68,9 @@ pub fn run(args: &ExportArgs) -> Result<bool> {
         summary["web"] = json!({"out": dir, "bytes": bytes, "steps": page.views.len()});
     }
     if let Some(out) = &scorm {
-        let bytes = vbrain::scorm::write(out.path(), &page, out.replaces()).map_err(|e| anyhow!(e))?;
-        let out = out.path();
+        let package = vbrain::scorm::package(&page).map_err(|e| anyhow!("{}: {e}", out.path().display()))?;
+        out.write(|w| w.write_all(&package))?;
+        let (out, bytes) = (out.path(), package.len());
         let quiz = page.quiz.as_ref().map(|q| (q.questions.len(), q.pass_mark)).unwrap_or_default();
         if !args.report.json {
             println!(

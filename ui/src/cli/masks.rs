@@ -5,7 +5,6 @@
 
 use crate::lab::masks::{self, MasksOptions};
 use anyhow::Result;
-use std::path::PathBuf;
 use vbrain::lab::masks::Experiment;
 
 #[derive(clap::Args)]
@@ -28,22 +27,17 @@ pub struct MasksArgs {
     pub k: usize,
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Folder for masks.csv and masks.png
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub results: super::ExperimentOut,
     #[command(flatten)]
     pub report: super::Report,
 }
 
 pub fn run(args: &MasksArgs) -> Result<bool> {
-    super::outputs::experiment_folder(&args.out, args.force)?;
+    args.results.check()?;
     let n = args.mask.width as usize * args.mask.height as usize;
     let experiment =
         Experiment { n, objects: args.objects, trials: args.trials, alpha: args.alpha, k: args.k, seed: args.seed };
-    masks::run(&MasksOptions { experiment, out: &args.out, json: args.report.json })?;
+    masks::run(&MasksOptions { experiment, out: &args.results.out, json: args.report.json })?;
     Ok(true)
 }

@@ -72,18 +72,22 @@ pub enum Command {
     Slice(slice::SliceArgs),
     /// Turn a label volume (NIfTI) and its label table into an organ set
     Import(ImportArgs),
-    /// Benchmark culling: the camera orbits the set; each mode runs over the same frames
+    /// Benchmark culling: the camera orbits the set; each mode runs over the same frames (writes
+    /// bench.csv and bench.png into --out)
     Bench(BenchArgs),
     /// The mask experiment of thesis Figures 19/20: faulty pixels per stacking level per mask method
+    /// (writes masks.csv and masks.png into --out)
     Masks(masks::MasksArgs),
     /// Compare the transparency modes against the exact reference on views with 1 to 99
-    /// transparent organs; also time mask regeneration at 1920x1080
+    /// transparent organs; also time mask regeneration at 1920x1080 (writes transparency.csv,
+    /// transparency.png and transparency-sheet.png into --out)
     BenchTransparency(bench_transparency::BenchTransparencyArgs),
     /// What sectional anatomy costs: a 512x512 slice pane's redraw, and a frame with the MRI on
     /// its cut faces against one with coloured cut faces
     BenchSections(bench_sections::BenchSectionsArgs),
     /// Minimum occluder sets (thesis §3.2): pre-compute occluders per viewpoint for the set's
     /// layout into occluders.json beside it, or with --experiment compare occluder selections
+    /// (writing occluders.csv and occluders.png into --out)
     Occluders(OccludersArgs),
     /// Generate the synthetic city of the occluder experiments (about 300,000 triangles)
     City(CityArgs),
@@ -139,6 +143,26 @@ pub struct SetOut {
     /// Write into --out even where it already holds files
     #[arg(long)]
     pub force: bool,
+}
+
+/// Where an experiment writes its results (CSV files and plots, named in the command's
+/// description), shared by the experiments.
+#[derive(clap::Args)]
+pub struct ExperimentOut {
+    /// Folder for the experiment's results
+    #[arg(long, default_value = "bench-out")]
+    pub out: PathBuf,
+    /// Write into --out even where it holds files no vbrain experiment wrote (only the
+    /// experiment's own files are replaced)
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl ExperimentOut {
+    /// Checks the folder before the experiment runs ([`outputs::experiment_folder`]).
+    pub fn check(&self) -> anyhow::Result<()> {
+        outputs::experiment_folder(&self.out, self.force)
+    }
 }
 
 /// `--json`, shared by every command.
@@ -450,13 +474,8 @@ pub struct BenchArgs {
     /// render scale the viewer uses, and as the viewer chooses (auto), each with its error
     #[arg(long)]
     pub lod: bool,
-    /// Folder for bench.csv and bench.png
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub results: ExperimentOut,
     #[command(flatten)]
     pub report: Report,
 }
@@ -491,13 +510,8 @@ pub struct OccludersArgs {
     /// Experiment ID-render size (square), for first hit and projected size, 16..=4096
     #[arg(long, default_value_t = 512, value_parser = count(16, 4096))]
     pub image: usize,
-    /// Folder for occluders.csv and occluders.png (experiment)
-    #[arg(long, default_value = "bench-out")]
-    pub out: PathBuf,
-    /// Write into --out even where it holds files no vbrain experiment wrote (only the
-    /// experiment's own files are replaced)
-    #[arg(long)]
-    pub force: bool,
+    #[command(flatten)]
+    pub results: ExperimentOut,
     #[command(flatten)]
     pub report: Report,
 }

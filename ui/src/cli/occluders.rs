@@ -19,11 +19,11 @@ pub fn run(args: &OccludersArgs) -> Result<bool> {
         params: vbrain::mos::Params { size: args.raster, limit: args.limit, ..Default::default() },
         views: args.views,
         image: args.image,
-        out: &args.out,
+        out: &args.results.out,
         json: args.report.json,
     };
     if args.experiment {
-        super::outputs::experiment_folder(&args.out, args.force)?;
+        args.results.check()?;
         occluders::experiment(&set, &layout, &opts)?;
     } else {
         occluders::preprocess(&args.path, &set, &layout, &opts)?;

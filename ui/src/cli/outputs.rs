@@ -43,12 +43,6 @@ impl OutFile {
         &self.path
     }
 
-    /// Did the file exist at the check (so that writing it replaces it)? Writers of their own
-    /// take this as their `replace` flag; a file new at the check is created exclusively.
-    pub fn replaces(&self) -> bool {
-        self.existed
-    }
-
     /// Writes the file atomically with what `fill` writes.
     pub fn write(&self, fill: impl FnOnce(&mut dyn Write) -> std::io::Result<()>) -> Result<()> {
         let written = if self.existed {
@@ -88,7 +82,8 @@ pub fn file(path: &Path, kind: Kind, force: bool, inputs: &[&Path]) -> Result<Ou
     if let Some(input) = inputs.iter().find(|i| same_file(path, i)) {
         bail!("{}: is what this command reads ({}); give another file to write", path.display(), input.display());
     }
-    let existed = path.exists() || path.symlink_metadata().is_ok();
+    // A link to nothing exists too: it is not created anew.
+    let existed = path.symlink_metadata().is_ok();
     if existed && !force {
         let ours = match kind {
             Kind::Png => is_png(path),
@@ -153,7 +148,7 @@ pub fn apart(files: &[&Path], folders: &[&Path]) -> Result<()> {
 }
 
 /// Do `a` and `b` name one existing file?
-pub fn same_file(a: &Path, b: &Path) -> bool {
+fn same_file(a: &Path, b: &Path) -> bool {
     matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
 }
 

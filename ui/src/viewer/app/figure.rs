@@ -280,7 +280,7 @@ impl App {
                     anyhow::ensure!(!lesson.quiz.is_empty(), "the lesson \"{}\" has no quiz", lesson.title);
                     let path = export::file_path(typed, "zip")?;
                     anyhow::ensure!(!path.exists(), "{} exists; choose a new file name", path.display());
-                    let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?, false)?;
+                    let bytes = vbrain::scorm::write(&path, &lesson_page(set, lesson)?)?;
                     Ok((path, bytes))
                 }
                 // Written off the UI thread by `export_deck` and `export_lecture`.
