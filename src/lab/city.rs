@@ -76,6 +76,7 @@ pub fn generate(seed: u64) -> OrganSet {
         organs,
         solids: Vec::new(),
         mri: None,
+        territories: None,
     }
 }
 

@@ -32,6 +32,10 @@ pub struct Manifest {
     /// faces and slice views ([`crate::mri`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mri: Option<String>,
+    /// The set's arterial territories: a territories file inside the set's folder
+    /// ([`crate::territory`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub territories: Option<String>,
 }
 
 /// Organs that together fill one solid (their closed surfaces meet face to face, as a seamless
@@ -209,12 +213,12 @@ pub enum PathProblem {
 }
 
 /// An organ's or a solid's id: non-empty letters, digits, `_` and `-`.
-pub(super) fn id_ok(id: &str) -> bool {
+pub(crate) fn id_ok(id: &str) -> bool {
     !id.is_empty() && id.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-')
 }
 
 /// A mesh path must be relative and must not climb out of the set's folder.
-pub(super) fn mesh_path_ok(p: &str) -> Result<(), PathProblem> {
+pub(crate) fn mesh_path_ok(p: &str) -> Result<(), PathProblem> {
     use std::path::Component;
     let path = std::path::Path::new(p);
     if p.is_empty() {

@@ -173,6 +173,8 @@ pub struct OrganSet {
     pub solids: Vec<Solid>,
     /// Its MRI, registered to the organs, where the manifest names one that loads.
     pub mri: Option<std::sync::Arc<crate::mri::Mri>>,
+    /// Its arterial territories, where the manifest names a file that loads.
+    pub territories: Option<std::sync::Arc<crate::territory::Territories>>,
 }
 
 /// Organs that together fill one solid ([`manifest::SolidEntry`]), and a stand-in inside their
@@ -301,6 +303,7 @@ impl OrganSet {
                 .collect(),
             // The MRI file is not rewritten with the meshes: a set written from this has none.
             mri: None,
+            territories: None,
         }
     }
 

@@ -1,0 +1,234 @@
+//! Arterial territories (issue: blood supply and pathways): which artery supplies each point of a
+//! set, from an atlas registered to the set when the set was built.
+//!
+//! - Points are in organ space: millimetres, RAS (a moved organ keeps its territories).
+//! - The set's `territories.json` (format [`FORMAT`]) lists the arteries and names a label volume;
+//!   territory id `2k + 1` is artery `k`'s on the left, `2k + 2` on the right, 0 none.
+//! - A point takes the id of the voxel whose cell holds it (labels are never interpolated).
+//! - A mesh takes territories only where at least [`MIN_SHARE`] of its vertices lie in one: the
+//!   brain's organs do, the skull and scalp around it do not.
+
+use crate::error::{Error, Result};
+use crate::mesh::Mesh;
+use glam::{Mat4, Vec3};
+use serde::Deserialize;
+use std::path::Path;
+
+/// The format tag of a territories file.
+pub const FORMAT: &str = "vbrain-territories/1";
+
+/// The most arteries a file may list (two ids each must fit in a byte).
+pub const MAX_ARTERIES: usize = 127;
+
+/// The most voxels a territory volume may have.
+pub const MAX_VOXELS: usize = crate::mri::MAX_VOXELS;
+
+/// The share of a mesh's vertices that must lie in a territory for it to take territories.
+pub const MIN_SHARE: f32 = 0.5;
+
+/// One artery (or, where [`Artery::is_artery`] is false, a region of the atlas no artery supplies).
+#[derive(Clone, Debug, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Artery {
+    /// Its id in files: lowercase, e.g. `mca_frontal`.
+    pub key: String,
+    /// "Middle cerebral artery, frontal branches".
+    pub name: String,
+    /// "MCA frontal".
+    pub short: String,
+    /// Terminologia Anatomica's name, where it has one.
+    #[serde(default)]
+    pub latin: String,
+    /// `#rrggbb` in the file.
+    #[serde(deserialize_with = "colour")]
+    pub colour: [f32; 3],
+    #[serde(default)]
+    pub synonyms: Vec<String>,
+    /// Teaching text: the artery and its branches, what it supplies, the deficits of its occlusion.
+    pub info: String,
+    #[serde(default = "crate::json_file::yes", rename = "artery")]
+    pub is_artery: bool,
+}
+
+fn colour<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<[f32; 3], D::Error> {
+    let s = String::deserialize(d)?;
+    crate::organ_set::manifest::parse_colour(&s)
+        .ok_or_else(|| serde::de::Error::custom(format!("colour \"{s}\" is not #rrggbb")))
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TerritoryFile {
+    #[allow(dead_code)]
+    format: String,
+    volume: String,
+    arteries: Vec<Artery>,
+}
+
+/// Left or right: which of an artery's two territories an id is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+impl Side {
+    pub fn name(self) -> &'static str {
+        match self {
+            Side::Left => "Left",
+            Side::Right => "Right",
+        }
+    }
+}
+
+/// The set's arteries and its territory volume.
+#[derive(Clone, Debug)]
+pub struct Territories {
+    pub arteries: Vec<Artery>,
+    dims: [usize; 3],
+    to_voxel: Mat4,
+    /// Territory ids, x fastest.
+    ids: Vec<u8>,
+}
+
+impl Territories {
+    /// Reads `file` (a territories file inside the set's folder `dir`) and the volume it names.
+    pub fn open(dir: &Path, file: &str) -> Result<Territories> {
+        let path = crate::input::inside(dir, file)?;
+        let text = crate::input::read_text(&path, crate::input::Kind::Manifest)?;
+        let parsed: TerritoryFile = crate::json_file::parse(&text, &path, FORMAT, "territories file")?;
+        let bad = |m: String| Error::parse(&path, None, m);
+        if parsed.arteries.is_empty() || parsed.arteries.len() > MAX_ARTERIES {
+            return Err(bad(format!("{} arteries: a file lists 1 to {MAX_ARTERIES}", parsed.arteries.len())));
+        }
+        for (i, a) in parsed.arteries.iter().enumerate() {
+            if !crate::organ_set::manifest::id_ok(&a.key) || parsed.arteries[..i].iter().any(|b| b.key == a.key) {
+                return Err(bad(format!("artery {}: key \"{}\" is not a new valid id", i + 1, a.key)));
+            }
+            if a.name.trim().is_empty() || a.info.trim().is_empty() {
+                return Err(bad(format!("artery \"{}\" has no name or no text", a.key)));
+            }
+        }
+        crate::organ_set::manifest::mesh_path_ok(&parsed.volume)
+            .map_err(|e| bad(format!("volume {}: {e}", parsed.volume)))?;
+        let volume_path = crate::input::inside(path.parent().unwrap_or(dir), &parsed.volume)?;
+        let raw = crate::nifti_file::read(&volume_path, "territory volume", MAX_VOXELS)?;
+        let most = 2 * parsed.arteries.len();
+        let mut ids = Vec::with_capacity(raw.len());
+        for i in 0..raw.len() {
+            let v = raw.value(i);
+            if !(v >= 0.0 && v <= most as f64 && v.fract() == 0.0) {
+                return Err(Error::parse(
+                    &volume_path,
+                    None,
+                    format!("voxel {i} holds {v}: territory ids are whole numbers 0 to {most} for {} arteries", most / 2),
+                ));
+            }
+            ids.push(v as u8);
+        }
+        if !(raw.affine.is_finite() && raw.affine.determinant().abs() > 1e-12) {
+            return Err(Error::parse(&volume_path, None, "the voxel-to-world transform is singular"));
+        }
+        Ok(Territories { arteries: parsed.arteries, dims: raw.dims, to_voxel: raw.affine.inverse(), ids })
+    }
+
+    /// A set of territories from parts (tests, generated sets): `ids` x fastest on a grid of
+    /// `dims` placed by `to_world` (voxel indices -> millimetres).
+    pub fn from_parts(arteries: Vec<Artery>, dims: [usize; 3], to_world: Mat4, ids: Vec<u8>) -> Territories {
+        assert_eq!(ids.len(), dims[0] * dims[1] * dims[2], "one id per voxel");
+        Territories { arteries, dims, to_voxel: to_world.inverse(), ids }
+    }
+
+    /// The territory id at `p` (organ space), 0 outside every territory.
+    pub fn at(&self, p: Vec3) -> u8 {
+        let v = self.to_voxel.transform_point3(p).round();
+        if !v.is_finite() || v.min_element() < 0.0 {
+            return 0;
+        }
+        let [x, y, z] = [v.x as usize, v.y as usize, v.z as usize];
+        if x >= self.dims[0] || y >= self.dims[1] || z >= self.dims[2] {
+            return 0;
+        }
+        self.ids[x + self.dims[0] * (y + self.dims[1] * z)]
+    }
+
+    /// The artery and side of territory `id`, `None` for 0 or an id beyond the file's.
+    pub fn artery(&self, id: u8) -> Option<(&Artery, Side)> {
+        let k = (id as usize).checked_sub(1)?;
+        let side = if k % 2 == 0 { Side::Left } else { Side::Right };
+        self.arteries.get(k / 2).map(|a| (a, side))
+    }
+
+    /// "Left middle cerebral artery, frontal branches" (the artery's name lowered after the side).
+    pub fn name(&self, id: u8) -> Option<String> {
+        self.artery(id).map(|(a, side)| sided(side, &a.name))
+    }
+
+    /// Territory ids of a mesh's vertices, or `None` where under [`MIN_SHARE`] of them lie in one.
+    pub fn of_mesh(&self, mesh: &Mesh) -> Option<Vec<u8>> {
+        let ids: Vec<u8> = mesh.positions.iter().map(|&p| self.at(Vec3::from(p))).collect();
+        let inside = ids.iter().filter(|&&t| t != 0).count();
+        (!ids.is_empty() && inside as f32 >= MIN_SHARE * ids.len() as f32).then_some(ids)
+    }
+}
+
+/// "Left middle cerebral artery" from a side and "Middle cerebral artery".
+pub fn sided(side: Side, name: &str) -> String {
+    let mut chars = name.chars();
+    let rest: String = match chars.next() {
+        Some(c) => c.to_lowercase().chain(chars).collect(),
+        None => String::new(),
+    };
+    format!("{} {rest}", side.name())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn artery(key: &str) -> Artery {
+        Artery {
+            key: key.into(),
+            name: format!("{key} artery"),
+            short: key.to_uppercase(),
+            latin: String::new(),
+            colour: [1.0, 0.0, 0.0],
+            synonyms: Vec::new(),
+            info: "Supplies. Occlusion hurts.".into(),
+            is_artery: true,
+        }
+    }
+
+    #[test]
+    fn ids_name_a_side_and_points_take_the_nearest_voxel() {
+        // 2 x 1 x 1 voxels, 10 mm apart along x: x < 5 mm is voxel 0 (left ACA), above voxel 1.
+        let t = Territories::from_parts(
+            vec![artery("aca"), artery("mca")],
+            [2, 1, 1],
+            Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0)),
+            vec![1, 4],
+        );
+        assert_eq!(t.at(Vec3::new(4.9, 0.0, 0.0)), 1);
+        assert_eq!(t.at(Vec3::new(5.1, 0.2, -0.4)), 4);
+        assert_eq!(t.at(Vec3::new(15.1, 0.0, 0.0)), 0, "outside the grid");
+        assert_eq!(t.at(Vec3::new(-5.1, 0.0, 0.0)), 0);
+        assert_eq!(t.at(Vec3::NAN), 0);
+        assert_eq!(t.name(1).as_deref(), Some("Left aca artery"));
+        assert_eq!(t.name(4).as_deref(), Some("Right mca artery"));
+        assert_eq!(t.name(0), None);
+        assert_eq!(t.name(5), None);
+        assert_eq!(sided(Side::Left, "Middle cerebral artery"), "Left middle cerebral artery");
+    }
+
+    #[test]
+    fn a_mesh_mostly_outside_takes_no_territory() {
+        let t = Territories::from_parts(vec![artery("aca")], [1, 1, 1], Mat4::IDENTITY, vec![2]);
+        let mesh = |xs: &[f32]| Mesh {
+            positions: xs.iter().map(|&x| [x, 0.0, 0.0]).collect(),
+            normals: vec![[0.0, 0.0, 1.0]; xs.len()],
+            indices: Vec::new(),
+        };
+        assert_eq!(t.of_mesh(&mesh(&[0.0, 0.2, 9.0])), Some(vec![2, 2, 0]));
+        assert_eq!(t.of_mesh(&mesh(&[0.0, 9.0, 9.0])), None);
+    }
+}
