@@ -23,6 +23,8 @@ struct Frame {
     mri: mat4x4<f32>,
     // What cut faces show: x 0 colour, 1 MRI, 2 MRI tinted by the organ; y window; z level.
     cut_face: vec4<f32>,
+    // x: 1 where a vertex's territory colour replaces its organ's.
+    colour_by: vec4<u32>,
 };
 
 struct Organ {
@@ -46,6 +48,8 @@ struct VsIn {
     @location(0) position: vec3<f32>,
     @location(1) normal: vec3<f32>,
     @location(2) organ: u32,
+    // sRGB bytes r, g, b, a from the low byte up; 0 where no territory covers the vertex.
+    @location(3) territory: u32,
 };
 
 struct VsOut {
@@ -54,6 +58,7 @@ struct VsOut {
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) instance: u32,
     @location(3) @interpolate(flat) organ: u32,
+    @location(4) @interpolate(flat) territory: u32,
 };
 
 @vertex
@@ -66,6 +71,7 @@ fn organ_vertex(in: VsIn, instance: u32) -> VsOut {
     var out: VsOut;
     out.instance = instance;
     out.organ = in.organ;
+    out.territory = in.territory;
     let organ = organs[in.organ];
     let world = organ.model * vec4<f32>(in.position, 1.0);
     let clip = frame.view_proj * world;
@@ -154,12 +160,21 @@ fn srgb_to_linear(c: f32) -> f32 {
     return pow((c + 0.055) / 1.055, 2.4);
 }
 
+// The organ's colour (linear), or in territory colouring the vertex's territory's where it has one.
+fn base_colour(in: VsOut) -> vec3<f32> {
+    if frame.colour_by.x == 1u && in.territory != 0u {
+        let c = unpack4x8unorm(in.territory).rgb;
+        return vec3<f32>(srgb_to_linear(c.r), srgb_to_linear(c.g), srgb_to_linear(c.b));
+    }
+    return organs[in.organ].colour.rgb;
+}
+
 // Headlight: the light sits at the eye. Two-sided, so cut-open or inner faces are lit too.
 fn shade(in: VsOut) -> vec3<f32> {
     let n = normalize(in.normal);
     let v = normalize(frame.eye.xyz - in.world);
     let ndl = abs(dot(n, v));
-    let diffuse = organs[in.organ].colour.rgb * (0.18 + 0.82 * ndl);
+    let diffuse = base_colour(in) * (0.18 + 0.82 * ndl);
     let specular = vec3<f32>(0.18) * pow(ndl, 40.0);
     return diffuse + specular;
 }

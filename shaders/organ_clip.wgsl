@@ -11,6 +11,7 @@ struct VsClipped {
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) instance: u32,
     @location(3) @interpolate(flat) organ: u32,
+    @location(4) @interpolate(flat) territory: u32,
     @builtin(clip_distances) distances: array<f32, 4>,
 };
 
@@ -23,6 +24,7 @@ fn vs_clipped(in: VsIn, @builtin(instance_index) instance: u32) -> VsClipped {
     out.normal = v.normal;
     out.instance = v.instance;
     out.organ = v.organ;
+    out.territory = v.territory;
     let cut = (organs[in.organ].id.y & CLIPPED) != 0u;
     for (var k = 0; k < 4; k++) {
         let plane = frame.clip[k];

@@ -92,6 +92,8 @@ pub enum Edit {
     Reset { organs: Organs, states: Vec<OrganState> },
     /// Organs back to earlier states, index-aligned with `organs`: what [`apply`] returns to undo.
     Restore { organs: Organs, states: Vec<OrganState> },
+    /// What colours the organs (their own colours, lobes, arterial territories).
+    ColourBy(crate::colouring::ColourBy),
 }
 
 impl Edit {
@@ -137,14 +139,23 @@ impl Edit {
             Edit::Isolate { organs } => ("isolate", organs, ""),
             Edit::Reset { organs, .. } => ("reset", organs, ""),
             Edit::Restore { organs, .. } => ("restore", organs, ""),
+            Edit::ColourBy(by) => return format!("colour by {}", by.label().to_lowercase()),
         };
         format!("{verb} {}{suffix}", organs.label(names))
     }
 }
 
 /// Applies `edit` to `layout` and returns the edit that undoes it: a [`Edit::Restore`] of the
-/// organs it changed (none if it changed nothing).
+/// organs it changed (none if it changed nothing), or the colouring it replaced.
 pub fn apply(layout: &mut Layout, edit: &Edit) -> Edit {
+    if let Edit::ColourBy(by) = edit {
+        let before = std::mem::replace(&mut layout.colour_by, *by);
+        return if before == *by {
+            Edit::Restore { organs: Organs::List(Vec::new()), states: Vec::new() }
+        } else {
+            Edit::ColourBy(before)
+        };
+    }
     let n = layout.organs.len();
     let touched: Vec<usize> = match edit {
         Edit::Visible { organs, .. }
@@ -155,7 +166,7 @@ pub fn apply(layout: &mut Layout, edit: &Edit) -> Edit {
         | Edit::Reset { organs, .. }
         | Edit::Restore { organs, .. } => organs.indices(n),
         Edit::Transform { organ, .. } => Organs::One(*organ).indices(n),
-        Edit::Isolate { .. } => (0..n).collect(),
+        Edit::Isolate { .. } | Edit::ColourBy(_) => (0..n).collect(),
     };
     let before: Vec<OrganState> = touched.iter().map(|&i| layout.organs[i]).collect();
     let organs = &mut layout.organs;
@@ -186,6 +197,7 @@ pub fn apply(layout: &mut Layout, edit: &Edit) -> Edit {
                 }
             }
         }
+        Edit::ColourBy(_) => {}
     }
     let (changed, states): (Vec<usize>, Vec<OrganState>) =
         touched.iter().zip(before).filter(|(&i, b)| organs[i] != *b).map(|(&i, b)| (i, b)).unzip();
@@ -208,7 +220,7 @@ mod tests {
     }
 
     fn layout(n: usize) -> Layout {
-        Layout { organs: (0..n).map(state).collect() }
+        Layout { organs: (0..n).map(state).collect(), colour_by: Default::default() }
     }
 
     fn names(i: usize) -> &'static str {

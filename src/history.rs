@@ -208,6 +208,7 @@ mod tests {
                     transform: Transform::identity(Vec3::splat(i as f32)),
                 })
                 .collect(),
+            colour_by: Default::default(),
         }
     }
 
@@ -217,7 +218,7 @@ mod tests {
             proptest::collection::vec(0usize..8, 0..4).prop_map(Organs::List),
             Just(Organs::All),
         ];
-        (organs, 0u8..5, 0.0f32..1.0, -30.0f32..30.0).prop_map(|(organs, kind, a, x)| match kind {
+        (organs, 0u8..6, 0.0f32..1.0, -30.0f32..30.0).prop_map(|(organs, kind, a, x)| match kind {
             0 => Edit::Visible { organs, visible: a < 0.5 },
             1 => Edit::Opacity { organs, opacity: a },
             2 => Edit::Colour { organs, colour: [a, 1.0 - a, 0.5] },
@@ -225,6 +226,7 @@ mod tests {
                 organ: (x.abs() as usize) % 8,
                 transform: Transform { translation: Vec3::new(x, 0.0, -x), ..Transform::identity(Vec3::ZERO) },
             },
+            4 => Edit::ColourBy(crate::colouring::ColourBy::ALL[(a * 3.0) as usize % 3]),
             _ => Edit::Isolate { organs },
         })
     }

@@ -1,5 +1,5 @@
 //! The layout: what the user changed about each organ (visibility, opacity, colour and the model
-//! transform from organ space to world space).
+//! transform from organ space to world space), and what colours the organs.
 //!
 //! - Both spaces are millimetres, RAS.
 //! - A transform scales and rotates about its pivot (the organ's centre in organ space), then
@@ -87,10 +87,11 @@ impl OrganState {
     }
 }
 
-/// Per-organ state, index-aligned with the set's organs.
+/// Per-organ state, index-aligned with the set's organs, and what colours them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
     pub organs: Vec<OrganState>,
+    pub colour_by: crate::colouring::ColourBy,
 }
 
 impl Layout {
@@ -107,6 +108,7 @@ impl Layout {
                     transform: Transform::identity(o.mesh.bounds().center()),
                 })
                 .collect(),
+            colour_by: Default::default(),
         }
     }
 

@@ -18,6 +18,7 @@
 use crate::clip::{SavedSection, Section};
 use crate::error::{Error, Result};
 use crate::labels::Which;
+use crate::colouring::ColourBy;
 use crate::layout::{Layout, Transform};
 use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;
@@ -113,6 +114,9 @@ pub struct Step {
     /// viewer's own choice.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub labels: Option<String>,
+    /// What colours the organs: `organ` (absent), `lobe` or `territory`.
+    #[serde(default, skip_serializing_if = "ColourBy::is_default")]
+    pub colour_by: ColourBy,
 }
 
 /// Where an organ is moved: millimetres (world space), degrees about x, y, z about its centre, and
@@ -414,6 +418,7 @@ impl Step {
             cut_face: saved.faces,
             whole: saved.whole,
             labels: labels.key(),
+            colour_by: layout.colour_by,
         }
     }
 
@@ -426,7 +431,7 @@ impl Step {
     /// default layout from its view, and the highlighted organs. Names the set lacks are skipped
     /// (see [`Lesson::unknown_names`]).
     pub fn view(&self, set: &OrganSet) -> StepView {
-        let mut layout = Layout::new(set);
+        let mut layout = Layout { colour_by: self.colour_by, ..Layout::new(set) };
         for (names, visible) in [(&self.show, true), (&self.hide, false)] {
             for n in names {
                 for i in set.select(n) {

@@ -23,6 +23,7 @@ pub mod atomic;
 pub mod bvh;
 pub mod camera;
 pub mod clip;
+pub mod colouring;
 pub mod cull;
 pub mod cut_mesh;
 pub mod data_dir;

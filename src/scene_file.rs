@@ -51,6 +51,9 @@ pub struct SceneFile {
     /// when absent; see [`crate::labels::Which`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub labels: Option<String>,
+    /// What colours the organs: `organ` (absent), `lobe` or `territory`.
+    #[serde(default, skip_serializing_if = "crate::colouring::ColourBy::is_default")]
+    pub colour_by: crate::colouring::ColourBy,
     /// Every organ of the set, in the set's order.
     pub organs: Vec<OrganEntry>,
 }
@@ -200,6 +203,7 @@ impl SceneFile {
             cut_face: Default::default(),
             whole: Vec::new(),
             labels: None,
+            colour_by: layout.colour_by,
             organs,
         }
     }
@@ -248,7 +252,7 @@ impl SceneFile {
 
     /// The layout and selection of this scene over `set`.
     pub fn apply(&self, set: &OrganSet) -> Applied {
-        let mut layout = Layout::new(set);
+        let mut layout = Layout { colour_by: self.colour_by, ..Layout::new(set) };
         let mut unknown = Vec::new();
         for e in &self.organs {
             match set.find(&e.id) {

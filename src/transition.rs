@@ -62,7 +62,7 @@ pub fn layout(from: &Layout, to: &Layout, t: f32) -> Layout {
         return to.clone();
     }
     let organs = from.organs.iter().zip(&to.organs).map(|(a, b)| organ(a, b, t)).collect();
-    Layout { organs }
+    Layout { organs, colour_by: to.colour_by }
 }
 
 fn organ(a: &OrganState, b: &OrganState, t: f32) -> OrganState {
@@ -107,8 +107,8 @@ mod tests {
         };
         let gone = OrganState { visible: false, ..base };
         let faded = OrganState { opacity: 0.2, colour: [0.0, 0.0, 1.0], ..base };
-        let from = Layout { organs: vec![base, gone, base] };
-        let to = Layout { organs: vec![gone, base, faded] };
+        let from = Layout { organs: vec![base, gone, base], colour_by: Default::default() };
+        let to = Layout { organs: vec![gone, base, faded], colour_by: Default::default() };
         let mid = layout(&from, &to, 0.5);
         assert!(mid.organs.iter().all(|s| s.visible));
         assert_eq!([mid.organs[0].opacity, mid.organs[1].opacity, mid.organs[2].opacity], [0.5, 0.5, 0.6]);

@@ -114,7 +114,7 @@ impl PipelineFactory<'_> {
         cull: Option<wgpu::Face>,
         depth: Option<wgpu::DepthBiasState>,
     ) -> wgpu::RenderPipeline {
-        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32];
+        let vertex_attributes = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Uint32, 3 => Uint32];
         self.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some(spec.label),
             layout: Some(spec.layout),

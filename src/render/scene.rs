@@ -195,10 +195,16 @@ impl GpuScene {
             }
             let base = vertices.len() as u32;
             let first_index = indices.len() as u32;
-            vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).map(|(p, n)| Vertex {
+            let territories = set
+                .territories
+                .as_ref()
+                .and_then(|t| crate::colouring::packed_territory_colours(t, &o.mesh))
+                .unwrap_or_default();
+            vertices.extend(o.mesh.positions.iter().zip(&o.mesh.normals).enumerate().map(|(v, (p, n))| Vertex {
                 position: *p,
                 normal: *n,
                 organ: i as u32,
+                territory: territories.get(v).copied().unwrap_or(0),
             }));
             indices.extend(o.mesh.indices.iter().map(|&v| v + base));
             meshes.push(GpuMesh {
@@ -343,8 +349,9 @@ impl GpuScene {
     /// Writes frame slot 0 (unmoved) and the organs as shown (section 0).
     pub fn upload(&self, queue: &wgpu::Queue, frame: &FrameInput, aspect: f32) -> Shown {
         self.write_frame(queue, frame, aspect, 0, UNMOVED);
-        self.upload_organs(queue, frame, 0, |_, s| {
-            let c = s.colour.map(super::srgb_to_linear);
+        let colours = crate::colouring::organ_colours(frame.set, frame.layout);
+        self.upload_organs(queue, frame, 0, |i, s| {
+            let c = colours.get(i).copied().unwrap_or(s.colour).map(super::srgb_to_linear);
             [c[0], c[1], c[2], s.opacity]
         })
     }
@@ -367,6 +374,7 @@ impl GpuScene {
             clip: crate::clip::uniform(&frame.section.planes),
             mri: self.mri.to_texture.unwrap_or(Mat4::ZERO).to_cols_array_2d(),
             cut_face: [show, faces.window.window, faces.window.level, 0.0],
+            colour_by: [(frame.layout.colour_by == crate::colouring::ColourBy::Territory) as u32, 0, 0, 0],
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));
     }

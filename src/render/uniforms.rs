@@ -34,19 +34,23 @@ pub(super) struct FrameUniform {
     /// What cut faces show: x 0 colour, 1 MRI, 2 MRI tinted (0 where the set has no MRI on the
     /// GPU); y window; z level.
     pub cut_face: [f32; 4],
+    /// x: 1 where vertices' territory colours replace their organs' (territory colouring).
+    pub colour_by: [u32; 4],
 }
 
 /// The frame's `jitter` that leaves the image where it is.
 pub(super) const UNMOVED: [f32; 4] = [0.0, 0.0, 1.0, 1.0];
 
-/// A vertex as the organ pipelines read it (`VsIn` in shaders/organ.wgsl, locations 0-2):
-/// organ-space position and normal, and the organ's index.
+/// A vertex as the organ pipelines read it (`VsIn` in shaders/organ.wgsl, locations 0-3):
+/// organ-space position and normal, the organ's index, and its arterial territory's colour (sRGB
+/// bytes r, g, b, a from the low byte up; 0 for none).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(super) struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
     pub organ: u32,
+    pub territory: u32,
 }
 
 /// `Organ` in shaders/organ.wgsl (an array of them in a storage buffer, one section per use).

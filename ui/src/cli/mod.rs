@@ -360,6 +360,10 @@ pub struct RenderArgs {
     /// all (every organ seen) or ID,ID,... (ids or groups) [default: the scene's, else none]
     #[arg(long)]
     pub labels: Option<String>,
+    /// What colours the organs: organ (their own colours), lobe, or territory (the set's arterial
+    /// territories, per vertex) [default: the scene's, else organ]
+    #[arg(long, value_parser = values::colour_by())]
+    pub colour_by: Option<vbrain::colouring::ColourBy>,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,

@@ -17,6 +17,7 @@ use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
+use vbrain::colouring::ColourBy;
 use vbrain::cull::{CullMode, CullSettings, Culler};
 use vbrain::labels::Which;
 use vbrain::layout::Layout;
@@ -58,6 +59,10 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         (layout, selection) = (applied.layout, applied.selection);
     }
     apply_layout_args(&set, &mut layout, &args.layout)?;
+    layout.colour_by = args.colour_by.unwrap_or(layout.colour_by);
+    if layout.colour_by == ColourBy::Territory && set.territories.is_none() {
+        bail!("{}: the set has no arterial territories to colour by", path.display());
+    }
     let mut highlight = Vec::new();
     for key in &args.highlight {
         highlight.extend(organs(&set, key)?);

@@ -55,6 +55,10 @@ value_enum!(
     aliases: [(Selection::ProjectedSize, "ps")]
 );
 value_enum!(
+    /// What colours the organs.
+    ColourByArg(vbrain::colouring::ColourBy)
+);
+value_enum!(
     /// A camera path: the orbit or a city walkthrough route.
     RouteArg(Route)
 );
@@ -90,6 +94,10 @@ pub fn transparency_mode() -> impl TypedValueParser<Value = TransparencyMode> {
 
 pub fn cut_face() -> impl TypedValueParser<Value = vbrain::clip::CutFaceShows> {
     core(|v: CutFaceArg| v.0)
+}
+
+pub fn colour_by() -> impl TypedValueParser<Value = vbrain::colouring::ColourBy> {
+    core(|v: ColourByArg| v.0)
 }
 
 pub fn selection() -> impl TypedValueParser<Value = Selection> {
