@@ -78,7 +78,11 @@ impl History {
     pub fn apply(&mut self, layout: &mut Layout, edit: Edit, label: String, gesture: Option<Gesture>) -> bool {
         let inverse = apply(layout, &edit);
         let changed = !matches!(&inverse, Edit::Restore { states, .. } if states.is_empty());
-        let continues = |s: &Step| self.open && gesture.is_some() && s.gesture == gesture;
+        // Only organ edits merge (their inverses are restores); a colouring change is a step.
+        let organs = matches!(inverse, Edit::Restore { .. });
+        let continues = |s: &Step| {
+            self.open && organs && matches!(s.undo, Edit::Restore { .. }) && gesture.is_some() && s.gesture == gesture
+        };
         let merge_into = match self.done.last_mut() {
             Some(last) if continues(last) => Some(last),
             _ => None,

@@ -381,8 +381,16 @@ mod tests {
         let mut s = scene(&set, &Layout::new(&set));
         s.clip = vec![crate::clip::ClipPlane::parse("axial=3").unwrap()];
         s.cut_face = crate::clip::CutFace { show: crate::clip::CutFaceShows::Mri, ..Default::default() };
+        let mut coloured = Layout::new(&set);
+        coloured.colour_by = crate::colouring::ColourBy::Territory;
+        s.colour_by = scene(&set, &coloured).colour_by;
         let good = s.to_json(Path::new("x.vbscene")).unwrap();
+        assert!(good.contains("\"colour_by\": \"territory\""), "{good}");
         assert_eq!(SceneFile::parse(&good, Path::new("x.vbscene")).unwrap(), s, "the cut faces round-trip");
+        assert_eq!(s.apply(&set).layout.colour_by, crate::colouring::ColourBy::Territory);
+        let lobes = good.replace("\"territory\"", "\"lobes\"");
+        let e = SceneFile::parse(&lobes, Path::new("x.vbscene")).unwrap_err().to_string();
+        assert!(e.contains("x.vbscene:") && e.contains("lobes"), "{e}");
         let p = Path::new("bad.vbscene");
         let plane = "\"normal\": [\n        0.0,\n        0.0,\n        1.0\n      ],\n      \"d\": 3.0";
         assert!(good.contains(plane), "{good}");

@@ -19,4 +19,5 @@ mod quiz;
 mod render;
 mod sections;
 mod shaders;
+mod territories;
 mod transparency;
