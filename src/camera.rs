@@ -117,6 +117,15 @@ impl Camera {
         self.projection(aspect) * self.view_matrix()
     }
 
+    /// The ray through a point of the image: `ndc` from -1 to 1, x right, y up. Returns the
+    /// point on the near plane and the unit direction away from the eye (world space).
+    pub fn ray(&self, aspect: f32, ndc: glam::Vec2) -> (Vec3, Vec3) {
+        let inverse = self.view_projection(aspect).inverse();
+        let near = inverse.project_point3(ndc.extend(0.0));
+        let far = inverse.project_point3(ndc.extend(1.0));
+        (near, (far - near).normalize_or_zero())
+    }
+
     /// The same camera moved along its line of sight to `factor` times its distance from the target.
     pub fn zoomed(&self, factor: f32) -> Camera {
         Camera { eye: self.target + (self.eye - self.target) * factor, ..*self }

@@ -123,7 +123,7 @@ pub fn organ_colours(set: &OrganSet, layout: &Layout) -> Vec<[f32; 3]> {
 }
 
 /// What the legend lists: (name, colour) of each lobe of the drawn organs, or each artery of the
-/// set's territories; empty in organ colouring.
+/// set's territories by its short name ("MCA frontal"); empty in organ colouring.
 pub fn legend(set: &OrganSet, layout: &Layout) -> Vec<(String, [f32; 3])> {
     match layout.colour_by {
         ColourBy::Organ => Vec::new(),
@@ -143,14 +143,21 @@ pub fn legend(set: &OrganSet, layout: &Layout) -> Vec<(String, [f32; 3])> {
         }
         ColourBy::Territory => {
             let Some(t) = &set.territories else { return Vec::new() };
-            t.arteries.iter().map(|a| (format!("{} ({})", a.name, a.short), a.colour)).collect()
+            let name = |a: &crate::territory::Artery| match a.is_artery {
+                true => a.short.clone(),
+                false => format!("{} (no artery)", a.short),
+            };
+            t.arteries.iter().map(|a| (name(a), a.colour)).collect()
         }
     }
 }
 
 /// Territory colours of a mesh's vertices packed for the GPU (sRGB bytes r, g, b, 255 from the low
 /// byte up), or 0 where a vertex has none; `None` where the organ takes no territories.
-pub fn packed_territory_colours(territories: &crate::territory::Territories, mesh: &crate::mesh::Mesh) -> Option<Vec<u32>> {
+pub fn packed_territory_colours(
+    territories: &crate::territory::Territories,
+    mesh: &crate::mesh::Mesh,
+) -> Option<Vec<u32>> {
     let ids = territories.of_mesh(mesh)?;
     let pack = |c: [f32; 3]| {
         let b = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);

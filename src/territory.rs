@@ -121,7 +121,10 @@ impl Territories {
                 return Err(Error::parse(
                     &volume_path,
                     None,
-                    format!("voxel {i} holds {v}: territory ids are whole numbers 0 to {most} for {} arteries", most / 2),
+                    format!(
+                        "voxel {i} holds {v}: territory ids are whole numbers 0 to {most} for {} arteries",
+                        most / 2
+                    ),
                 ));
             }
             ids.push(v as u8);
@@ -172,6 +175,35 @@ impl Territories {
     }
 }
 
+/// The territory where a ray first meets a mesh placed by `model` (organ space to world space),
+/// at a point `kept` keeps (the clip planes' kept side, world space): what a click on the organ
+/// points at. `None` where the ray misses or no territory covers the point.
+pub fn under_ray(
+    territories: &Territories,
+    mesh: &Mesh,
+    model: Mat4,
+    (origin, dir): (Vec3, Vec3),
+    kept: impl Fn(Vec3) -> bool,
+) -> Option<u8> {
+    let corner = |v: u32| model.transform_point3(Vec3::from(mesh.positions[v as usize]));
+    let mut hits: Vec<(f32, [u32; 3])> = mesh
+        .indices
+        .chunks_exact(3)
+        .filter_map(|t| {
+            let t = [t[0], t[1], t[2]];
+            let d = crate::mesh::ray_triangle(origin, dir, t.map(corner))?;
+            (d >= 0.0).then_some((d, t))
+        })
+        .collect();
+    hits.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let inverse = model.inverse();
+    hits.into_iter()
+        .map(|(d, _)| origin + dir * d)
+        .find(|&p| kept(p))
+        .map(|p| territories.at(inverse.transform_point3(p)))
+        .filter(|&id| id != 0)
+}
+
 /// "Left middle cerebral artery" from a side and "Middle cerebral artery".
 pub fn sided(side: Side, name: &str) -> String {
     let mut chars = name.chars();
@@ -218,6 +250,30 @@ mod tests {
         assert_eq!(t.name(0), None);
         assert_eq!(t.name(5), None);
         assert_eq!(sided(Side::Left, "Middle cerebral artery"), "Left middle cerebral artery");
+    }
+
+    #[test]
+    fn a_ray_names_the_territory_of_the_first_kept_point_it_meets() {
+        // Left ACA for x < 5 mm, right MCA above; a square at z = 0 from x 0 to 10.
+        let t = Territories::from_parts(
+            vec![artery("aca"), artery("mca")],
+            [2, 1, 1],
+            Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0)),
+            vec![1, 4],
+        );
+        let square = Mesh {
+            positions: vec![[0.0, -1.0, 0.0], [10.0, -1.0, 0.0], [10.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+            normals: vec![[0.0, 0.0, 1.0]; 4],
+            indices: vec![0, 1, 2, 0, 2, 3],
+        };
+        let down = |x: f32| (Vec3::new(x, 0.0, 5.0), Vec3::NEG_Z);
+        assert_eq!(under_ray(&t, &square, Mat4::IDENTITY, down(2.0), |_| true), Some(1));
+        assert_eq!(under_ray(&t, &square, Mat4::IDENTITY, down(8.0), |_| true), Some(4));
+        assert_eq!(under_ray(&t, &square, Mat4::IDENTITY, down(12.0), |_| true), None, "a miss");
+        assert_eq!(under_ray(&t, &square, Mat4::IDENTITY, down(8.0), |p| p.x < 5.0), None, "cut away");
+        // Moved 6 mm right, the organ keeps its own territories: world x 8 is organ x 2.
+        let moved = Mat4::from_translation(Vec3::new(6.0, 0.0, 0.0));
+        assert_eq!(under_ray(&t, &square, moved, down(8.0), |_| true), Some(1));
     }
 
     #[test]

@@ -28,6 +28,8 @@ pub enum Action {
     Select(Option<usize>),
     /// A click in the view on this organ (or nothing): selects it, or answers a quiz's question.
     Pick(Option<usize>),
+    /// The arterial territory at the point a click picked (it follows its [`Action::Pick`]).
+    Supply(Option<u8>),
     /// Label an organ or not (the chosen-labels mode).
     Label {
         organ: usize,

@@ -70,6 +70,8 @@ pub struct App {
     gpu: Option<egui_wgpu::RenderState>,
     scene: Option<Scene>,
     selected: Option<usize>,
+    /// The arterial territory at the point last clicked on the selected organ.
+    supply: Option<u8>,
     settings: Settings,
     notifications: Vec<Notification>,
     viewport: Viewport,
@@ -118,6 +120,7 @@ impl App {
             gpu: cc.wgpu_render_state.clone(),
             scene: None,
             selected: None,
+            supply: None,
             notifications: Vec::new(),
             viewport: Viewport::default(),
             organ_panel: OrganPanel::default(),
@@ -321,7 +324,9 @@ impl App {
                 Action::Undo => self.undo(ctx, true),
                 Action::Redo => self.undo(ctx, false),
                 Action::Pick(organ) if self.quiz.answering() => self.quiz_click(organ, ctx.input(|i| i.time)),
-                Action::Select(organ) | Action::Pick(organ) => self.selected = organ,
+                Action::Pick(organ) => (self.selected, self.supply) = (organ, None),
+                Action::Select(organ) => (self.selected, self.supply) = (organ, None),
+                Action::Supply(territory) => self.supply = territory,
                 Action::Quiz(action) => self.perform_quiz(ctx, action),
                 Action::Section(action) => self.perform_section(action),
                 Action::Label { organ, on } => {

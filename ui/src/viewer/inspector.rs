@@ -1,4 +1,5 @@
-//! The inspector of the selected organ: name, group, info text, triangles, opacity, colour,
+//! The inspector of the selected organ: name, group, info text, the arterial territory where it
+//! was clicked (with the artery's teaching text), triangles, opacity, colour,
 //! visibility, "Do not cut" and "Label", and its transform, with Reset transform, Isolate and
 //! Frame.
 //!
@@ -13,11 +14,12 @@ use eframe::egui::{self, RichText};
 use vbrain::edit::{Edit, Organs};
 
 /// What the inspector shows beside the layout: whether the organ is kept whole where planes cut,
-/// and whether it is labelled.
+/// whether it is labelled, and the arterial territory where it was clicked.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Marks {
     pub whole: bool,
     pub labelled: bool,
+    pub supply: Option<u8>,
 }
 
 pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize, marks: Marks) -> Vec<Action> {
@@ -40,6 +42,18 @@ pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize, marks: Marks) -> 
     egui::ScrollArea::vertical().max_height(220.0).show(ui, |ui| {
         ui.label(if organ.info.is_empty() { "No description." } else { organ.info.as_str() });
     });
+    if let Some((artery, side)) = scene.set().territories.as_ref().zip(marks.supply).and_then(|(t, id)| t.artery(id)) {
+        ui.separator();
+        let name = vbrain::territory::sided(side, &artery.name);
+        ui.label(RichText::new(format!("Supplied here by: {name} ({})", artery.short)).strong())
+            .on_hover_text("The arterial territory at the point you clicked (Liu et al. 2023 atlas)");
+        egui::CollapsingHeader::new("About this territory").id_salt("territory").show(ui, |ui| {
+            if !artery.latin.is_empty() {
+                ui.label(RichText::new(&artery.latin).italics());
+            }
+            ui.label(&artery.info);
+        });
+    }
     ui.separator();
     let one = || Organs::One(sel);
     let mut opacity = state.opacity;

@@ -1,5 +1,5 @@
-//! The menu bar: File, Edit (undo, redo), View (camera, culling, transparency, panels,
-//! background), Organs, Lessons and Help, with the running job's progress at the end.
+//! The menu bar: File, Edit (undo, redo), View (camera, colouring, culling, transparency,
+//! panels, background), Organs, Lessons and Help, with the running job's progress at the end.
 //!
 //! - One function per menu; each reads the scene and pushes [`Action`]s.
 //! - The viewer's settings (culling, transparency, panels, background) are edited in place: they
@@ -13,7 +13,9 @@ use super::widgets::accessible;
 use crate::viewer::action::{DocumentAction, LessonAction};
 use eframe::egui;
 use vbrain::camera::View;
+use vbrain::colouring::ColourBy;
 use vbrain::cull::{CullMode, CullSettings, Selection};
+use vbrain::edit::Edit;
 use vbrain::transparency::{TransparencyMode, TransparencySettings, SUBSAMPLE_CHOICES};
 
 /// A job in the background: title, progress (if known) and message.
@@ -179,6 +181,11 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
             ui.radio_value(&mut settings.labels, mode, mode.name());
         }
     });
+    if let Some(scene) = state.scene {
+        ui.menu_button("Colour by", |ui| colour_by_menu(ui, scene, out))
+            .response
+            .on_hover_text("Each organ its own colour, its lobe's, or the artery that supplies each point");
+    }
     ui.separator();
     let has_db = state.has_database;
     ui.menu_button("Culling of hidden tissue", |ui| culling_menu(ui, has_db, settings));
@@ -191,6 +198,19 @@ fn view_menu(ui: &mut egui::Ui, state: &MenuState, settings: &mut Settings, out:
         let r = ui.color_edit_button_rgb(&mut settings.background);
         accessible(&r, "Background colour");
     });
+}
+
+/// Organ, lobe or arterial territory (where the set has territories), with a legend in the view.
+fn colour_by_menu(ui: &mut egui::Ui, scene: &Scene, out: &mut Vec<Action>) {
+    let now = scene.layout().colour_by;
+    for by in ColourBy::ALL {
+        let has = by != ColourBy::Territory || scene.set().territories.is_some();
+        let r = ui.add_enabled(has, egui::RadioButton::new(now == by, by.label()));
+        let r = if has { r } else { r.on_disabled_hover_text("This organ set has no arterial territories") };
+        if r.clicked() && now != by {
+            out.push(Action::Edit(Edit::ColourBy(by)));
+        }
+    }
 }
 
 /// Culling mode, occluder selection, raster, budgets, the approximate test and the debug view.

@@ -13,6 +13,7 @@
 
 pub mod cull_choice;
 pub mod motion;
+mod overlays;
 
 use super::action::Action;
 use super::scene::Scene;
@@ -314,7 +315,9 @@ impl Viewport {
             }
         } else if response.clicked() {
             if let Some(p) = response.interact_pointer_pos() {
-                out.push(Action::Pick(self.pick(input, p, input.settings.pick_min_opacity)));
+                let organ = self.pick(input, p, input.settings.pick_min_opacity);
+                out.push(Action::Pick(organ));
+                out.push(Action::Supply(organ.and_then(|o| self.territory_at(input, p, o))));
             }
         }
         out
@@ -449,6 +452,20 @@ impl Viewport {
         }
     }
 
+    /// The arterial territory at a point of the viewport (points) on `organ`, where the set has
+    /// territories: where the ray through it first meets the organ on the side the planes keep.
+    fn territory_at(&self, input: &Input, at: Pos2, organ: usize) -> Option<u8> {
+        let scene = input.scene?;
+        let territories = scene.set().territories.as_ref()?;
+        let r = self.rect;
+        let ndc = Vec2::new((at.x - r.min.x) / r.width() * 2.0 - 1.0, 1.0 - (at.y - r.min.y) / r.height() * 2.0);
+        let ray = self.camera(scene).ray(r.width() / r.height().max(1.0), ndc);
+        let model = scene.layout().organs.get(organ)?.transform.matrix();
+        let planes = if input.section.applies_to(organ) { input.section.active_planes() } else { &[] };
+        let kept = |p| !planes.iter().any(|plane| plane.removes(p));
+        vbrain::territory::under_ray(territories, scene.set().organs[organ].mesh(), model, ray, kept)
+    }
+
     /// The organ-ID buffer of the current view at the viewport's size: organ index + 1 per
     /// physical pixel (row-major), 0 for background. For tests and tools; picking reads single
     /// pixels.
@@ -536,8 +553,9 @@ impl Viewport {
         ui.painter().image(*id, rect, uv, egui::Color32::WHITE);
         if settings.show_stats {
             let why = (settings.cull.mode == vbrain::cull::CullMode::Occlusion).then(|| self.cull_choice.reason());
-            overlay(ui, rect, (settings, &transparency), (&cull, why), &stats, faded);
+            overlays::stats(ui, rect, (settings, &transparency), (&cull, why), &stats, faded);
         }
+        overlays::legend(ui, rect, scene);
         if input.labels != crate::annotate::Labels::None {
             self.paint_labels(ui, rect, input, &input.labels);
         } else {
@@ -601,74 +619,6 @@ fn fit_target(
     };
     *slot = Some((t, id));
     Ok(())
-}
-
-/// The statistics overlay (top left): culling and transparency figures of the frame, with
-/// `transparency` as this frame drew (see [`motion`]).
-fn overlay(
-    ui: &egui::Ui,
-    rect: Rect,
-    (settings, transparency): (&Settings, &vbrain::transparency::TransparencySettings),
-    (cull, why): (&CullStats, Option<String>),
-    stats: &RenderStats,
-    faded: bool,
-) {
-    let mut lines = Vec::new();
-    if settings.cull.mode != vbrain::cull::CullMode::None {
-        lines.push(format!(
-            "culling: {}{}\n{:.1} % culled ({} frustum, {} occlusion{}, {} facing away{} triangles)\n{} occluder leaves, {} triangles{}{}\n{} nodes tested, {:.2} ms",
-            settings.cull.mode.name(),
-            why.map_or(String::new(), |w| format!(" ({w})")),
-            cull.culled_percent(),
-            cull.frustum_culled,
-            cull.occlusion_culled,
-            match cull.inside_culled {
-                0 => String::new(),
-                n => format!(" of which {n} inside solids"),
-            },
-            cull.back_face_culled,
-            match cull.clip_culled {
-                0 => String::new(),
-                n => format!(", {n} cut away"),
-            },
-            cull.occluder_leaves,
-            cull.occluder_triangles,
-            cull.source.map_or(String::new(), |s| format!(" by {}", s.name())),
-            match cull.solids {
-                0 => String::new(),
-                n => format!(", {n} solid{}", if n == 1 { "" } else { "s" }),
-            },
-            cull.nodes_tested,
-            cull.cull_ms
-        ));
-    }
-    if faded {
-        let t = transparency;
-        let passes = if stats.passes == 1 { "pass" } else { "passes" };
-        let mut line = format!("transparency: {}, {} {passes} this frame", t.mode.name(), stats.passes);
-        if t.mode != settings.transparency.mode {
-            line += &format!(" (moving; {} when still)", settings.transparency.mode.name());
-        }
-        if t.mode.mask_method().is_some() {
-            let (done, total) = (stats.subsamples_done, stats.subsamples_total);
-            let state = if done < total { "refining" } else { "converged" };
-            line += &format!(
-                "\n{state}: {done} of {total} sub-samples\nmasks: {} configurations, {:.2} ms",
-                stats.mask_configs, stats.mask_ms
-            );
-        }
-        lines.push(line);
-    }
-    if !lines.is_empty() {
-        let font = egui::FontId::monospace(11.0);
-        ui.painter().text(
-            rect.min + egui::vec2(8.0, 8.0),
-            egui::Align2::LEFT_TOP,
-            lines.join("\n"),
-            font,
-            egui::Color32::from_gray(200),
-        );
-    }
 }
 
 /// Moves (Ctrl), rotates (Shift) or resizes (Ctrl+Shift) an organ by a drag, in view space.

@@ -63,7 +63,11 @@ impl App {
 
     fn inspector_tab(&self, ui: &mut egui::Ui) -> Vec<crate::viewer::Action> {
         let (Some(scene), Some(sel)) = (self.scene.as_ref(), self.selected) else { return Vec::new() };
-        let marks = Marks { whole: self.sections.current.whole.contains(&sel), labelled: self.labels().wants(sel) };
+        let marks = Marks {
+            whole: self.sections.current.whole.contains(&sel),
+            labelled: self.labels().wants(sel),
+            supply: self.supply,
+        };
         inspector(ui, scene, sel, marks)
     }
 
