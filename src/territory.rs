@@ -167,6 +167,21 @@ impl Territories {
         self.artery(id).map(|(a, side)| sided(side, &a.name))
     }
 
+    /// The arteries any of whose names (name, short name, key, Latin name, synonyms) contain
+    /// `query`, compared as organ names are ([`crate::organ_set::names::fold`]); none for an empty
+    /// query.
+    pub fn find(&self, query: &str) -> Vec<&Artery> {
+        let q = crate::organ_set::names::fold(query);
+        let fold = crate::organ_set::names::fold;
+        let names = |a: &'_ Artery| {
+            [a.name.clone(), a.short.clone(), a.key.clone(), a.latin.clone()].into_iter().chain(a.synonyms.clone())
+        };
+        if q.is_empty() {
+            return Vec::new();
+        }
+        self.arteries.iter().filter(|a| names(a).any(|n| fold(&n).contains(&q))).collect()
+    }
+
     /// Territory ids of a mesh's vertices, or `None` where under [`MIN_SHARE`] of them lie in one.
     pub fn of_mesh(&self, mesh: &Mesh) -> Option<Vec<u8>> {
         let ids: Vec<u8> = mesh.positions.iter().map(|&p| self.at(Vec3::from(p))).collect();
@@ -250,6 +265,11 @@ mod tests {
         assert_eq!(t.name(0), None);
         assert_eq!(t.name(5), None);
         assert_eq!(sided(Side::Left, "Middle cerebral artery"), "Left middle cerebral artery");
+        let found = |q: &str| t.find(q).iter().map(|a| a.key.clone()).collect::<Vec<_>>();
+        assert_eq!(found("MCA"), ["mca"]);
+        assert_eq!(found("  Aca  Artery"), ["aca"]);
+        assert_eq!(found("artery"), ["aca", "mca"]);
+        assert!(found("").is_empty() && found("pca").is_empty());
     }
 
     #[test]

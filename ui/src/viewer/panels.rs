@@ -1,4 +1,5 @@
-//! The organ panel: the set's group tree with a search filter; per organ and per group: show,
+//! The organ panel: the set's group tree with a search filter (which also finds arterial
+//! territories); per organ and per group: show,
 //! transparency toggle, opacity, colour; isolate on right-click of a name.
 //!
 //! - It reads the scene and returns [`Action`]s (edits, selection); its own state is the filter.
@@ -139,6 +140,7 @@ impl OrganPanel {
             }
         });
         ui.separator();
+        territories(ui, scene, &self.filter, &mut out);
         let root = tree(scene, &self.filter);
         let filtering = !self.filter.trim().is_empty();
         // A group's row acts on the whole group its name says, whatever the search shows of it.
@@ -169,6 +171,30 @@ impl OrganPanel {
         });
         out
     }
+}
+
+/// The arterial territories a search names ("MCA", "middle cerebral artery territory"): a row
+/// each, which colours the organs by territory; the teaching text on hover.
+fn territories(ui: &mut egui::Ui, scene: &Scene, filter: &str, out: &mut Vec<Action>) {
+    let Some(t) = &scene.set().territories else { return };
+    let found = t.find(filter);
+    if found.is_empty() {
+        return;
+    }
+    ui.label(RichText::new("Arterial territories").strong());
+    for a in found {
+        let [r, g, b] = a.colour.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u8);
+        ui.horizontal(|ui| {
+            let (swatch, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+            ui.painter().rect_filled(swatch, 2.0, egui::Color32::from_rgb(r, g, b));
+            let row = ui.selectable_label(false, format!("{} ({})", a.name, a.short)).on_hover_text(&a.info);
+            accessible(&row, format!("Territory {}", a.name));
+            if row.clicked() {
+                out.push(Action::Edit(Edit::ColourBy(vbrain::colouring::ColourBy::Territory)));
+            }
+        });
+    }
+    ui.separator();
 }
 
 /// The tree's rows: what they read and the actions they return.

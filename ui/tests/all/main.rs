@@ -19,5 +19,6 @@ mod quiz;
 mod shortcuts;
 mod slice;
 mod study;
+mod territories;
 mod viewer;
 mod writers;
