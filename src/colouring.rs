@@ -152,19 +152,29 @@ pub fn legend(set: &OrganSet, layout: &Layout) -> Vec<(String, [f32; 3])> {
     }
 }
 
-/// Territory colours of a mesh's vertices packed for the GPU (sRGB bytes r, g, b, 255 from the low
-/// byte up), or 0 where a vertex has none; `None` where the organ takes no territories.
+/// The colour of each vertex of a mesh in territory colouring: its territory's, or `None` where no
+/// territory covers it; `None` for the whole mesh where the organ takes no territories
+/// ([`crate::territory::Territories::of_mesh`]).
+pub fn territory_colours(
+    territories: &crate::territory::Territories,
+    mesh: &crate::mesh::Mesh,
+) -> Option<Vec<Option<[f32; 3]>>> {
+    let ids = territories.of_mesh(mesh)?;
+    let table: Vec<Option<[f32; 3]>> = (0..=u8::MAX).map(|id| territories.artery(id).map(|(a, _)| a.colour)).collect();
+    Some(ids.iter().map(|&id| table[id as usize]).collect())
+}
+
+/// [`territory_colours`] packed for the GPU: sRGB bytes r, g, b, 255 from the low byte up, 0 where
+/// a vertex has no territory.
 pub fn packed_territory_colours(
     territories: &crate::territory::Territories,
     mesh: &crate::mesh::Mesh,
 ) -> Option<Vec<u32>> {
-    let ids = territories.of_mesh(mesh)?;
     let pack = |c: [f32; 3]| {
         let b = c.map(|v| (v.clamp(0.0, 1.0) * 255.0).round() as u32);
         b[0] | b[1] << 8 | b[2] << 16 | 255 << 24
     };
-    let table: Vec<u32> = (0..=u8::MAX).map(|id| territories.artery(id).map_or(0, |(a, _)| pack(a.colour))).collect();
-    Some(ids.iter().map(|&id| table[id as usize]).collect())
+    Some(territory_colours(territories, mesh)?.into_iter().map(|c| c.map_or(0, pack)).collect())
 }
 
 #[cfg(test)]

@@ -8,7 +8,9 @@
 //! - Meshes stay in organ space (millimetres, RAS); the root node `vbrain` maps RAS millimetres to
 //!   glTF's metres with +Y up and +Z to the front: glTF (x, y, z) = (-R, S, A) / 1000, so a viewer
 //!   facing the model's front sees its anterior side.
-//! - Colours are stored linear, as glTF asks (the set keeps sRGB).
+//! - Colours are stored linear, as glTF asks (the set keeps sRGB). Organs take the layout's
+//!   colouring ([`crate::colouring`]): by lobe their material's colour; by arterial territory a
+//!   white material and each vertex's territory colour (`COLOR_0`, 8-bit RGBA).
 
 use crate::clip::{ClipPlane, Section};
 use crate::layout::Layout;
@@ -102,6 +104,8 @@ fn document(
     // Group path -> node index; children lists filled as nodes are added.
     let mut groups: Vec<(String, usize)> = Vec::new();
     let mut children: Vec<Vec<usize>> = vec![Vec::new()];
+    let colours = crate::colouring::organ_colours(set, layout);
+    let territories = set.territories.as_ref().filter(|_| layout.colour_by == crate::colouring::ColourBy::Territory);
 
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32, stride: Option<usize>| {
         let offset = bin.len();
@@ -148,7 +152,23 @@ fn document(
         accessors.push(normals);
         accessors
             .push(json!({"bufferView": idx, "componentType": index_type, "count": m.indices.len(), "type": "SCALAR"}));
-        let [r, g, bl] = state.colour.map(linear);
+        let mut attributes = json!({"POSITION": a, "NORMAL": a + 1});
+        let mut colour = colours.get(part.organ).copied().unwrap_or(state.colour);
+        if let Some(tints) = territories.and_then(|t| crate::colouring::territory_colours(t, m)) {
+            let rgba: Vec<[u8; 4]> = tints
+                .iter()
+                .map(|c| {
+                    let [r, g, b] =
+                        c.unwrap_or(crate::colouring::UNSUPPLIED).map(|v| (linear(v) * 255.0).round() as u8);
+                    [r, g, b, 255]
+                })
+                .collect();
+            let v = view(&mut bin, bytemuck::cast_slice(&rgba), 34962, Some(4));
+            attributes["COLOR_0"] = json!(accessors.len());
+            accessors.push(json!({"bufferView": v, "componentType": 5121, "normalized": true, "count": rgba.len(), "type": "VEC4"}));
+            colour = [1.0; 3];
+        }
+        let [r, g, bl] = colour.map(linear);
         let opacity = state.opacity.clamp(0.0, 1.0);
         let mut material = json!({"name": organ.name, "doubleSided": !organ.closed() || (is_cut && !section.caps),
             "pbrMetallicRoughness": {"baseColorFactor": [r, g, bl, opacity], "metallicFactor": 0.0, "roughnessFactor": 0.6}});
@@ -156,7 +176,7 @@ fn document(
             material["alphaMode"] = json!("BLEND");
         }
         materials.push(material);
-        meshes.push(json!({"name": organ.name, "primitives": [{"attributes": {"POSITION": a, "NORMAL": a + 1},
+        meshes.push(json!({"name": organ.name, "primitives": [{"attributes": attributes,
             "indices": a + 2, "material": materials.len() - 1, "mode": 4}]}));
         let mut extras = json!({"id": organ.id, "group": organ.group, "info": organ.info, "opacity": opacity});
         if let Some(latin) = &organ.latin {

@@ -6,7 +6,9 @@
 //! The page (`web/page.html`, `web/page.js`) reads three parts of itself: the three.js modules, as
 //! `data:` URLs in an import map (their relative imports renamed to bare names the map resolves);
 //! the model, base64 in a `<script>` element; and a JSON description (title, camera, labels, for
-//! a lesson its steps, for a quiz its questions with their views and pass mark). Conventions of
+//! a lesson its steps, for a quiz its questions with their views and pass mark). A view's organ
+//! colours are as its colouring shows them ([`crate::colouring`]); in territory colouring the
+//! model's vertex colours show instead (`territories`). Conventions of
 //! that JSON: positions and directions in glTF space (metres, +Y superior, +Z anterior:
 //! [`crate::gltf::ROOT_MATRIX`]), colours sRGB in 0..=1, organs by id. Every text from the set
 //! reaches the page as JSON data and is shown as text, never parsed as HTML; the JSON is escaped
@@ -105,7 +107,7 @@ impl<'a> Page<'a> {
     /// A lesson's page: every organ in the model, uncut; each step shows, fades, colours, places
     /// and cuts them (without cut faces) in the page, with its labels and highlights.
     pub fn lesson(set: &'a OrganSet, lesson: &Lesson) -> Page<'a> {
-        let views = lesson
+        let views: Vec<View> = lesson
             .steps
             .iter()
             .map(|step| {
@@ -126,6 +128,10 @@ impl<'a> Page<'a> {
         let mut model = Layout::new(set);
         for o in &mut model.organs {
             (o.visible, o.opacity) = (true, 1.0);
+        }
+        // The model carries territory colours where a step shows them.
+        if views.iter().any(|v| v.layout.colour_by == crate::colouring::ColourBy::Territory) {
+            model.colour_by = crate::colouring::ColourBy::Territory;
         }
         Page {
             set,
@@ -329,14 +335,16 @@ fn description(page: &Page) -> Value {
 fn view_json(set: &OrganSet, v: &View) -> Value {
     let ids = |organs: &[usize]| -> Vec<&str> { organs.iter().map(|&i| set.organs[i].id.as_str()).collect() };
     let c = &v.camera;
+    let colours = crate::colouring::organ_colours(set, &v.layout);
     let organs: serde_json::Map<String, Value> = set
         .organs
         .iter()
         .zip(&v.layout.organs)
-        .map(|(o, s)| {
+        .zip(colours)
+        .map(|((o, s), colour)| {
             let m = s.transform.matrix();
             let matrix = (m != Mat4::IDENTITY).then(|| m.to_cols_array().to_vec());
-            let state = json!({"visible": s.visible, "opacity": s.opacity, "colour": s.colour, "matrix": matrix});
+            let state = json!({"visible": s.visible, "opacity": s.opacity, "colour": colour, "matrix": matrix});
             (o.id.clone(), state)
         })
         .collect();
@@ -349,6 +357,7 @@ fn view_json(set: &OrganSet, v: &View) -> Value {
         "highlight": ids(&v.highlight), "labels": ids(&v.labels),
         "selection": v.selection.map(|i| set.organs[i].id.clone()), "clip": clip,
         "whole": ids(&v.section.whole),
+        "territories": v.layout.colour_by == crate::colouring::ColourBy::Territory,
     })
 }
 

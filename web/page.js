@@ -404,7 +404,11 @@ function showView(v) {
     if (!o) continue;
     setShown(o, s.visible);
     setOpacity(o, s.opacity);
-    o.material.color.setRGB(s.colour[0], s.colour[1], s.colour[2], THREE.SRGBColorSpace);
+    // Territory colouring: the model's vertex colours (on a white material) where it has them.
+    const tinted = v.territories && o.mesh.geometry.hasAttribute('color');
+    o.material.vertexColors = tinted;
+    if (tinted) o.material.color.setRGB(1, 1, 1);
+    else o.material.color.setRGB(s.colour[0], s.colour[1], s.colour[2], THREE.SRGBColorSpace);
     o.emissive = v.highlight.includes(id) ? 0x5a3a00 : 0x000000;
     o.material.emissive.setHex(o.emissive);
     if (s.matrix) o.mesh.matrix.fromArray(s.matrix);

@@ -75,6 +75,21 @@ pub fn apply_layout_args(set: &OrganSet, layout: &mut Layout, args: &LayoutArgs)
     Ok(())
 }
 
+/// Applies `--colour-by` to a layout (of the set at `path`); territory colouring needs a set with
+/// arterial territories.
+pub fn apply_colour_by(
+    set: &OrganSet,
+    path: &std::path::Path,
+    layout: &mut Layout,
+    by: Option<vbrain::colouring::ColourBy>,
+) -> Result<()> {
+    layout.colour_by = by.unwrap_or(layout.colour_by);
+    if layout.colour_by == vbrain::colouring::ColourBy::Territory && set.territories.is_none() {
+        anyhow::bail!("{}: the set has no arterial territories to colour by", path.display());
+    }
+    Ok(())
+}
+
 /// Applies `--show` then `--hide` to a layout.
 pub fn apply_visibility(set: &OrganSet, layout: &mut Layout, show: &[String], hide: &[String]) -> Result<()> {
     for (keys, visible) in [(show, true), (hide, false)] {

@@ -8,7 +8,7 @@
 //!   from a set with `--seed`.
 //! - `--scorm OUT.zip` packages that page for a learning platform ([`vbrain::scorm`]).
 
-use super::common::{apply_layout_args, open_set, section};
+use super::common::{apply_colour_by, apply_layout_args, open_set, section};
 use super::outputs::{self, Kind};
 use super::ExportArgs;
 use anyhow::{anyhow, bail, Result};
@@ -146,6 +146,7 @@ fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, path: &Path, arg
         (layout, selection) = (applied.layout, applied.selection);
     }
     apply_layout_args(set, &mut layout, &args.layout)?;
+    apply_colour_by(set, path, &mut layout, args.colour_by)?;
     let (section, _) = section(set, &args.section, scene)?;
     let nav = match scene {
         Some(s) => s.camera.navigator(),
@@ -172,9 +173,9 @@ fn scene_page<'a>(set: &'a OrganSet, scene: Option<&SceneFile>, path: &Path, arg
 /// them (without cut faces) in the page.
 fn lesson_page<'a>(set: &'a OrganSet, lesson: &Lesson, path: &Path, args: &ExportArgs) -> Result<Page<'a>> {
     let (l, c) = (&args.layout, &args.section);
-    let changes = !(l.show.is_empty() && l.hide.is_empty() && l.opacity.is_empty());
+    let changes = !(l.show.is_empty() && l.hide.is_empty() && l.opacity.is_empty() && args.colour_by.is_none());
     if changes || !c.clip.is_empty() || c.caps.is_some() || !c.whole.is_empty() {
-        bail!("{}: a lesson's steps set the organs and planes; --show, --hide, --opacity, --clip, --caps and --whole are for sets and scenes", path.display());
+        bail!("{}: a lesson's steps set the organs and planes; --show, --hide, --opacity, --colour-by, --clip, --caps and --whole are for sets and scenes", path.display());
     }
     for name in lesson.unknown_names(set) {
         eprintln!("warning: {}: the set has no organ or group \"{name}\"; left out", path.display());

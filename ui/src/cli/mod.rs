@@ -575,6 +575,10 @@ pub struct ExportArgs {
     pub force: bool,
     #[command(flatten)]
     pub layout: LayoutArgs,
+    /// What colours the organs: organ, lobe, or territory (vertex colours in the model)
+    /// [default: the scene's, else organ]
+    #[arg(long, value_parser = values::colour_by())]
+    pub colour_by: Option<vbrain::colouring::ColourBy>,
     #[command(flatten)]
     pub section: SectionArgs,
     #[command(flatten)]

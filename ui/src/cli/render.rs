@@ -8,7 +8,7 @@
 //! - Never writes over a file that is not a PNG image (for `--save-scene`, not a vbrain scene)
 //!   without `--force`.
 
-use super::common::{apply_layout_args, database, open_set, organs, section};
+use super::common::{apply_colour_by, apply_layout_args, database, open_set, organs, section};
 use super::outputs::{self, Kind};
 use super::values::ROUTE_FRAMES;
 use super::RenderArgs;
@@ -17,7 +17,6 @@ use anyhow::{anyhow, bail, Result};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 use vbrain::camera::View;
-use vbrain::colouring::ColourBy;
 use vbrain::cull::{CullMode, CullSettings, Culler};
 use vbrain::labels::Which;
 use vbrain::layout::Layout;
@@ -59,10 +58,7 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
         (layout, selection) = (applied.layout, applied.selection);
     }
     apply_layout_args(&set, &mut layout, &args.layout)?;
-    layout.colour_by = args.colour_by.unwrap_or(layout.colour_by);
-    if layout.colour_by == ColourBy::Territory && set.territories.is_none() {
-        bail!("{}: the set has no arterial territories to colour by", path.display());
-    }
+    apply_colour_by(&set, &path, &mut layout, args.colour_by)?;
     let mut highlight = Vec::new();
     for key in &args.highlight {
         highlight.extend(organs(&set, key)?);

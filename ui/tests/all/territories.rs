@@ -45,3 +45,56 @@ fn search_colour_by_territory_and_click_to_name_the_artery() {
     h.run_steps(2);
     assert_eq!(colouring(&h), ColourBy::Organ);
 }
+
+#[test]
+fn territory_colours_reach_gltf_as_vertex_colours_the_validator_passes() {
+    let dir = tempfile::tempdir().unwrap();
+    let glb = dir.path().join("territories.glb");
+    let o = crate::cli::vbrain(&[
+        "export",
+        &crate::cli::brain(),
+        "--gltf",
+        glb.to_str().unwrap(),
+        "--colour-by",
+        "territory",
+        "--show",
+        "skull",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let report = crate::export::node("validate.mjs", &[&glb]);
+    assert_eq!(report["numErrors"], 0, "{report}");
+    let bytes = std::fs::read(&glb).unwrap();
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let doc: serde_json::Value = serde_json::from_slice(&bytes[20..20 + len]).unwrap();
+    let primitive = |id: &str| {
+        let node = doc["nodes"].as_array().unwrap().iter().find(|n| n["extras"]["id"] == id).unwrap().clone();
+        doc["meshes"][node["mesh"].as_u64().unwrap() as usize]["primitives"][0].clone()
+    };
+    // The cortex carries a colour per vertex on a white material; the skull, outside every
+    // artery's territory, keeps one colour.
+    let gyrus = primitive("precentral_l");
+    let colours = &doc["accessors"][gyrus["attributes"]["COLOR_0"].as_u64().expect("COLOR_0") as usize];
+    let positions = &doc["accessors"][gyrus["attributes"]["POSITION"].as_u64().unwrap() as usize];
+    assert_eq!(colours["count"], positions["count"]);
+    let material = &doc["materials"][gyrus["material"].as_u64().unwrap() as usize];
+    assert_eq!(material["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([1.0, 1.0, 1.0, 1.0]));
+    let skull = primitive("skull");
+    assert!(skull["attributes"].get("COLOR_0").is_none());
+    let material = &doc["materials"][skull["material"].as_u64().unwrap() as usize];
+    assert_ne!(material["pbrMetallicRoughness"]["baseColorFactor"], serde_json::json!([1.0, 1.0, 1.0, 1.0]));
+
+    // A set without territories cannot be coloured by them, and says so.
+    let obj = dir.path().join("cube.obj");
+    std::fs::write(&obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n").unwrap();
+    let png = dir.path().join("cube.png");
+    let o = crate::cli::vbrain(&[
+        "render",
+        obj.to_str().unwrap(),
+        "--out",
+        png.to_str().unwrap(),
+        "--colour-by",
+        "territory",
+    ]);
+    let said = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && said.contains("no arterial territories") && !png.exists(), "{said}");
+}
