@@ -187,6 +187,13 @@ impl Lesson {
                 format!("{steps} steps and {questions} quiz questions: a lesson has at most {MAX_STEPS} of each"),
             ));
         }
+        if let Some(k) = lesson.quiz.iter().position(|q| q.kind == crate::quiz::Kind::Supply) {
+            return Err(Error::parse(
+                path,
+                None,
+                format!("quiz question {}: a lesson's quiz asks locate and name questions (supply questions come from a supply quiz)", k + 1),
+            ));
+        }
         if let Some(mark) = lesson.pass_mark.filter(|m| !(0.0..=100.0).contains(m)) {
             return Err(Error::parse(path, None, format!("pass_mark {mark} is not a percentage in 0..=100")));
         }
@@ -635,6 +642,10 @@ mod tests {
         let e =
             Lesson::parse(r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": []}"#, p).unwrap_err();
         assert!(e.to_string().contains("at least one step"), "{e}");
+        let supply = r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [{"title": "s",
+            "caption": "c"}], "quiz": [{"kind": "name", "organ": "a"}, {"kind": "supply", "organ": "a"}]}"#;
+        let e = Lesson::parse(supply, p).unwrap_err().to_string();
+        assert!(e.contains("quiz question 2") && e.contains("supply questions come from a supply quiz"), "{e}");
         let step_typo = r#"{"format": "vbrain-lesson/1", "title": "t", "set": ".", "steps": [
             {"title": "s", "caption": "c", "hid": ["a"]}]}"#;
         assert!(Lesson::parse(step_typo, p).unwrap_err().to_string().contains("hid"), "a misspelt key is named");

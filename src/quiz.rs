@@ -1,5 +1,6 @@
 //! Quizzes (the thesis's future work: a question module): questions that ask a student to locate
-//! a structure (click it) or to name one (type its name or pick among four).
+//! a structure (click it), to name one (type its name or pick among four), or which artery
+//! supplies one (pick among four arteries; issue: blood supply and pathways).
 //!
 //! - Questions are drawn from a scope of organs with a seed, so a seed gives the same quiz.
 //! - Pure functions over the organ set; the camera and the fading that make a deep target visible
@@ -26,6 +27,9 @@ pub enum Kind {
     Locate,
     /// Name the highlighted structure.
     Name,
+    /// Which artery supplies the highlighted structure: `choices` are indices into the set's
+    /// territories' arteries, the answer [`supplier`]'s.
+    Supply,
 }
 
 /// Which kinds a quiz asks.
@@ -39,10 +43,34 @@ pub enum Mode {
     /// Name and locate by turns, each on an axial, coronal or sagittal slice through the structure
     /// (the set's MRI with outlines) instead of the 3-D view.
     Mri,
+    /// Which artery supplies the highlighted structure (structures that one artery supplies for
+    /// the most part, [`SUPPLY_SHARE`]).
+    Supply,
+}
+
+/// The least share of a structure's surface its artery must supply for a supply question on it.
+pub const SUPPLY_SHARE: f32 = 0.8;
+
+/// The artery that supplies most of `organ` (index into the set's territories' arteries), where
+/// it supplies at least [`SUPPLY_SHARE`] of its surface and the territories do not leave the
+/// organ unasked.
+pub fn supplier(set: &OrganSet, organ: usize) -> Option<usize> {
+    let (t, o) = (set.territories.as_ref()?, set.organs.get(organ)?);
+    let (artery, share) = t.supplier(o.mesh())?;
+    (share >= SUPPLY_SHARE && !t.unasked.contains(&o.id)).then_some(artery)
+}
+
+/// A supply question's prompt, in two phrasings by turns (`k` the question's number from 0).
+pub fn supply_prompt(k: usize) -> &'static str {
+    if k.is_multiple_of(2) {
+        "Which artery supplies the outlined region?"
+    } else {
+        "A stroke destroys the outlined region: which artery's territory is it?"
+    }
 }
 
 impl Mode {
-    pub const ALL: [Mode; 4] = [Mode::Locate, Mode::Name, Mode::Mixed, Mode::Mri];
+    pub const ALL: [Mode; 5] = [Mode::Locate, Mode::Name, Mode::Mixed, Mode::Mri, Mode::Supply];
 
     pub fn parse(s: &str) -> Option<Mode> {
         Mode::ALL.into_iter().find(|m| m.name() == s.trim().to_ascii_lowercase())
@@ -54,6 +82,7 @@ impl Mode {
             Mode::Name => "name",
             Mode::Mixed => "mixed",
             Mode::Mri => "mri",
+            Mode::Supply => "supply",
         }
     }
 }
@@ -143,6 +172,19 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
         return Err("a quiz needs at least one question".into());
     }
     let mut rng = XorShift::seeded(spec.seed);
+    let scope = match spec.mode {
+        Mode::Supply => {
+            if set.territories.is_none() {
+                return Err("the set has no arterial territories: a supply quiz needs them".into());
+            }
+            let supplied: Vec<usize> = scope.iter().copied().filter(|&o| supplier(set, o).is_some()).collect();
+            if supplied.is_empty() {
+                return Err("no structure in scope lies mostly in one artery's territory".into());
+            }
+            supplied
+        }
+        _ => scope,
+    };
     let mut order = scope.clone();
     rng.shuffle(&mut order);
     let n = spec.questions.min(order.len());
@@ -160,6 +202,7 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
             Mode::Name => Kind::Name,
             Mode::Mixed | Mode::Mri if k % 2 == 0 => Kind::Locate,
             Mode::Mixed | Mode::Mri => Kind::Name,
+            Mode::Supply => Kind::Supply,
         };
         let slice = match spec.mode {
             Mode::Mri => match slice_through(set, organ, &mut rng) {
@@ -171,7 +214,11 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
             },
             _ => None,
         };
-        questions.push(Question { kind, organ, choices: choices(set, organ, &scope, &mut rng), slice });
+        let choices = match (kind, &set.territories, supplier(set, organ)) {
+            (Kind::Supply, Some(t), Some(artery)) => t.choices(set.organs[organ].mesh(), artery, &mut rng),
+            _ => choices(set, organ, &scope, &mut rng),
+        };
+        questions.push(Question { kind, organ, choices, slice });
     }
     if questions.is_empty() {
         return Err("no structure in scope shows on a slice: an MRI quiz needs organs with volume".into());
@@ -382,11 +429,49 @@ mod tests {
     }
 
     #[test]
+    fn supply_questions_offer_four_arteries_with_the_supplier_among_them() {
+        use crate::territory::{Artery, Territories};
+        let mut set = set();
+        assert!(generate(&set, &Spec { scope: vec![0, 1, 2], questions: 2, mode: Mode::Supply, seed: 1 }).is_err());
+        let artery = |key: &str| Artery {
+            key: key.into(),
+            name: key.into(),
+            short: key.into(),
+            latin: String::new(),
+            colour: [0.5; 3],
+            synonyms: Vec::new(),
+            info: "A. B.".into(),
+            is_artery: key != "none",
+        };
+        let arteries = ["aca", "mca", "pca", "sca", "none"].map(artery).to_vec();
+        // x < 0: the left MCA (id 3); x >= 0: the right PCA (id 6); 100 mm voxels.
+        let to_world = glam::Mat4::from_translation(glam::Vec3::new(-50.0, 0.0, 0.0))
+            * glam::Mat4::from_scale(glam::Vec3::new(100.0, 1000.0, 1000.0));
+        set.territories = Some(std::sync::Arc::new(Territories::from_parts(arteries, [2, 1, 1], to_world, vec![3, 6])));
+        assert_eq!((supplier(&set, 0), supplier(&set, 3)), (Some(1), Some(2)), "left caudate MCA, right PCA");
+        for seed in 0..20 {
+            let spec = Spec { scope: (0..set.organs.len()).collect(), questions: 5, mode: Mode::Supply, seed };
+            let quiz = generate(&set, &spec).unwrap();
+            assert_eq!(quiz.questions.len(), 5);
+            for q in &quiz.questions {
+                assert_eq!(q.kind, Kind::Supply);
+                let answer = supplier(&set, q.organ).unwrap();
+                let mut choices = q.choices.clone();
+                assert!(choices.contains(&answer), "{choices:?} lacks {answer}");
+                choices.sort_unstable();
+                assert_eq!(choices, [0, 1, 2, 3], "four distinct true arteries, never \"none\"");
+            }
+        }
+    }
+
+    #[test]
     fn every_question_has_one_right_answer_among_distinct_near_choices() {
         let set = set();
         for seed in 0..200 {
             let scope: Vec<usize> = (0..set.organs.len()).filter(|&o| seed % 3 != 0 || o < 3).collect();
-            let mode = Mode::ALL[seed as usize % Mode::ALL.len()];
+            // Supply questions need territories: tested below.
+            let modes = [Mode::Locate, Mode::Name, Mode::Mixed, Mode::Mri];
+            let mode = modes[seed as usize % modes.len()];
             let spec = Spec { scope: scope.clone(), questions: 1 + seed as usize % 9, mode, seed };
             let quiz = generate(&set, &spec).unwrap();
             assert_eq!(generate(&set, &spec).unwrap(), quiz, "a seed gives the same quiz");
@@ -418,6 +503,7 @@ mod tests {
                 Mode::Mixed | Mode::Mri => {
                     assert!(quiz.questions.len() < 2 || quiz.questions[1].kind == Kind::Name)
                 }
+                Mode::Supply => unreachable!(),
             }
             let sliced = quiz.questions.iter().all(|q| q.slice.is_some());
             assert_eq!(sliced, spec.mode == Mode::Mri, "questions on slices only in the MRI mode");

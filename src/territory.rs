@@ -63,6 +63,8 @@ struct TerritoryFile {
     format: String,
     volume: String,
     arteries: Vec<Artery>,
+    #[serde(default)]
+    unasked: Vec<String>,
 }
 
 /// Left or right: which of an artery's two territories an id is.
@@ -85,6 +87,9 @@ impl Side {
 #[derive(Clone, Debug)]
 pub struct Territories {
     pub arteries: Vec<Artery>,
+    /// Organ ids no supply question asks about: where the registered atlas departs from the
+    /// textbook's supply (the file's `unasked`).
+    pub unasked: Vec<String>,
     dims: [usize; 3],
     to_voxel: Mat4,
     /// Territory ids, x fastest.
@@ -132,14 +137,20 @@ impl Territories {
         if !(raw.affine.is_finite() && raw.affine.determinant().abs() > 1e-12) {
             return Err(Error::parse(&volume_path, None, "the voxel-to-world transform is singular"));
         }
-        Ok(Territories { arteries: parsed.arteries, dims: raw.dims, to_voxel: raw.affine.inverse(), ids })
+        Ok(Territories {
+            arteries: parsed.arteries,
+            unasked: parsed.unasked,
+            dims: raw.dims,
+            to_voxel: raw.affine.inverse(),
+            ids,
+        })
     }
 
     /// A set of territories from parts (tests, generated sets): `ids` x fastest on a grid of
     /// `dims` placed by `to_world` (voxel indices -> millimetres).
     pub fn from_parts(arteries: Vec<Artery>, dims: [usize; 3], to_world: Mat4, ids: Vec<u8>) -> Territories {
         assert_eq!(ids.len(), dims[0] * dims[1] * dims[2], "one id per voxel");
-        Territories { arteries, dims, to_voxel: to_world.inverse(), ids }
+        Territories { arteries, unasked: Vec::new(), dims, to_voxel: to_world.inverse(), ids }
     }
 
     /// The territory id at `p` (organ space), 0 outside every territory.
@@ -180,6 +191,46 @@ impl Territories {
             return Vec::new();
         }
         self.arteries.iter().filter(|a| names(a).any(|n| fold(&n).contains(&q))).collect()
+    }
+
+    /// The artery (index into [`Territories::arteries`], a true artery) that supplies the most of
+    /// a mesh's vertices, either side, with the share of its vertices it supplies; `None` where
+    /// no artery supplies any.
+    pub fn supplier(&self, mesh: &Mesh) -> Option<(usize, f32)> {
+        let counts = self.counts(mesh);
+        let (k, &n) = counts
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| self.arteries[*k].is_artery)
+            .max_by_key(|(k, &n)| (n, std::cmp::Reverse(*k)))?;
+        (n > 0).then(|| (k, n as f32 / mesh.positions.len().max(1) as f32))
+    }
+
+    /// Vertices of a mesh in each artery's territory (both sides), index-aligned with the arteries.
+    fn counts(&self, mesh: &Mesh) -> Vec<usize> {
+        let mut counts = vec![0; self.arteries.len()];
+        for &p in &mesh.positions {
+            if let Some(k) = (self.at(Vec3::from(p)) as usize).checked_sub(1) {
+                if let Some(c) = counts.get_mut(k / 2) {
+                    *c += 1;
+                }
+            }
+        }
+        counts
+    }
+
+    /// Four arteries to choose from for the supply of a mesh whose supplier is `answer`: it, then
+    /// the true arteries that supply most of the rest of the mesh, then the others in an order
+    /// drawn from `rng`; shuffled.
+    pub fn choices(&self, mesh: &Mesh, answer: usize, rng: &mut crate::rng::XorShift) -> Vec<usize> {
+        let counts = self.counts(mesh);
+        let mut others: Vec<usize> =
+            (0..self.arteries.len()).filter(|&k| k != answer && self.arteries[k].is_artery).collect();
+        rng.shuffle(&mut others);
+        others.sort_by_key(|&k| std::cmp::Reverse(counts[k]));
+        let mut out: Vec<usize> = std::iter::once(answer).chain(others).take(crate::quiz::CHOICES).collect();
+        rng.shuffle(&mut out);
+        out
     }
 
     /// Territory ids of a mesh's vertices, or `None` where under [`MIN_SHARE`] of them lie in one.

@@ -405,6 +405,8 @@ pub fn build(
                 vbrain::quiz::Kind::Locate => {
                     Note::new(find_it.clone(), vec![&name, &latin, &info, &img("plain"), &img("outlined")])?
                 }
+                // Lessons ask no supply questions (Lesson::parse refuses them).
+                vbrain::quiz::Kind::Supply => continue,
             };
             let id = format!("lesson {title} question {}", k + 1);
             deck.add_note(note.guid(guid(&set.title, &id, &o.id, 0)).tags([tag(&o.group), "vbrain::lesson".into()]));

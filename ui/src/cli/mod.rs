@@ -247,8 +247,9 @@ pub struct QuizArgs {
     /// Seed: the same seed gives the same quiz
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// locate (which letter is it?), name (what is A?), mixed, or mri (both by turns, each on an
-    /// MRI slice through the structure with outlines)
+    /// locate (which letter is it?), name (what is A?), mixed, mri (both by turns, each on an
+    /// MRI slice through the structure with outlines), or supply (which artery supplies region A?
+    /// for sets with arterial territories)
     #[arg(long, default_value = "mixed", value_parser = values::quiz_mode)]
     pub mode: vbrain::quiz::Mode,
     /// Output folder

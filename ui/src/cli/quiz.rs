@@ -85,7 +85,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                     letters_on_what_shows(&set, &mut q, &ids(&layout), args.seed ^ (k as u64 + 1));
                 }
                 let (draw, _) = culler.cull(&set, &layout, &camera, target.aspect(), &CullSettings::default());
-                let highlight = if q.kind == Kind::Name { vec![q.organ] } else { Vec::new() };
+                let highlight = if q.kind == Kind::Locate { Vec::new() } else { vec![q.organ] };
                 let frame = FrameInput {
                     draw: Some(&draw),
                     background: crate::background_linear(crate::background_srgb(), false),
@@ -100,7 +100,7 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
             }
         };
         let (labels, name): (Labels, Box<dyn Fn(usize) -> String>) = match q.kind {
-            Kind::Name => (Labels::Chosen(vec![q.organ]), Box::new(|_| "A".to_string())),
+            Kind::Name | Kind::Supply => (Labels::Chosen(vec![q.organ]), Box::new(|_| "A".to_string())),
             Kind::Locate => {
                 let choices = q.choices.clone();
                 let name = move |o: usize| choices.iter().position(|&c| c == o).map_or(String::new(), letter);
@@ -129,6 +129,24 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
                 let right = q.choices.iter().position(|&c| c == q.organ).map_or(String::new(), letter);
                 answers_md.push_str(&format!("{}. ({}) {answer}\n", k + 1, right.to_lowercase()));
             }
+            Kind::Supply => {
+                let arteries = set.territories.as_ref().map_or(&[][..], |t| t.arteries.as_slice());
+                let artery = |k: usize| arteries.get(k).map_or(String::new(), |a| format!("{} ({})", a.name, a.short));
+                let prompt = quiz::supply_prompt(k).replace("the outlined region", "region A");
+                questions_md.push_str(&format!("\n## {}. {prompt}\n\n![Question {}]({file})\n\n", k + 1, k + 1));
+                for (c, &a) in q.choices.iter().enumerate() {
+                    questions_md.push_str(&format!("- ({}) {}\n", letter(c).to_lowercase(), artery(a)));
+                }
+                let supplier = quiz::supplier(&set, q.organ);
+                let right = q.choices.iter().position(|&c| Some(c) == supplier).map_or(String::new(), letter);
+                let answer = supplier.map(artery).unwrap_or_default();
+                answers_md.push_str(&format!(
+                    "{}. ({}) {answer} ({})\n",
+                    k + 1,
+                    right.to_lowercase(),
+                    set.organs[q.organ].name
+                ));
+            }
             Kind::Locate => {
                 let shown: Vec<String> = q
                     .choices
@@ -155,8 +173,13 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
         let heading = lines.next().unwrap_or_default().trim_start_matches("## ").to_string();
         let text: Vec<&str> = lines.filter(|l| !l.starts_with("![")).collect();
         sheets.push(Sheet { heading, figure: Some(image), text: text.join("\n") });
-        let kind = if q.kind == Kind::Name { "name" } else { "locate" };
-        let choices: Vec<&str> = q.choices.iter().map(|&c| set.organs[c].id.as_str()).collect();
+        let kind = serde_json::to_value(q.kind)?;
+        let choices: Vec<&str> = match (q.kind, &set.territories) {
+            (Kind::Supply, Some(t)) => {
+                q.choices.iter().filter_map(|&c| t.arteries.get(c)).map(|a| a.key.as_str()).collect()
+            }
+            _ => q.choices.iter().map(|&c| set.organs[c].id.as_str()).collect(),
+        };
         let slice = q.slice.map(|p| json!({"plane": p.axis.name(), "at_mm": p.at}));
         listed.push(json!({
             "kind": kind, "organ": set.organs[q.organ].id, "choices": choices, "image": args.out.join(&file),
@@ -178,10 +201,11 @@ pub fn run(args: &QuizArgs) -> Result<bool> {
             figure: None,
             text: key.map(|l| format!("- {l}")).collect::<Vec<_>>().join("\n"),
         });
-        let mut subtitle = vec![format!(
-            "{} questions. Name the structure marked A, or give the letter that marks the structure named.",
-            listed.len()
-        )];
+        let task = match args.mode {
+            quiz::Mode::Supply => "Give the artery whose territory holds the region marked A.",
+            _ => "Name the structure marked A, or give the letter that marks the structure named.",
+        };
+        let mut subtitle = vec![format!("{} questions. {task}", listed.len())];
         subtitle.extend(crate::handout::attribution(&set));
         let handout = Handout { title: format!("Quiz: {title}"), subtitle, sheets };
         let bytes = crate::handout::pdf(&handout, args.paper)?;

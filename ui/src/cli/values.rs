@@ -263,7 +263,7 @@ pub fn on_off(s: &str) -> Result<bool> {
 
 /// A quiz mode: locate, name or mixed.
 pub fn quiz_mode(s: &str) -> Result<vbrain::quiz::Mode> {
-    vbrain::quiz::Mode::parse(s).ok_or_else(|| anyhow::anyhow!("\"{s}\": give locate, name, mixed or mri"))
+    vbrain::quiz::Mode::parse(s).ok_or_else(|| anyhow::anyhow!("\"{s}\": give locate, name, mixed, mri or supply"))
 }
 
 /// A slice plane, `axial=MM`, `coronal=MM` or `sagittal=MM`.

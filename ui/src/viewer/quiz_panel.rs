@@ -146,7 +146,7 @@ impl QuizPanel {
             return run.questions.get(k).map(|q| vec![q.organ]).unwrap_or_default();
         }
         match run.current() {
-            Some(q) if q.kind == Kind::Name || run.feedback.is_some() => vec![q.organ],
+            Some(q) if q.kind != Kind::Locate || run.feedback.is_some() => vec![q.organ],
             _ => Vec::new(),
         }
     }
@@ -161,12 +161,12 @@ impl QuizPanel {
         self.run.as_ref().is_some_and(|r| !r.finished())
     }
 
-    /// The panel; `name` names organs, `info` gives their texts, `groups` are the set's group
-    /// paths to choose from, `now` the UI's clock.
+    /// The panel; `name` names organs and `artery` the set's arteries (by index), `info` gives
+    /// the organs' texts, `groups` are the set's group paths to choose from, `now` the UI's clock.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
-        name: &dyn Fn(usize) -> String,
+        (name, artery): (&dyn Fn(usize) -> String, &dyn Fn(usize) -> String),
         info: &dyn Fn(usize) -> String,
         groups: &[String],
         now: f64,
@@ -180,7 +180,7 @@ impl QuizPanel {
         });
         match &mut self.run {
             None => setup(ui, &mut self.setup, groups, &self.history, &mut out),
-            Some(run) if !run.finished() => answering(ui, run, name, now, &mut out),
+            Some(run) if !run.finished() => answering(ui, run, (name, artery), now, &mut out),
             Some(run) => review(ui, run, name, info, &mut self.export_path, &mut out),
         }
         out
@@ -224,12 +224,18 @@ fn setup(ui: &mut egui::Ui, s: &mut Setup, groups: &[String], history: &[String]
         r.on_hover_text("The same seed asks the same questions");
     });
     ui.horizontal(|ui| {
-        for (mode, text) in
-            [(Mode::Locate, "Locate"), (Mode::Name, "Name"), (Mode::Mixed, "Mixed"), (Mode::Mri, "MRI slices")]
-        {
+        for (mode, text) in [
+            (Mode::Locate, "Locate"),
+            (Mode::Name, "Name"),
+            (Mode::Mixed, "Mixed"),
+            (Mode::Mri, "MRI slices"),
+            (Mode::Supply, "Blood supply"),
+        ] {
             let r = ui.radio_value(&mut s.mode, mode, text);
             if mode == Mode::Mri {
                 r.on_hover_text("Name and locate by turns on axial, coronal and sagittal slices of the MRI");
+            } else if mode == Mode::Supply {
+                r.on_hover_text("Which artery supplies the outlined region? (sets with arterial territories)");
             }
         }
     });
@@ -251,7 +257,14 @@ fn setup(ui: &mut egui::Ui, s: &mut Setup, groups: &[String], history: &[String]
     }
 }
 
-fn answering(ui: &mut egui::Ui, run: &mut Run, name: &dyn Fn(usize) -> String, now: f64, out: &mut Vec<Action>) {
+/// The question being asked; `name` names organs, `artery` arteries (a supply question's choices).
+fn answering(
+    ui: &mut egui::Ui,
+    run: &mut Run,
+    (name, artery): (&dyn Fn(usize) -> String, &dyn Fn(usize) -> String),
+    now: f64,
+    out: &mut Vec<Action>,
+) {
     let Some(q) = run.current().cloned() else { return };
     let elapsed = now - run.started;
     let time = match run.ends {
@@ -270,6 +283,18 @@ fn answering(ui: &mut egui::Ui, run: &mut Run, name: &dyn Fn(usize) -> String, n
         Kind::Locate => {
             ui.label(RichText::new(format!("Click the {}", vbrain::quiz::lower_first(&name(q.organ)))).heading());
             ui.label(RichText::new("Click it in the view; you can still turn the brain.").weak());
+        }
+        Kind::Supply => {
+            ui.label(RichText::new(vbrain::quiz::supply_prompt(run.k)).heading());
+            if run.feedback.is_none() {
+                for &c in &q.choices {
+                    let r = ui.button(artery(c));
+                    accessible(&r, format!("Choice {}", artery(c)));
+                    if r.clicked() {
+                        out.push(Action::Quiz(QuizAction::Pick(c)));
+                    }
+                }
+            }
         }
         Kind::Name => {
             ui.label(RichText::new("Name the outlined structure").heading());

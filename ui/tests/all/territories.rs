@@ -98,3 +98,70 @@ fn territory_colours_reach_gltf_as_vertex_colours_the_validator_passes() {
     let said = String::from_utf8_lossy(&o.stderr);
     assert!(!o.status.success() && said.contains("no arterial territories") && !png.exists(), "{said}");
 }
+
+#[test]
+fn a_blood_supply_quiz_in_the_viewer_marks_picked_arteries() {
+    use vbrain::quiz::{supplier, Kind, Mode};
+    use vbrain_ui::viewer::action::{Action, Window};
+    let mut h = harness_of(egui::Vec2::new(900.0, 560.0));
+    let ctx = h.ctx.clone();
+    h.state_mut().perform(&ctx, vec![Action::Show(Window::Quiz)]);
+    h.run_steps(2);
+    let setup = &mut h.state_mut().quiz_mut().setup;
+    (setup.group, setup.questions, setup.mode, setup.seed) = ("Frontal lobe".into(), 2, Mode::Supply, 3);
+    h.get_by_label("Start quiz").click_accesskit();
+    h.run_steps(3);
+    let set = h.state().scene().unwrap().set().clone();
+    let arteries = &set.territories.as_ref().unwrap().arteries;
+    for k in 0..2 {
+        let q = h.state().quiz().run.as_ref().unwrap().current().unwrap().clone();
+        assert_eq!(q.kind, Kind::Supply);
+        assert_eq!(h.state().quiz().outlined, vec![q.organ], "the region asked about is outlined");
+        let answer = supplier(&set, q.organ).unwrap();
+        let pick = if k == 0 { answer } else { *q.choices.iter().find(|&&c| c != answer).unwrap() };
+        let a = &arteries[pick];
+        h.get_by_label(&format!("Choice {} ({})", a.name, a.short)).click_accesskit();
+        h.run_steps(2);
+        let (text, right) = h.state().quiz().run.as_ref().unwrap().feedback.clone().unwrap();
+        assert_eq!(right, k == 0, "question {k}: {text}");
+        assert!(text.contains(&arteries[answer].name.to_lowercase()), "the feedback names the artery: {text}");
+        h.get_by_label(if k == 1 { "Finish" } else { "Next question" }).click_accesskit();
+        h.run_steps(2);
+    }
+    assert_eq!(h.state().quiz().run.as_ref().unwrap().score(), 1);
+}
+
+#[test]
+fn a_blood_supply_worksheet_lists_arteries_and_its_key_the_supplier() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("sheet");
+    let o = crate::cli::vbrain(&[
+        "quiz",
+        &crate::cli::brain(),
+        "--mode",
+        "supply",
+        "--questions",
+        "3",
+        "--size",
+        "200x150",
+        "--out",
+        out.to_str().unwrap(),
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let listed: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let set = vbrain::organ_set::open(std::path::Path::new(&crate::cli::brain())).unwrap().set;
+    let keys: Vec<String> = set.territories.as_ref().unwrap().arteries.iter().map(|a| a.key.clone()).collect();
+    let answers = std::fs::read_to_string(out.join("answers.md")).unwrap();
+    for (k, q) in listed["questions"].as_array().unwrap().iter().enumerate() {
+        assert_eq!(q["kind"], "supply");
+        let choices: Vec<&str> = q["choices"].as_array().unwrap().iter().map(|c| c.as_str().unwrap()).collect();
+        assert!(choices.len() == 4 && choices.iter().all(|c| keys.iter().any(|k| k == c)), "{choices:?}");
+        let organ = set.find(q["organ"].as_str().unwrap()).unwrap();
+        let answer = &set.territories.as_ref().unwrap().arteries[vbrain::quiz::supplier(&set, organ).unwrap()];
+        let line = answers.lines().find(|l| l.starts_with(&format!("{}. ", k + 1))).unwrap();
+        assert!(line.contains(&answer.name) && line.contains(&set.organs[organ].name), "{line}");
+    }
+    let questions = std::fs::read_to_string(out.join("questions.md")).unwrap();
+    assert!(questions.contains("Which artery supplies region A?"), "{questions}");
+}

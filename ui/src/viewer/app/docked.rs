@@ -77,7 +77,11 @@ impl App {
         let organ = |o: usize| scene.and_then(|s| s.set().organs.get(o));
         let name = |o: usize| organ(o).map_or(String::new(), |x| x.name.clone());
         let info = |o: usize| organ(o).map_or(String::new(), |x| x.info.clone());
+        let artery = |k: usize| {
+            let territories = scene.and_then(|s| s.set().territories.as_ref());
+            territories.and_then(|t| t.arteries.get(k)).map_or(String::new(), |a| format!("{} ({})", a.name, a.short))
+        };
         let groups = scene.map(|s| s.set().group_paths()).unwrap_or_default();
-        self.quiz.show(ui, &name, &info, &groups, now)
+        self.quiz.show(ui, (&name, &artery), &info, &groups, now)
     }
 }

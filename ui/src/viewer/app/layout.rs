@@ -78,7 +78,7 @@ impl App {
             self.slices.names = !self.quiz.answering();
             let asked = self.quiz.run.as_ref().and_then(|r| r.current()).filter(|_| self.quiz.answering());
             self.slices.highlight = match asked {
-                Some(q) => (q.kind == vbrain::quiz::Kind::Name).then_some(q.organ),
+                Some(q) => (q.kind != vbrain::quiz::Kind::Locate).then_some(q.organ),
                 None => self.selected,
             };
             self.slices.window = self.sections.current.faces.window;

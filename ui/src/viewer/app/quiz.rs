@@ -140,6 +140,9 @@ impl App {
     pub(super) fn quiz_name(&mut self, typed: Option<String>, picked: Option<usize>, now: f64) {
         let Some(q) = self.quiz.run.as_ref().and_then(Run::current).cloned() else { return };
         let Some(scene) = &self.scene else { return };
+        if q.kind == Kind::Supply {
+            return self.quiz_supply(&q, picked, now);
+        }
         let (right, given) = match (typed, picked) {
             (Some(t), _) => (quiz::accepts(scene.set(), q.organ, &t), t),
             (None, Some(p)) => (p == q.organ, self.organ_name(p)),
@@ -156,6 +159,26 @@ impl App {
         };
         if let Some(run) = &mut self.quiz.run {
             run.mark(right, given, text, now);
+        }
+    }
+
+    /// A supply question answered by picking artery `picked` (an index into the set's arteries).
+    fn quiz_supply(&mut self, q: &Question, picked: Option<usize>, now: f64) {
+        let (Some(scene), Some(picked)) = (&self.scene, picked) else { return };
+        let set = scene.set();
+        let Some(arteries) = set.territories.as_ref().map(|t| &t.arteries) else { return };
+        let name = |k: usize| arteries.get(k).map_or(String::new(), |a| a.name.clone());
+        let answer = quiz::supplier(set, q.organ);
+        let right = answer == Some(picked);
+        let region = quiz::lower_first(&self.organ_name(q.organ));
+        let target = answer.map(name).unwrap_or_default();
+        let text = if right {
+            format!("Right: the {} supplies the {region}", quiz::lower_first(&target))
+        } else {
+            format!("Not quite: the {region} lies in the territory of the {}", quiz::lower_first(&target))
+        };
+        if let Some(run) = &mut self.quiz.run {
+            run.mark(right, name(picked), text, now);
         }
     }
 
@@ -243,7 +266,11 @@ impl App {
             text.push_str(&format!(
                 "{},{},{},{},{},{},{}\n",
                 k + 1,
-                if q.kind == Kind::Locate { "locate" } else { "name" },
+                match q.kind {
+                    Kind::Locate => "locate",
+                    Kind::Name => "name",
+                    Kind::Supply => "supply",
+                },
                 vbrain::lab::csv_field(&o.id),
                 vbrain::lab::csv_field(&o.name),
                 vbrain::lab::csv_field(a.map_or("", |a| a.given.as_str())),
