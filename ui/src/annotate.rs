@@ -1,6 +1,7 @@
 //! Labels drawn into a rendered image, for `vbrain render --labels` and exports: anchors and
 //! placement from [`vbrain::labels`], then for each a dot on the organ, a leader line and the
-//! organ's name in light text on a dark plate (legible on any background).
+//! organ's name in light text on a dark plate (legible on any background); and the legend of a
+//! lobe or territory colouring.
 //!
 //! - Coordinates are screen pixels, origin top left, y down.
 //! - Sizes follow the image's height, so a 4096-pixel export has the same figure as a 1024-pixel
@@ -203,6 +204,36 @@ pub fn letter(image: &mut RgbaImage, mark: &str, centre: [f32; 2], px: f32) {
     let (_, width) = shape(&fonts, mark, px);
     disc(image, centre, px * 0.75, [20, 22, 28], 0.8);
     text(image, &fonts, mark, [centre[0] - width / 2.0, centre[1] + px * 0.36], px, [255, 235, 120]);
+}
+
+/// The legend of a colouring (lobes or arterial territories, [`vbrain::colouring::legend`]) in the
+/// bottom left corner: a swatch and a name a row on a dark plate, `px` high text, smaller where the
+/// rows would take more than 60 % of the image's height.
+pub fn legend(image: &mut RgbaImage, entries: &[(String, [f32; 3])], px: f32) {
+    if entries.is_empty() {
+        return;
+    }
+    let fonts = fonts();
+    let px = px.min(image.height() as f32 * 0.6 / (1.35 * entries.len() as f32)).max(6.0);
+    let row = px * 1.35;
+    let width = entries.iter().map(|(name, _)| shape(&fonts, name, px).1).fold(0.0, f32::max) + px * 2.2;
+    let height = row * entries.len() as f32 + px * 0.6;
+    let (x0, y0) = (px * 0.6, image.height() as f32 - height - px * 0.6);
+    for y in y0 as i64..(y0 + height).ceil() as i64 {
+        for x in x0 as i64..(x0 + width).ceil() as i64 {
+            blend(image, x, y, [20, 22, 28], 0.78);
+        }
+    }
+    for (k, (name, colour)) in entries.iter().enumerate() {
+        let top = y0 + px * 0.3 + row * k as f32;
+        let rgb = colour.map(|c| (c.clamp(0.0, 1.0) * 255.0).round() as u8);
+        for y in (top + px * 0.2) as i64..(top + px * 1.1) as i64 {
+            for x in (x0 + px * 0.4) as i64..(x0 + px * 1.3) as i64 {
+                blend(image, x, y, rgb, 1.0);
+            }
+        }
+        text(image, &fonts, name, [x0 + px * 1.7, top + px * 0.98], px, [245, 245, 240]);
+    }
 }
 
 /// A caption's text as lines `width` pixels wide at `px`: the title's lines (`true`), then the

@@ -90,6 +90,7 @@ impl<'s> Studio<'s> {
         let frame = FrameInput { draw: Some(&draw), ..frame };
         renderer.render(&gpu.device, &gpu.queue, target, &frame)?;
         let mut image = target.read_color(&gpu.device, &gpu.queue)?;
+        crate::annotate::legend(&mut image, &vbrain::colouring::legend(set, shot.layout), shot.px * 0.8);
         let mut placed = 0;
         if *shot.labels != Labels::None {
             renderer.render_ids(&gpu.device, &gpu.queue, target, &frame, crate::annotate::PICK_OPACITY);

@@ -158,6 +158,8 @@ pub fn run(args: &RenderArgs) -> Result<bool> {
             organs(&set, key).map_err(|e| anyhow!("--labels: {e}"))?;
         }
     }
+    let px = crate::annotate::text_px(height);
+    crate::annotate::legend(&mut image, &vbrain::colouring::legend(&set, &layout), px * 0.8);
     let labels = Labels::of(&which, &set, selection);
     if labels != Labels::None {
         // Labels name what is seen, through faded organs as clicks reach through them.
