@@ -5,25 +5,11 @@
 //! - A lobe is an organ's group path without its side ("Cerebrum/Left hemisphere/Frontal lobe" and
 //!   "Cerebrum/Right hemisphere/Frontal lobe" are "Cerebrum/Frontal lobe"), so both hemispheres'
 //!   lobes match.
-//! - Territories colour per vertex (see [`crate::territory`]); an organ or a vertex without one
+//! - Territories colour per vertex (see [`crate::organ_set::territory`]); an organ or a vertex without one
 //!   shows [`UNSUPPLIED`], so what the atlas colours stands out.
 
-use crate::layout::Layout;
+use crate::layout::{ColourBy, Layout};
 use crate::organ_set::OrganSet;
-use serde::{Deserialize, Serialize};
-
-/// What colours the organs.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum ColourBy {
-    /// Each organ its own colour (the layout's).
-    #[default]
-    Organ,
-    /// Each organ its lobe's (or other group's) colour.
-    Lobe,
-    /// The arterial territory at each point, where the set has territories.
-    Territory,
-}
 
 /// The colour of what no territory covers, in territory colouring: a light neutral grey.
 pub const UNSUPPLIED: [f32; 3] = [0.72, 0.72, 0.70];
@@ -41,37 +27,6 @@ const LOBES: [(&str, [f32; 3]); 8] = [
     ("Cerebellum", [0.80, 0.58, 0.50]),
     ("Brainstem", [0.62, 0.62, 0.76]),
 ];
-
-impl ColourBy {
-    pub const ALL: [ColourBy; 3] = [ColourBy::Organ, ColourBy::Lobe, ColourBy::Territory];
-
-    /// As menus show it.
-    pub fn label(self) -> &'static str {
-        match self {
-            ColourBy::Organ => "Organ",
-            ColourBy::Lobe => "Lobe",
-            ColourBy::Territory => "Arterial territory",
-        }
-    }
-
-    /// As files and the command line write it: `organ`, `lobe` or `territory`.
-    pub fn name(self) -> &'static str {
-        match self {
-            ColourBy::Organ => "organ",
-            ColourBy::Lobe => "lobe",
-            ColourBy::Territory => "territory",
-        }
-    }
-
-    /// From [`Self::name`].
-    pub fn parse(s: &str) -> Option<ColourBy> {
-        ColourBy::ALL.into_iter().find(|c| c.name() == s)
-    }
-
-    pub fn is_default(&self) -> bool {
-        *self == ColourBy::Organ
-    }
-}
 
 /// An organ's lobe: its group path without the parts that name a side.
 pub fn lobe(group: &str) -> String {
@@ -143,7 +98,7 @@ pub fn legend(set: &OrganSet, layout: &Layout) -> Vec<(String, [f32; 3])> {
         }
         ColourBy::Territory => {
             let Some(t) = &set.territories else { return Vec::new() };
-            let name = |a: &crate::territory::Artery| match a.is_artery {
+            let name = |a: &crate::organ_set::territory::Artery| match a.is_artery {
                 true => a.short.clone(),
                 false => format!("{} (no artery)", a.short),
             };
@@ -154,9 +109,9 @@ pub fn legend(set: &OrganSet, layout: &Layout) -> Vec<(String, [f32; 3])> {
 
 /// The colour of each vertex of a mesh in territory colouring: its territory's, or `None` where no
 /// territory covers it; `None` for the whole mesh where the organ takes no territories
-/// ([`crate::territory::Territories::of_mesh`]).
+/// ([`crate::organ_set::territory::Territories::of_mesh`]).
 pub fn territory_colours(
-    territories: &crate::territory::Territories,
+    territories: &crate::organ_set::territory::Territories,
     mesh: &crate::mesh::Mesh,
 ) -> Option<Vec<Option<[f32; 3]>>> {
     let ids = territories.of_mesh(mesh)?;
@@ -167,7 +122,7 @@ pub fn territory_colours(
 /// [`territory_colours`] packed for the GPU: sRGB bytes r, g, b, 255 from the low byte up, 0 where
 /// a vertex has no territory.
 pub fn packed_territory_colours(
-    territories: &crate::territory::Territories,
+    territories: &crate::organ_set::territory::Territories,
     mesh: &crate::mesh::Mesh,
 ) -> Option<Vec<u32>> {
     let pack = |c: [f32; 3]| {

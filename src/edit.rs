@@ -93,7 +93,7 @@ pub enum Edit {
     /// Organs back to earlier states, index-aligned with `organs`: what [`apply`] returns to undo.
     Restore { organs: Organs, states: Vec<OrganState> },
     /// What colours the organs (their own colours, lobes, arterial territories).
-    ColourBy(crate::colouring::ColourBy),
+    ColourBy(crate::layout::ColourBy),
 }
 
 impl Edit {

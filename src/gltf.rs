@@ -105,7 +105,7 @@ fn document(
     let mut groups: Vec<(String, usize)> = Vec::new();
     let mut children: Vec<Vec<usize>> = vec![Vec::new()];
     let colours = crate::colouring::organ_colours(set, layout);
-    let territories = set.territories.as_ref().filter(|_| layout.colour_by == crate::colouring::ColourBy::Territory);
+    let territories = set.territories.as_ref().filter(|_| layout.colour_by == crate::layout::ColourBy::Territory);
 
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: u32, stride: Option<usize>| {
         let offset = bin.len();

@@ -230,7 +230,7 @@ mod tests {
                 organ: (x.abs() as usize) % 8,
                 transform: Transform { translation: Vec3::new(x, 0.0, -x), ..Transform::identity(Vec3::ZERO) },
             },
-            4 => Edit::ColourBy(crate::colouring::ColourBy::ALL[(a * 3.0) as usize % 3]),
+            4 => Edit::ColourBy(crate::layout::ColourBy::ALL[(a * 3.0) as usize % 3]),
             _ => Edit::Isolate { organs },
         })
     }

@@ -1,5 +1,6 @@
 //! The layout: what the user changed about each organ (visibility, opacity, colour and the model
-//! transform from organ space to world space), and what colours the organs.
+//! transform from organ space to world space), and what colours the organs (the colours
+//! themselves are [`crate::colouring`]'s).
 //!
 //! - Both spaces are millimetres, RAS.
 //! - A transform scales and rotates about its pivot (the organ's centre in organ space), then
@@ -9,6 +10,7 @@
 use crate::mesh::Bounds;
 use crate::organ_set::OrganSet;
 use glam::{EulerRot, Mat4, Quat, Vec3};
+use serde::{Deserialize, Serialize};
 
 /// A model transform: scale and rotate about `pivot` (the organ's centre in organ space), then
 /// translate.
@@ -65,6 +67,50 @@ impl Transform {
     }
 }
 
+/// What colours the organs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum ColourBy {
+    /// Each organ its own colour (the layout's).
+    #[default]
+    Organ,
+    /// Each organ its lobe's (or other group's) colour.
+    Lobe,
+    /// The arterial territory at each point, where the set has territories.
+    Territory,
+}
+
+impl ColourBy {
+    pub const ALL: [ColourBy; 3] = [ColourBy::Organ, ColourBy::Lobe, ColourBy::Territory];
+
+    /// As menus show it.
+    pub fn label(self) -> &'static str {
+        match self {
+            ColourBy::Organ => "Organ",
+            ColourBy::Lobe => "Lobe",
+            ColourBy::Territory => "Arterial territory",
+        }
+    }
+
+    /// As files and the command line write it: `organ`, `lobe` or `territory`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ColourBy::Organ => "organ",
+            ColourBy::Lobe => "lobe",
+            ColourBy::Territory => "territory",
+        }
+    }
+
+    /// From [`Self::name`].
+    pub fn parse(s: &str) -> Option<ColourBy> {
+        ColourBy::ALL.into_iter().find(|c| c.name() == s)
+    }
+
+    pub fn is_default(&self) -> bool {
+        *self == ColourBy::Organ
+    }
+}
+
 /// The state of one organ that the user may change.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct OrganState {
@@ -91,7 +137,7 @@ impl OrganState {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Layout {
     pub organs: Vec<OrganState>,
-    pub colour_by: crate::colouring::ColourBy,
+    pub colour_by: ColourBy,
 }
 
 impl Layout {

@@ -16,9 +16,9 @@
 //!   so; ids and groups the set does not have are collected as warnings, once each.
 
 use crate::clip::{SavedSection, Section};
-use crate::colouring::ColourBy;
 use crate::error::{Error, Result};
 use crate::labels::Which;
+use crate::layout::ColourBy;
 use crate::layout::{Layout, Transform};
 use crate::navigation::Navigator;
 use crate::organ_set::OrganSet;

@@ -51,7 +51,6 @@ pub mod rng;
 pub mod scene_file;
 pub mod scorm;
 pub mod surface;
-pub mod territory;
 pub mod transition;
 pub mod transparency;
 pub mod web_page;

@@ -215,7 +215,7 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
             _ => None,
         };
         let choices = match (kind, &set.territories, supplier(set, organ)) {
-            (Kind::Supply, Some(t), Some(artery)) => t.choices(set.organs[organ].mesh(), artery, &mut rng),
+            (Kind::Supply, Some(t), Some(artery)) => t.choices(set.organs[organ].mesh(), artery, CHOICES, &mut rng),
             _ => choices(set, organ, &scope, &mut rng),
         };
         questions.push(Question { kind, organ, choices, slice });
@@ -430,7 +430,7 @@ mod tests {
 
     #[test]
     fn supply_questions_offer_four_arteries_with_the_supplier_among_them() {
-        use crate::territory::{Artery, Territories};
+        use crate::organ_set::territory::{Artery, Territories};
         let mut set = set();
         assert!(generate(&set, &Spec { scope: vec![0, 1, 2], questions: 2, mode: Mode::Supply, seed: 1 }).is_err());
         let artery = |key: &str| Artery {

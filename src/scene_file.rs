@@ -52,8 +52,8 @@ pub struct SceneFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub labels: Option<String>,
     /// What colours the organs: `organ` (absent), `lobe` or `territory`.
-    #[serde(default, skip_serializing_if = "crate::colouring::ColourBy::is_default")]
-    pub colour_by: crate::colouring::ColourBy,
+    #[serde(default, skip_serializing_if = "crate::layout::ColourBy::is_default")]
+    pub colour_by: crate::layout::ColourBy,
     /// Every organ of the set, in the set's order.
     pub organs: Vec<OrganEntry>,
 }
@@ -382,12 +382,12 @@ mod tests {
         s.clip = vec![crate::clip::ClipPlane::parse("axial=3").unwrap()];
         s.cut_face = crate::clip::CutFace { show: crate::clip::CutFaceShows::Mri, ..Default::default() };
         let mut coloured = Layout::new(&set);
-        coloured.colour_by = crate::colouring::ColourBy::Territory;
+        coloured.colour_by = crate::layout::ColourBy::Territory;
         s.colour_by = scene(&set, &coloured).colour_by;
         let good = s.to_json(Path::new("x.vbscene")).unwrap();
         assert!(good.contains("\"colour_by\": \"territory\""), "{good}");
         assert_eq!(SceneFile::parse(&good, Path::new("x.vbscene")).unwrap(), s, "the cut faces round-trip");
-        assert_eq!(s.apply(&set).layout.colour_by, crate::colouring::ColourBy::Territory);
+        assert_eq!(s.apply(&set).layout.colour_by, crate::layout::ColourBy::Territory);
         let lobes = good.replace("\"territory\"", "\"lobes\"");
         let e = SceneFile::parse(&lobes, Path::new("x.vbscene")).unwrap_err().to_string();
         assert!(e.contains("x.vbscene:") && e.contains("lobes"), "{e}");

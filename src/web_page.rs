@@ -130,8 +130,8 @@ impl<'a> Page<'a> {
             (o.visible, o.opacity) = (true, 1.0);
         }
         // The model carries territory colours where a step shows them.
-        if views.iter().any(|v| v.layout.colour_by == crate::colouring::ColourBy::Territory) {
-            model.colour_by = crate::colouring::ColourBy::Territory;
+        if views.iter().any(|v| v.layout.colour_by == crate::layout::ColourBy::Territory) {
+            model.colour_by = crate::layout::ColourBy::Territory;
         }
         Page {
             set,
@@ -357,7 +357,7 @@ fn view_json(set: &OrganSet, v: &View) -> Value {
         "highlight": ids(&v.highlight), "labels": ids(&v.labels),
         "selection": v.selection.map(|i| set.organs[i].id.clone()), "clip": clip,
         "whole": ids(&v.section.whole),
-        "territories": v.layout.colour_by == crate::colouring::ColourBy::Territory,
+        "territories": v.layout.colour_by == crate::layout::ColourBy::Territory,
     })
 }
 

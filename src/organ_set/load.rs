@@ -105,7 +105,7 @@ pub fn open_manifest(path: &Path) -> Result<Loaded> {
     if let Some(file) = &manifest.territories {
         match manifest::mesh_path_ok(file)
             .map_err(|e| Error::parse(path, None, format!("territories {file}: {e}")))
-            .and_then(|_| crate::territory::Territories::open(dir, file))
+            .and_then(|_| super::territory::Territories::open(dir, file))
         {
             Ok(t) => loaded.set.territories = Some(std::sync::Arc::new(t)),
             Err(e) => loaded.errors.push(e),

@@ -33,7 +33,7 @@ pub struct Manifest {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mri: Option<String>,
     /// The set's arterial territories: a territories file inside the set's folder
-    /// ([`crate::territory`]).
+    /// ([`crate::organ_set::territory`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub territories: Option<String>,
 }

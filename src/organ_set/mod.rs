@@ -16,6 +16,7 @@ pub mod names;
 pub mod obj;
 pub mod scale;
 pub mod stand_in;
+pub mod territory;
 
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
@@ -174,7 +175,7 @@ pub struct OrganSet {
     /// Its MRI, registered to the organs, where the manifest names one that loads.
     pub mri: Option<std::sync::Arc<crate::mri::Mri>>,
     /// Its arterial territories, where the manifest names a file that loads.
-    pub territories: Option<std::sync::Arc<crate::territory::Territories>>,
+    pub territories: Option<std::sync::Arc<territory::Territories>>,
 }
 
 /// Organs that together fill one solid ([`manifest::SolidEntry`]), and a stand-in inside their

@@ -374,7 +374,7 @@ impl GpuScene {
             clip: crate::clip::uniform(&frame.section.planes),
             mri: self.mri.to_texture.unwrap_or(Mat4::ZERO).to_cols_array_2d(),
             cut_face: [show, faces.window.window, faces.window.level, 0.0],
-            colour_by: [(frame.layout.colour_by == crate::colouring::ColourBy::Territory) as u32, 0, 0, 0],
+            colour_by: [(frame.layout.colour_by == crate::layout::ColourBy::Territory) as u32, 0, 0, 0],
         };
         queue.write_buffer(&self.frame_buffer, slot * SLOT, bytemuck::bytes_of(&fu));
     }

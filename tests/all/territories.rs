@@ -5,7 +5,7 @@
 use crate::common::{default_set, gpu};
 use glam::Vec3;
 use vbrain::camera::{Camera, View};
-use vbrain::colouring::ColourBy;
+use vbrain::layout::ColourBy;
 use vbrain::layout::Layout;
 use vbrain::organ_set;
 use vbrain::render::{FrameInput, Renderer, Target};

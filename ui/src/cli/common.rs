@@ -81,10 +81,10 @@ pub fn apply_colour_by(
     set: &OrganSet,
     path: &std::path::Path,
     layout: &mut Layout,
-    by: Option<vbrain::colouring::ColourBy>,
+    by: Option<vbrain::layout::ColourBy>,
 ) -> Result<()> {
     layout.colour_by = by.unwrap_or(layout.colour_by);
-    if layout.colour_by == vbrain::colouring::ColourBy::Territory && set.territories.is_none() {
+    if layout.colour_by == vbrain::layout::ColourBy::Territory && set.territories.is_none() {
         anyhow::bail!("{}: the set has no arterial territories to colour by", path.display());
     }
     Ok(())

@@ -364,7 +364,7 @@ pub struct RenderArgs {
     /// What colours the organs: organ (their own colours), lobe, or territory (the set's arterial
     /// territories, per vertex) [default: the scene's, else organ]
     #[arg(long, value_parser = values::colour_by())]
-    pub colour_by: Option<vbrain::colouring::ColourBy>,
+    pub colour_by: Option<vbrain::layout::ColourBy>,
     /// Transparent background instead of the viewer's dark grey
     #[arg(long)]
     pub transparent: bool,
@@ -579,7 +579,7 @@ pub struct ExportArgs {
     /// What colours the organs: organ, lobe, or territory (vertex colours in the model)
     /// [default: the scene's, else organ]
     #[arg(long, value_parser = values::colour_by())]
-    pub colour_by: Option<vbrain::colouring::ColourBy>,
+    pub colour_by: Option<vbrain::layout::ColourBy>,
     #[command(flatten)]
     pub section: SectionArgs,
     #[command(flatten)]

@@ -56,7 +56,7 @@ value_enum!(
 );
 value_enum!(
     /// What colours the organs.
-    ColourByArg(vbrain::colouring::ColourBy)
+    ColourByArg(vbrain::layout::ColourBy)
 );
 value_enum!(
     /// A camera path: the orbit or a city walkthrough route.
@@ -96,7 +96,7 @@ pub fn cut_face() -> impl TypedValueParser<Value = vbrain::clip::CutFaceShows> {
     core(|v: CutFaceArg| v.0)
 }
 
-pub fn colour_by() -> impl TypedValueParser<Value = vbrain::colouring::ColourBy> {
+pub fn colour_by() -> impl TypedValueParser<Value = vbrain::layout::ColourBy> {
     core(|v: ColourByArg| v.0)
 }
 

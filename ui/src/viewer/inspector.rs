@@ -44,7 +44,7 @@ pub fn inspector(ui: &mut egui::Ui, scene: &Scene, sel: usize, marks: Marks) -> 
     });
     if let Some((artery, side)) = scene.set().territories.as_ref().zip(marks.supply).and_then(|(t, id)| t.artery(id)) {
         ui.separator();
-        let name = vbrain::territory::sided(side, &artery.name);
+        let name = vbrain::organ_set::territory::sided(side, &artery.name);
         ui.label(RichText::new(format!("Supplied here by: {name} ({})", artery.short)).strong())
             .on_hover_text("The arterial territory at the point you clicked (Liu et al. 2023 atlas)");
         egui::CollapsingHeader::new("About this territory").id_salt("territory").show(ui, |ui| {

@@ -13,9 +13,9 @@ use super::widgets::accessible;
 use crate::viewer::action::{DocumentAction, LessonAction};
 use eframe::egui;
 use vbrain::camera::View;
-use vbrain::colouring::ColourBy;
 use vbrain::cull::{CullMode, CullSettings, Selection};
 use vbrain::edit::Edit;
+use vbrain::layout::ColourBy;
 use vbrain::transparency::{TransparencyMode, TransparencySettings, SUBSAMPLE_CHOICES};
 
 /// A job in the background: title, progress (if known) and message.

@@ -190,7 +190,7 @@ fn territories(ui: &mut egui::Ui, scene: &Scene, filter: &str, out: &mut Vec<Act
             let row = ui.selectable_label(false, format!("{} ({})", a.name, a.short)).on_hover_text(&a.info);
             accessible(&row, format!("Territory {}", a.name));
             if row.clicked() {
-                out.push(Action::Edit(Edit::ColourBy(vbrain::colouring::ColourBy::Territory)));
+                out.push(Action::Edit(Edit::ColourBy(vbrain::layout::ColourBy::Territory)));
             }
         });
     }

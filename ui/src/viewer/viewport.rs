@@ -463,7 +463,7 @@ impl Viewport {
         let model = scene.layout().organs.get(organ)?.transform.matrix();
         let planes = if input.section.applies_to(organ) { input.section.active_planes() } else { &[] };
         let kept = |p| !planes.iter().any(|plane| plane.removes(p));
-        vbrain::territory::under_ray(territories, scene.set().organs[organ].mesh(), model, ray, kept)
+        vbrain::organ_set::territory::under_ray(territories, scene.set().organs[organ].mesh(), model, ray, kept)
     }
 
     /// The organ-ID buffer of the current view at the viewport's size: organ index + 1 per

@@ -5,7 +5,7 @@
 use crate::viewer::{click, harness_of, organ, point_on, search};
 use eframe::egui::{self, Key, Modifiers};
 use egui_kittest::kittest::Queryable;
-use vbrain::colouring::ColourBy;
+use vbrain::layout::ColourBy;
 
 #[test]
 fn search_colour_by_territory_and_click_to_name_the_artery() {

@@ -52,8 +52,7 @@ pub struct Artery {
 
 fn colour<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<[f32; 3], D::Error> {
     let s = String::deserialize(d)?;
-    crate::organ_set::manifest::parse_colour(&s)
-        .ok_or_else(|| serde::de::Error::custom(format!("colour \"{s}\" is not #rrggbb")))
+    super::manifest::parse_colour(&s).ok_or_else(|| serde::de::Error::custom(format!("colour \"{s}\" is not #rrggbb")))
 }
 
 #[derive(Deserialize)]
@@ -107,15 +106,14 @@ impl Territories {
             return Err(bad(format!("{} arteries: a file lists 1 to {MAX_ARTERIES}", parsed.arteries.len())));
         }
         for (i, a) in parsed.arteries.iter().enumerate() {
-            if !crate::organ_set::manifest::id_ok(&a.key) || parsed.arteries[..i].iter().any(|b| b.key == a.key) {
+            if !super::manifest::id_ok(&a.key) || parsed.arteries[..i].iter().any(|b| b.key == a.key) {
                 return Err(bad(format!("artery {}: key \"{}\" is not a new valid id", i + 1, a.key)));
             }
             if a.name.trim().is_empty() || a.info.trim().is_empty() {
                 return Err(bad(format!("artery \"{}\" has no name or no text", a.key)));
             }
         }
-        crate::organ_set::manifest::mesh_path_ok(&parsed.volume)
-            .map_err(|e| bad(format!("volume {}: {e}", parsed.volume)))?;
+        super::manifest::mesh_path_ok(&parsed.volume).map_err(|e| bad(format!("volume {}: {e}", parsed.volume)))?;
         let volume_path = crate::input::inside(path.parent().unwrap_or(dir), &parsed.volume)?;
         let raw = crate::nifti_file::read(&volume_path, "territory volume", MAX_VOXELS)?;
         let most = 2 * parsed.arteries.len();
@@ -179,11 +177,11 @@ impl Territories {
     }
 
     /// The arteries any of whose names (name, short name, key, Latin name, synonyms) contain
-    /// `query`, compared as organ names are ([`crate::organ_set::names::fold`]); none for an empty
+    /// `query`, compared as organ names are ([`super::names::fold`]); none for an empty
     /// query.
     pub fn find(&self, query: &str) -> Vec<&Artery> {
-        let q = crate::organ_set::names::fold(query);
-        let fold = crate::organ_set::names::fold;
+        let q = super::names::fold(query);
+        let fold = super::names::fold;
         let names = |a: &'_ Artery| {
             [a.name.clone(), a.short.clone(), a.key.clone(), a.latin.clone()].into_iter().chain(a.synonyms.clone())
         };
@@ -219,16 +217,16 @@ impl Territories {
         counts
     }
 
-    /// Four arteries to choose from for the supply of a mesh whose supplier is `answer`: it, then
+    /// `n` arteries to choose from for the supply of a mesh whose supplier is `answer`: it, then
     /// the true arteries that supply most of the rest of the mesh, then the others in an order
     /// drawn from `rng`; shuffled.
-    pub fn choices(&self, mesh: &Mesh, answer: usize, rng: &mut crate::rng::XorShift) -> Vec<usize> {
+    pub fn choices(&self, mesh: &Mesh, answer: usize, n: usize, rng: &mut crate::rng::XorShift) -> Vec<usize> {
         let counts = self.counts(mesh);
         let mut others: Vec<usize> =
             (0..self.arteries.len()).filter(|&k| k != answer && self.arteries[k].is_artery).collect();
         rng.shuffle(&mut others);
         others.sort_by_key(|&k| std::cmp::Reverse(counts[k]));
-        let mut out: Vec<usize> = std::iter::once(answer).chain(others).take(crate::quiz::CHOICES).collect();
+        let mut out: Vec<usize> = std::iter::once(answer).chain(others).take(n).collect();
         rng.shuffle(&mut out);
         out
     }
