@@ -7,9 +7,15 @@
     VBRAIN=target/release/vbrain \
     python3 organs/brain/build_tracts.py [OUT]              # OUT defaults to /tmp/tracts-out
 
-Writes OUT/meshes/<id>.vbo, OUT/entries.json (organ entries in organset.json's format, to be merged
-by hand), OUT/fit.json and OUT/report.txt; nothing in the repository is changed. About 10 minutes
-on one core (two registrations).
+Writes OUT/meshes/<id>.vbo, OUT/entries.json (organ entries in organset.json's format), OUT/fit.json
+and OUT/report.txt; nothing in the repository is changed. About 10 minutes on one core (two
+registrations). Then
+
+    python3 organs/brain/build_tracts.py --merge [OUT]
+
+brings them into the set (merge()): the meshes into meshes/, the brainstem's entry replaced by its
+three parts (in the solids too), the tracts' entries after the set's organs, the source recorded;
+then `vbrain stand-ins` and `vbrain occluders` as README.md's rebuilding says.
 
 Data: the Debian package mricron-data 1.2.20211006+dfsg-4 (apt-get download mricron-data), files
 usr/share/mricron/templates/JHU-WhiteMatter-labels-1mm.nii.gz (+ .nii.txt, 48 labels) and
@@ -762,5 +768,76 @@ def main():
     (out / "report.txt").write_text("\n".join(report) + "\n")
 
 
+SOURCE = {
+    "name": "JHU white-matter labels (ICBM-DTI-81, 48 labels) and the JHU-MNI parcellation jhu189, registered to this set (Debian mricron-data 1.2.20211006+dfsg-4, usr/share/mricron/templates/JHU-WhiteMatter-labels-1mm.nii.gz and jhu189.nii.gz)",
+    "url": "https://packages.debian.org/bookworm/mricron-data",
+    "licence": "BSD-3-Clause as Debian's copyright file declares for all of mricron-data's files (Copyright 2006-2010 Chris Rorden); the labels come from Johns Hopkins University's atlases, whose own terms the package does not state",
+    "attribution": "Mori S, Oishi K, Jiang H, et al. (2008) Stereotaxic white matter atlas based on diffusion tensor imaging in an ICBM template. NeuroImage 40:570-582; Oishi K, et al. (2008) Human brain white matter atlas: identification and assignment of common anatomical structures in superficial white matter. NeuroImage 43:447-457; Rorden C, Brett M (2000) Stereotaxic display of brain lesions. Behav Neurol 12:191-200 (MRIcron)",
+}
+
+
+def flatten_spikes(path):
+    """Moves each vertex far out of the mesh (farther from its median point than 2.5 times the 90th
+    percentile of the vertices' distances: the import of the brainstem's parts left a few spiking
+    to the grid's edge, x = 82 mm) to the mean of its neighbours that are not, with their mean
+    normal, nearest the mesh first. Returns how many moved."""
+    lines = Path(path).read_text().split("\n")
+    v_at = [i for i, l in enumerate(lines) if l.startswith("v ")]
+    n_at = [i for i, l in enumerate(lines) if l.startswith("vn ")]
+    v, f = read_vbo(path)
+    normals = np.array([[float(x) for x in lines[i].split()[1:4]] for i in n_at])
+    d = np.linalg.norm(v - np.median(v, 0), axis=1)
+    far = set(np.flatnonzero(d > 2.5 * np.percentile(d, 90)).tolist())
+    moved = len(far)
+    edges = np.vstack([f[:, [0, 1]], f[:, [1, 2]], f[:, [2, 0]]])
+    while far:
+        ring = {k: sorted({int(e) for e in edges[(edges == k).any(1)].ravel()} - far - {k}) for k in far}
+        k = max(far, key=lambda k: len(ring[k]))
+        if not ring[k]:
+            sys.exit(f"{path}: a spike with no neighbour in the mesh")
+        v[k] = v[ring[k]].mean(0)
+        n = normals[ring[k]].mean(0)
+        normals[k] = n / max(np.linalg.norm(n), 1e-9)
+        lines[v_at[k]] = "v %.3f %.3f %.3f" % tuple(v[k])
+        lines[n_at[k]] = "vn %.3f %.3f %.3f" % tuple(normals[k])
+        far.discard(k)
+    Path(path).write_text("\n".join(lines))
+    return moved
+
+
+def merge(out):
+    """Brings OUT's meshes and entries into the set: the brainstem split, the tracts added."""
+    manifest_path = HERE / "organset.json"
+    manifest = json.loads(manifest_path.read_text())
+    made = json.loads((out / "entries.json").read_text())
+    parts = [e for e in made if e["group"] == "Brainstem"]
+    tracts = [e for e in made if e["group"] != "Brainstem"]
+    ids = [o["id"] for o in manifest["organs"]]
+    if "brainstem" not in ids:
+        sys.exit("organset.json has no organ \"brainstem\" to split (merged already?)")
+    for e in made:
+        shutil.copyfile(out / e["mesh"], HERE / e["mesh"])
+        if e in parts and (moved := flatten_spikes(HERE / e["mesh"])):
+            print(f"{e['id']}: {moved} spiking vertices moved to their neighbours' mean")
+    at = ids.index("brainstem")
+    old = manifest["organs"][at]
+    manifest["organs"][at:at + 1] = parts
+    manifest["organs"].extend(tracts)
+    for solid in manifest.get("solids", []):
+        if "brainstem" in solid["organs"]:
+            k = solid["organs"].index("brainstem")
+            solid["organs"][k:k + 1] = [p["id"] for p in parts]
+    for key in ("mesh", "lod", "occluder"):
+        if key in old and (HERE / old[key]).exists():
+            (HERE / old[key]).unlink()
+    manifest["sources"] = [s for s in manifest["sources"] if not s["name"].startswith("JHU white-matter")]
+    manifest["sources"].append(SOURCE)
+    manifest_path.write_text(json.dumps(manifest, indent=2, ensure_ascii=False) + "\n")
+    print(f"merged {len(parts)} brainstem parts and {len(tracts)} tracts into {manifest_path}")
+
+
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:2] == ["--merge"]:
+        merge(Path(sys.argv[2]) if len(sys.argv) > 2 else Path("/tmp/tracts-out"))
+    else:
+        main()

@@ -20,4 +20,5 @@ mod render;
 mod sections;
 mod shaders;
 mod territories;
+mod tracts;
 mod transparency;

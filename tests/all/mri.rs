@@ -30,8 +30,15 @@ fn the_template_white_matter_fits_the_sets_at_dice_0_80_or_more() {
     let origin = a.w_axis.truncate();
     let find = |ids: &[&str]| ids.iter().map(|id| set.find(id).unwrap()).collect::<Vec<_>>();
     let organs = find(&["white_matter_l", "white_matter_r"]);
-    let outside =
-        find(&["brainstem", "cerebellum_l", "cerebellum_r", "cerebellum_white_matter_l", "cerebellum_white_matter_r"]);
+    let outside = find(&[
+        "midbrain",
+        "pons",
+        "medulla_oblongata",
+        "cerebellum_l",
+        "cerebellum_r",
+        "cerebellum_white_matter_l",
+        "cerebellum_white_matter_r",
+    ]);
     let (mut both, mut ours, mut theirs) = (0usize, 0usize, 0usize);
     for k in 0..nz {
         // A neurological axial pane whose pixel centres are this slice's voxel centres (rows run

@@ -43,7 +43,7 @@ fn every_shipped_lesson_has_a_quiz_over_real_organs() {
         assert!(questions.iter().all(|q| q.choices.len() == quiz::CHOICES && q.choices.contains(&q.organ)));
         lessons += 1;
     }
-    assert_eq!(lessons, 4);
+    assert_eq!(lessons, 5);
 }
 
 /// An MRI quiz over every structure: seeded, each question on a slice through its structure where

@@ -73,8 +73,8 @@ fn default_brain_hide_fade_pick_move() {
     let (x, y) = ((i % 160) as u32, (i / 160) as u32);
     assert_ne!(shot.image.get_pixel(x, y), base.image.get_pixel(x, y));
 
-    // Moved 60 mm up, the brainstem shows up higher in the image.
-    let stem = set.find("brainstem").unwrap();
+    // Moved 60 mm up, the pons shows up higher in the image.
+    let stem = set.find("pons").unwrap();
     let mean_row = |ids: &[u32]| {
         let rows: Vec<usize> =
             ids.iter().enumerate().filter(|(_, &id)| id == stem as u32 + 1).map(|(i, _)| i / 160).collect();

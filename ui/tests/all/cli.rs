@@ -92,7 +92,7 @@ fn a_saved_scene_renders_the_same_picture() {
 fn lesson_render_writes_every_step_of_every_shipped_lesson() {
     let dir = tempfile::tempdir().unwrap();
     let lessons = Path::new(env!("CARGO_MANIFEST_DIR")).join("../organs/brain/lessons");
-    for name in ["cortex", "deep-nuclei", "ventricles", "blood-supply"] {
+    for name in ["cortex", "deep-nuclei", "ventricles", "blood-supply", "pathways"] {
         let out = dir.path().join(name);
         let lesson = lessons.join(format!("{name}.vblesson"));
         let v = json(&vbrain(&[

@@ -1,6 +1,8 @@
-//! Arterial territories in the viewer (issue: blood supply and pathways): the search finds them
-//! by abbreviation and by name, choosing one colours the brain by territory (one undo step), and a
-//! click on the cortex names the artery that supplies the point clicked.
+//! Blood supply and pathways in the viewer and the commands (issue: blood supply and pathways):
+//! the search finds territories by abbreviation and by name, and tracts and brainstem parts by
+//! their synonyms; choosing a territory colours the brain by territory (one undo step), and a
+//! click on the cortex names the artery that supplies the point clicked; glTF carries the
+//! territory colours; supply quizzes in the viewer and worksheets.
 
 use crate::viewer::{click, harness_of, organ, point_on, search};
 use eframe::egui::{self, Key, Modifiers};
@@ -164,4 +166,18 @@ fn a_blood_supply_worksheet_lists_arteries_and_its_key_the_supplier() {
     }
     let questions = std::fs::read_to_string(out.join("questions.md")).unwrap();
     assert!(questions.contains("Which artery supplies region A?"), "{questions}");
+}
+
+#[test]
+fn search_finds_the_pyramidal_tract_and_the_pons() {
+    let mut h = harness_of(egui::Vec2::new(760.0, 480.0));
+    search(&mut h, "pyramidal tract");
+    for name in ["Left corticospinal tract", "Right corticospinal tract"] {
+        assert!(h.query_by_label(&format!("Show {name}")).is_some(), "\"pyramidal tract\" finds {name}");
+    }
+    assert!(h.query_by_label("Show Pons").is_none());
+    h.get_by_label("Clear search").click();
+    h.run_steps(2);
+    search(&mut h, "pons");
+    assert!(h.query_by_label("Show Pons").is_some(), "\"pons\" finds the pons");
 }
