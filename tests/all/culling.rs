@@ -118,8 +118,11 @@ fn random_planes(set: &OrganSet, rng: &mut Rng) -> Vec<ClipPlane> {
 /// front triangles (a fan around one shared vertex, no sliver among them), the same sample leaks in
 /// every technique and drawing order, and moving the organ behind 20 mm away ends it. With the
 /// fsaverage cortex (every organ closed, no open edge after welding) two poses of 160 show one
-/// such lone sample each. A culling error removes whole parts: many pixels, in many poses.
-const RASTER_CRACKS: usize = 2;
+/// such lone sample each. With the tracts and the brainstem's three parts, one cut pose of 120
+/// (an axial plane through both white matters, MRI on the cut faces) shows three lone samples
+/// on the white matter's cut face, none beside another. A culling error removes whole parts:
+/// many pixels side by side, in many poses.
+const RASTER_CRACKS: usize = 4;
 
 /// The poses a test renders.
 #[derive(Clone, Copy)]
@@ -257,11 +260,16 @@ fn identical_images(set: &OrganSet, database: Option<Database>, count: usize, se
             images[1].save(dir.join(format!("cull-on-{pose}.png"))).unwrap();
             // A lone pixel that differs by at most one of its four samples is a rasteriser crack, not
             // culling (see RASTER_CRACKS); anything more fails.
-            let [a, b] = [0, 1].map(|k| images[k].get_pixel(diff[0].0, diff[0].1).0);
-            let step = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
-            if diff.len() == 1 && step <= 64 && cracks < RASTER_CRACKS {
-                eprintln!("pose {pose}: one sample differs at {:?} ({a:?} off, {b:?} on): a raster crack", diff[0]);
-                cracks += 1;
+            let one_sample = |&(x, y): &(u32, u32)| {
+                let [a, b] = [0, 1].map(|k| images[k].get_pixel(x, y).0);
+                (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0) <= 64
+            };
+            let lone = |&(x, y): &(u32, u32)| {
+                !diff.iter().any(|&(u, v)| (u, v) != (x, y) && u.abs_diff(x) <= 1 && v.abs_diff(y) <= 1)
+            };
+            if diff.iter().all(|p| one_sample(p) && lone(p)) && cracks + diff.len() <= RASTER_CRACKS {
+                eprintln!("pose {pose}: one sample differs at each of {diff:?}: raster cracks");
+                cracks += diff.len();
                 continue;
             }
             panic!(
