@@ -545,7 +545,7 @@ fn quiz_writes_a_worksheet_with_an_answer_key() {
         "--json",
     ]);
     assert_eq!(json(&again)["questions"], v["questions"], "a seed gives the same worksheet");
-    for (group, says) in [("nonesuch", "no organ or group"), ("Brainstem", "at least two")] {
+    for (group, says) in [("nonesuch", "no organ or group"), ("optic_chiasm", "at least two")] {
         let o = vbrain(&["quiz", &brain(), "--group", group, "--out", out.to_str().unwrap()]);
         assert!(!o.status.success() && String::from_utf8_lossy(&o.stderr).contains(says), "{group}");
     }

@@ -69,7 +69,7 @@ fn a_dropped_label_volume_opens_the_import_window_on_it() {
     drop_files(&mut h, std::slice::from_ref(&volume));
     assert!(h.state().dialogs().import.open, "the import window opens");
     assert_eq!(h.state().dialogs().import.volume(), volume.display().to_string());
-    assert_eq!(organ_count(h.state()), 101, "the brain stays open until the import runs");
+    assert_eq!(organ_count(h.state()), 132, "the brain stays open until the import runs");
 }
 
 #[test]
@@ -84,7 +84,7 @@ fn dropped_mesh_files_open_as_one_set_and_unreadable_files_leave_it() {
     drop_files(&mut h, &notes);
     let said = h.state().notifications().iter().any(|n| n.error && n.text.contains("neither organ sets"));
     assert!(said, "an error notice for files vbrain cannot read");
-    assert_eq!(organ_count(h.state()), 101);
+    assert_eq!(organ_count(h.state()), 132);
     // Two OBJ files (and a stray text file among them): one set of two organs.
     let meshes = [tetrahedron(dir.path(), "left.obj", 0.0), tetrahedron(dir.path(), "right.obj", 20.0)];
     drop_files(&mut h, &[meshes[0].clone(), notes[0].clone(), meshes[1].clone()]);
@@ -110,7 +110,7 @@ fn an_import_runs_in_the_background_then_opens_its_set_or_names_its_error() {
     step_until(&mut h, "the failed import", |app| !app.is_loading());
     let notes: Vec<&str> = h.state().notifications().iter().filter(|n| n.error).map(|n| n.text.as_str()).collect();
     assert!(notes.iter().any(|t| t.contains("no-such-table.csv")), "the error names the missing table: {notes:?}");
-    assert_eq!(organ_count(h.state()), 101);
+    assert_eq!(organ_count(h.state()), 132);
     assert!(!dir.path().join("bad").exists(), "a failed import leaves no folder");
     // A good one: the set is written, then opened in place of the brain.
     let out = dir.path().join("hippocampi");

@@ -69,7 +69,7 @@ fn the_quiz_picks_its_group_from_a_list_and_the_tree_shows_what_it_shows() {
     h.get_all_by_label("Basal ganglia").last().unwrap().click();
     h.run_steps(2);
     assert_eq!(h.state().quiz().setup.group, "Basal ganglia");
-    h.get_by_label("Start quiz").click();
+    h.get_by_label("Start quiz").click_accesskit();
     h.run_steps(3);
     assert!(h.state().quiz().answering(), "the quiz did not start");
     // The quiz shows the basal ganglia, the putamen the user hid among them: its box says so,

@@ -39,7 +39,7 @@ fn vbrain_data_names_the_default_set_from_any_folder() {
     let out = vbrain_in(cwd.path(), Some(&organs_dir()), &["info", "--json"]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert_eq!(v["organs"].as_array().unwrap().len(), 101);
+    assert_eq!(v["organs"].as_array().unwrap().len(), 132);
     let canonical = |p: &Path| std::fs::canonicalize(p).unwrap();
     assert_eq!(canonical(Path::new(v["path"].as_str().unwrap())), canonical(&brain()));
     // The set's own folder works as well as the folder holding it.
@@ -71,7 +71,7 @@ fn lessons_are_found_by_name() {
     let out = vbrain_in(cwd.path(), Some(&data), &["lesson", "render", "nosuch", "--out", "n"]);
     assert_eq!(out.status.code(), Some(1));
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("nosuch") && err.contains("cortex, deep-nuclei, ventricles"), "{err}");
+    assert!(err.contains("nosuch") && err.contains("blood-supply, cortex, deep-nuclei, pathways, ventricles"), "{err}");
 }
 
 #[test]
