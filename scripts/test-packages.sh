@@ -3,9 +3,9 @@
 #   - the .deb, extracted with dpkg-deb -x into a temporary root, and the Linux archive, unpacked
 #     into a temporary folder: each binary run from / with an empty HOME, no XDG variables and
 #     this checkout hidden (a mount namespace with a tmpfs over it): `info` finds the default
-#     brain (101 organs) there, `render` draws it, `lesson render cortex` finds the lesson by
+#     brain (all its organs) there, `render` draws it, `lesson render cortex` finds the lesson by
 #     name; the viewer, started under Xvfb, shows the brain (a screenshot, checked for it);
-#   - the Windows zip under Wine: --version, info (101 organs), export --gltf, and render (Wine's
+#   - the Windows zip under Wine: --version, info (all the organs), export --gltf, and render (Wine's
 #     Vulkan over the host's) byte-identical to the Linux binary's;
 #   - the packaged launcher, metainfo and MIME types: desktop-file-validate, appstreamcli;
 #   - the release binary holds no path of this checkout;
@@ -66,6 +66,8 @@ hidden() {
 organs_of() { # organs_of JSON: the number of organs `vbrain info --json` printed
     python3 -c 'import json, sys; print(len(json.load(sys.stdin)["organs"]))' <"$1"
 }
+# The default brain's organs, as its manifest lists them.
+ORGANS="$(organs_of organs/brain/organset.json)"
 
 # test_install NAME BIN: the tests of one installed tree whose binary is BIN.
 test_install() {
@@ -74,7 +76,7 @@ test_install() {
     check "$name: the checkout is hidden from its commands" \
         hidden bash -c "[ ! -e '$checkout/Cargo.toml' ] && [ ! -e '$checkout/organs' ]"
     hidden "$bin" info --json >"$out/info.json" 2>"$out/info.err"
-    check "$name: info finds the default brain, 101 organs" test "$(organs_of "$out/info.json" 2>/dev/null)" = 101
+    check "$name: info finds the default brain, $ORGANS organs" test "$(organs_of "$out/info.json" 2>/dev/null)" = "$ORGANS"
     check "$name: info opened the brain inside the install" \
         grep -q "\"path\": \"$(dirname "$(dirname "$bin")")/share/vbrain/brain\"" "$out/info.json"
     hidden "$bin" render --out "$out/brain.png" --size 256x256 >"$out/render.out" 2>"$out/render.err"
@@ -150,8 +152,8 @@ if [ "$windows" = 1 ]; then
     run_wine --version >"$work/win-version.out" 2>/dev/null
     check "windows: vbrain.exe --version" grep -q "^vbrain $version" "$work/win-version.out"
     run_wine info --json >"$work/win-info.json" 2>"$work/win-info.err"
-    check "windows: info finds the brain beside the executable, 101 organs" \
-        test "$(organs_of "$work/win-info.json" 2>/dev/null)" = 101
+    check "windows: info finds the brain beside the executable, $ORGANS organs" \
+        test "$(organs_of "$work/win-info.json" 2>/dev/null)" = "$ORGANS"
     run_wine export --gltf brain.glb >"$work/win-export.out" 2>&1
     check "windows: export --gltf writes the model" python3 scripts/package_checks.py glb "$win/brain.glb"
     # Rendering: Wine's Vulkan (over this machine's, lavapipe here) needs an X display for its

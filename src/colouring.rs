@@ -5,8 +5,8 @@
 //! - A lobe is an organ's group path without its side ("Cerebrum/Left hemisphere/Frontal lobe" and
 //!   "Cerebrum/Right hemisphere/Frontal lobe" are "Cerebrum/Frontal lobe"), so both hemispheres'
 //!   lobes match.
-//! - Territories colour per vertex (see [`crate::organ_set::territory`]); an organ or a vertex without one
-//!   shows [`UNSUPPLIED`], so what the atlas colours stands out.
+//! - Territories colour per vertex (see [`crate::organ_set::territory`]); an organ or a vertex
+//!   without one shows [`UNSUPPLIED`], so what the atlas colours stands out.
 
 use crate::layout::{ColourBy, Layout};
 use crate::organ_set::OrganSet;
