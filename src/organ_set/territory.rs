@@ -180,15 +180,16 @@ impl Territories {
     /// `query`, compared as organ names are ([`super::names::fold`]); none for an empty
     /// query.
     pub fn find(&self, query: &str) -> Vec<&Artery> {
-        let q = super::names::fold(query);
         let fold = super::names::fold;
-        let names = |a: &'_ Artery| {
-            [a.name.clone(), a.short.clone(), a.key.clone(), a.latin.clone()].into_iter().chain(a.synonyms.clone())
-        };
+        let q = fold(query);
         if q.is_empty() {
             return Vec::new();
         }
-        self.arteries.iter().filter(|a| names(a).any(|n| fold(&n).contains(&q))).collect()
+        let names = |a: &Artery| {
+            let own = [a.name.as_str(), a.short.as_str(), a.key.as_str(), a.latin.as_str()];
+            own.into_iter().chain(a.synonyms.iter().map(String::as_str)).any(|n| fold(n).contains(&q))
+        };
+        self.arteries.iter().filter(|a| names(a)).collect()
     }
 
     /// The artery (index into [`Territories::arteries`], a true artery) that supplies the most of
