@@ -152,6 +152,7 @@ impl Culler {
         let (list, mut stats) = match settings.mode {
             CullMode::Occlusion => share::with_crew(
                 |quit| {
+                    phases.sources.help(quit);
                     phases.raster.help(quit);
                     phases.traversal.help(quit);
                 },
@@ -260,10 +261,11 @@ enum Given<'a> {
     Database(Option<&'a database::Database>),
 }
 
-/// The culler's two parallel phases: the occluder raster's patches, and the subtrees below the
-/// top levels of the hierarchies.
+/// The culler's parallel phases: the occluders' triangles source by source, the occluder raster's
+/// patches, and the subtrees below the top levels of the hierarchies.
 #[derive(Default)]
 struct Phases<'a> {
+    sources: Phase<occluders::Sources<'a>>,
     raster: Phase<raster::Patches>,
     traversal: Phase<Subtrees<'a>>,
 }
@@ -297,13 +299,13 @@ fn cull_in_phases<'a>(
 
 /// The occluders of a frame: chosen (or given), rasterised with the solids' stand-ins, and per
 /// organ the set it is tested against.
-fn frame_occluders(
-    input: &CullInput,
+fn frame_occluders<'a>(
+    input: &CullInput<'a>,
     view_proj: &glam::Mat4,
     settings: &CullSettings,
     given: Given,
     records: &[OrganRecord],
-    phases: &Phases,
+    phases: &Phases<'a>,
     stats: &mut CullStats,
 ) -> FrameOccluders {
     let CullInput { set, layout, camera, section, exact_cuts, .. } = *input;
@@ -324,7 +326,8 @@ fn frame_occluders(
     let eye_kept = exact_cuts && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
     let solids = selection::solids(set, layout, view_proj, if eye_kept { &occluding } else { &whole });
     let (w, h) = (settings.width, settings.height);
-    let shared = rasterise_occluders(set, layout, view_proj, (&solids, &list), records, (w, h), &phases.raster);
+    let phases = (&phases.sources, &phases.raster);
+    let shared = rasterise_occluders((set, layout), view_proj, (&solids, &list), records, (w, h), phases);
     // Seen from the side a plane removes, a cut solid's stand-in still hides the organs of no
     // valid solid behind it (see `behind_solids`).
     let behind = match eye_kept || !exact_cuts || planes.is_empty() {

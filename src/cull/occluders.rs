@@ -9,6 +9,7 @@ use super::depth_bound::DepthBound;
 use super::opacity_map::OpacityMap;
 use super::project::{first_pixel, last_pixel, project_point, ProjectedVertices};
 use super::raster::{OccluderMaps, OccluderRaster, Patches};
+use super::share::Tasks;
 use super::records::OrganRecord;
 use super::rect::PixelRect;
 use super::selection::LeafRef;
@@ -199,52 +200,131 @@ impl Occluders {
     }
 }
 
+/// Where occluder triangles come from: a solid's stand-in (all its leaves), or one organ's chosen
+/// leaves of its own hierarchy or of its stand-in's.
+#[derive(Clone, Copy, Debug)]
+enum Source {
+    Solid(usize),
+    Own(usize),
+    StandIn(usize),
+}
+
+/// One frame's occluder sources as tasks to share: each projects its triangles and links them
+/// to their neighbours on its own ([`OccluderRaster`]s of their own), claimed biggest first and
+/// added to the frame's raster in their order, so the raster is the same however they are shared.
+pub(crate) struct Sources<'a> {
+    set: &'a OrganSet,
+    layout: &'a Layout,
+    view_proj: Mat4,
+    records: Vec<OrganRecord>,
+    /// Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
+    chosen: Vec<[Vec<u32>; 2]>,
+    size: (usize, usize),
+    sources: Vec<Source>,
+    /// Indices into `sources`, the most triangles first.
+    order: Vec<usize>,
+}
+
+impl Tasks for Sources<'_> {
+    type State = Vec<(usize, OccluderRaster)>;
+    fn count(&self) -> usize {
+        self.order.len()
+    }
+    fn state(&self) -> Self::State {
+        Vec::new()
+    }
+    fn run(&self, done: &mut Self::State, i: usize) {
+        let at = self.order[i];
+        done.push((at, self.triangles(self.sources[at])));
+    }
+}
+
+impl Sources<'_> {
+    /// The triangles of one source. An organ the planes cut (its record's `cut`) gives only its
+    /// own triangles, cut at the planes; a solid one of whose organs they cut gives its stand-in
+    /// cut there.
+    fn triangles(&self, source: Source) -> OccluderRaster {
+        let (set, layout, (w, h)) = (self.set, self.layout, self.size);
+        let mut raster = OccluderRaster::new(w, h);
+        let organ = |o: usize| (&set.organs[o], self.view_proj * layout.organs[o].transform.matrix());
+        let planes = |o: usize| self.records.get(o).map_or(&[][..], |r| r.planes.as_slice());
+        match source {
+            Source::Solid(s) => {
+                add_stand_in(&mut raster, &set.solids[s], layout, &self.view_proj, &self.records, &[false]);
+            }
+            Source::Own(o) => {
+                let (organ, mvp) = organ(o);
+                let leaves = (&organ.mesh, &organ.bvh, &self.chosen[o][0][..]);
+                rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes(o), false);
+                if self.records.get(o).is_some_and(|r| r.cut && r.clip.capped) {
+                    // Its faces turned away, drawn as the cut face, hide what lies behind them too.
+                    rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes(o), true);
+                }
+            }
+            Source::StandIn(o) => {
+                let (organ, mvp) = organ(o);
+                if let Some(s) = &organ.stand_in {
+                    // Pushed back a little: a stand-in on the surface must not hide the surface itself.
+                    let leaves = (&s.mesh, &s.bvh, &self.chosen[o][1][..]);
+                    rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
+                }
+            }
+        }
+        raster
+    }
+}
+
 /// Rasterises the stand-ins of `solids` (indices into the set's solids) and the given occluder
 /// leaves (organ by organ, so leaves of one organ fuse into patches), and builds the look-up
-/// structures. An organ the planes cut (its record's `cut`) gives only its own triangles, cut at the planes,
-/// and a solid one of whose organs they cut gives its stand-in cut there (the caller chose it
-/// only where that hides what lies behind).
-pub(super) fn rasterise_occluders(
-    set: &OrganSet,
-    layout: &Layout,
+/// structures: the triangles of each source found in the `sources` phase, rasterised in the
+/// `raster` phase. An organ's stand-in leaves occlude only while no plane cuts the organ (the
+/// caller chose a cut solid only where that hides what lies behind).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn rasterise_occluders<'a>(
+    (set, layout): (&'a OrganSet, &'a Layout),
     view_proj: &Mat4,
     (solids, list): (&[usize], &[LeafRef]),
     records: &[OrganRecord],
     (w, h): (usize, usize),
-    phase: &Phase<Patches>,
+    (sources_phase, raster_phase): (&Phase<Sources<'a>>, &Phase<Patches>),
 ) -> Occluders {
-    // Per organ, the chosen leaves of its own hierarchy and of its stand-in's.
     let mut chosen: Vec<[Vec<u32>; 2]> = vec![Default::default(); set.organs.len()];
     for r in list {
         chosen[r.organ as usize][usize::from(r.stand_in)].push(r.leaf);
     }
-    let mut raster = OccluderRaster::new(w, h);
-    let mut triangles = 0;
-    let mut leaves = list.len();
-    for solid in solids.iter().filter_map(|&s| set.solids.get(s)) {
-        let (l, t) = add_stand_in(&mut raster, solid, layout, view_proj, records, &[false]);
-        (leaves, triangles) = (leaves + l, triangles + t);
-    }
+    let solids: Vec<usize> = solids.iter().copied().filter(|&s| s < set.solids.len()).collect();
+    let mut sources: Vec<Source> = solids.iter().map(|&s| Source::Solid(s)).collect();
+    let no_planes = |o: usize| records.get(o).is_none_or(|r| r.planes.is_empty());
     for (o, [own, stand_in]) in chosen.iter().enumerate() {
-        let organ = &set.organs[o];
-        let mvp = *view_proj * layout.organs[o].transform.matrix();
-        let record = records.get(o);
-        let planes = record.map_or(&[][..], |r| r.planes.as_slice());
         if !own.is_empty() {
-            let leaves = (&organ.mesh, &organ.bvh, &own[..]);
-            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, false);
-            if record.is_some_and(|r| r.cut && r.clip.capped) {
-                // Its faces turned away, drawn as the cut face, hide what lies behind them too.
-                triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), 0.0, planes, true);
-            }
+            sources.push(Source::Own(o));
         }
-        if let (Some(s), false, true) = (&organ.stand_in, stand_in.is_empty(), planes.is_empty()) {
-            // Pushed back a little: a stand-in on the surface must not hide the surface itself.
-            let leaves = (&s.mesh, &s.bvh, &stand_in[..]);
-            triangles += rasterise_organ(&mut raster, leaves, &mvp, (w, h), STAND_IN_DEPTH_BIAS, &[], false);
+        if set.organs[o].stand_in.is_some() && !stand_in.is_empty() && no_planes(o) {
+            sources.push(Source::StandIn(o));
         }
     }
-    Occluders::over(raster.finish_on(phase), leaves, triangles)
+    // The biggest first: a solid's stand-in whole, else the chosen leaves' triangles.
+    let size = |source: &Source| -> usize {
+        let leaves = |bvh: &crate::bvh::Bvh, ls: &[u32]| ls.iter().map(|&l| bvh.leaf_range(l).len()).sum();
+        match *source {
+            Source::Solid(s) => set.solids[s].stand_in.as_ref().map_or(0, |st| st.mesh.indices.len()),
+            Source::Own(o) => leaves(&set.organs[o].bvh, &chosen[o][0]),
+            Source::StandIn(o) => set.organs[o].stand_in.as_ref().map_or(0, |st| leaves(&st.bvh, &chosen[o][1])),
+        }
+    };
+    let mut order: Vec<usize> = (0..sources.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(size(&sources[i])));
+    let leaves = list.len()
+        + solids.iter().map(|&s| set.solids[s].stand_in.as_ref().map_or(0, |st| st.bvh.leaves.len())).sum::<usize>();
+    let job = Sources { set, layout, view_proj: *view_proj, records: records.to_vec(), chosen, size: (w, h), sources, order };
+    let mut found: Vec<(usize, OccluderRaster)> = sources_phase.run(job).into_iter().flatten().collect();
+    found.sort_unstable_by_key(|(at, _)| *at);
+    let mut raster = OccluderRaster::new(w, h);
+    for (_, r) in &found {
+        raster.append(r);
+    }
+    let triangles = raster.len();
+    Occluders::over(raster.finish_on(raster_phase), leaves, triangles)
 }
 
 impl Occluders {

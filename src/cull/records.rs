@@ -43,7 +43,7 @@ impl OrganRecord {
         records
             .map(|(o, (organ, state))| {
                 let model = state.transform.matrix();
-                let clip = section.organ(o, &organ.mesh.bounds().transformed(&model), organ.closed());
+                let clip = section.organ(o, &organ.vertex_bounds().transformed(&model), organ.closed());
                 let root = organ.bvh.nodes.first().map(|n| n.bounds.transformed(&model));
                 let clear = !section.applies_to(o)
                     || root.is_some_and(|b| section.clear_of(o, &b, input.camera.eye, CLEAR_OF_PLANES));

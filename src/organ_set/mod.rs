@@ -54,6 +54,8 @@ pub struct Organ {
     pub(crate) lods: Vec<Vec<u32>>,
     /// [`Mesh::is_closed_outward`]: drawn with its back faces culled.
     closed: bool,
+    /// [`Mesh::bounds`], kept with the mesh.
+    vertex_bounds: Bounds,
     /// Its hierarchy's nodes and parts made only of faces inside solids ([`OrganSet::index_hidden_faces`]).
     pub(crate) inside: hidden_faces::Inside,
     /// Per triangle, its number in the order the hierarchy was first built in from the mesh
@@ -87,6 +89,7 @@ impl Organ {
         let closed = mesh.is_closed_outward();
         Organ {
             closed,
+            vertex_bounds: mesh.bounds(),
             id,
             name,
             group: String::new(),
@@ -114,6 +117,12 @@ impl Organ {
     /// vertices).
     pub fn bounds(&self) -> Bounds {
         self.bvh.nodes.first().map_or_else(|| self.mesh.bounds(), |root| root.bounds)
+    }
+
+    /// The bounds of all its vertices in organ space ([`Mesh::bounds`], as the renderer takes
+    /// them to tell which organs the clip planes cut), kept with the mesh.
+    pub fn vertex_bounds(&self) -> Bounds {
+        self.vertex_bounds
     }
 
     /// The bounding-volume hierarchy over the mesh.
@@ -152,6 +161,7 @@ impl Organ {
     pub fn set_mesh(&mut self, mut mesh: Mesh) {
         self.bvh = Bvh::build(&mut mesh);
         self.closed = mesh.is_closed_outward();
+        self.vertex_bounds = mesh.bounds();
         self.mesh = mesh;
         self.stand_in = None;
         self.lods = Vec::new();

@@ -171,6 +171,16 @@ impl OccluderRaster {
         self.neighbours.extend(neighbours.iter().map(|n| n.map(|j| if j == NONE { NONE } else { base + j })));
     }
 
+    /// Adds the triangles of `other` (of the same size), linked among themselves as there.
+    pub fn append(&mut self, other: &OccluderRaster) {
+        self.add(&other.triangles, &other.neighbours);
+    }
+
+    /// How many triangles were added.
+    pub fn len(&self) -> usize {
+        self.triangles.len()
+    }
+
     /// The pixels that triangle `t` may touch, if it has area and reaches the image.
     fn reach(&self, t: &Triangle) -> Option<PixelRect> {
         let min = t[0].min(t[1]).min(t[2]);
