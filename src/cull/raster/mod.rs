@@ -18,20 +18,20 @@
 //!   there, so where only one triangle holds the centre they all form one surface in the pixel.
 //! - Where the patch overlaps itself on screen, pixels go to the [`exact`] test.
 //! - Leaving any pixel uncovered is always safe; the exact test only wins back coverage.
+//! - Pixels are evaluated four of a row at a time ([`lanes`]), in SIMD or scalar code alike.
 
 mod exact;
+mod lanes;
 mod patch;
 
 use super::rect::PixelRect;
 use super::share::{Phase, Tasks};
 use crate::bvh::NONE;
 use exact::{pixel_depth, sort_by_slot, Fragment, Scratch};
-use glam::{BVec4A, Vec3, Vec4};
+use lanes::{max_ps, Lanes, Setup, EPS};
+pub use lanes::{Path, Triangle};
 use patch::{Patch, Window, BORDER, CENTRE, SECOND};
 use std::ops::Range;
-
-/// A projected occluder triangle: x, y in culling pixels, z = NDC depth.
-pub type Triangle = [Vec3; 3];
 
 /// Coverage and depth of occluders at low resolution, collected triangle by triangle.
 #[derive(Clone, Debug, PartialEq)]
@@ -41,6 +41,7 @@ pub struct OccluderRaster {
     triangles: Vec<Triangle>,
     /// Per triangle added, its occluder neighbours (indices among all triangles added, or NONE).
     neighbours: Vec<[u32; 3]>,
+    path: Path,
 }
 
 /// The result: a coverage bitmap (1 = wholly covered) and the farthest occluder depth of each
@@ -51,40 +52,6 @@ pub struct OccluderMaps {
     pub height: usize,
     pub covered: Vec<u8>,
     pub depth: Vec<f32>,
-}
-
-/// Margin (in pixel widths) by which triangles and edges are widened against rounding.
-const EPS: f32 = 1e-3;
-
-/// One edge of a triangle: its edge function a x + b y + c (positive inside), how far from its
-/// line a widened pixel square may reach, and its box widened by [`EPS`].
-#[derive(Clone, Copy, Debug)]
-struct Edge {
-    a: f32,
-    b: f32,
-    c: f32,
-    reach: f32,
-    x_lo: f32,
-    x_hi: f32,
-    y_lo: f32,
-    y_hi: f32,
-}
-
-impl Edge {
-    /// The edge from `p` to `q` of a triangle whose signed area has sign `s`.
-    fn new(p: Vec3, q: Vec3, s: f32) -> Edge {
-        let (a, b) = ((p.y - q.y) * s, (q.x - p.x) * s);
-        Edge {
-            a,
-            b,
-            c: -(a * p.x + b * p.y),
-            reach: (0.5 + EPS) * (a.abs() + b.abs()),
-            x_lo: p.x.min(q.x) - EPS,
-            x_hi: p.x.max(q.x) + EPS,
-            y_lo: p.y.min(q.y) - EPS,
-            y_hi: p.y.max(q.y) + EPS,
-        }
-    }
 }
 
 /// The raster's patches (largest first) as tasks to share, with each triangle's reach.
@@ -134,22 +101,6 @@ impl Rasterising {
     }
 }
 
-/// Four pixels of a row that a triangle may reach: the first one's index in its patch; those
-/// whose centre it holds, and per edge those the edge touches (the triangle reaches a pixel where
-/// either holds); its farthest depth over each.
-struct Lanes {
-    i: usize,
-    centre: BVec4A,
-    edges: [BVec4A; 3],
-    z: Vec4,
-}
-
-impl Lanes {
-    fn reached(&self) -> BVec4A {
-        self.centre | self.edges[0] | self.edges[1] | self.edges[2]
-    }
-}
-
 /// Bits 0..4 of `m` moved to bits 0, 8, 16 and 24: a 0 or 1 in each of four bytes.
 fn bytes(m: u32) -> u32 {
     (m & 1) | ((m & 2) << 7) | ((m & 4) << 14) | ((m & 8) << 21)
@@ -158,7 +109,13 @@ fn bytes(m: u32) -> u32 {
 /// One triangle over one pixel left to the exact test.
 impl OccluderRaster {
     pub fn new(width: usize, height: usize) -> OccluderRaster {
-        OccluderRaster { width, height, triangles: Vec::new(), neighbours: Vec::new() }
+        OccluderRaster { width, height, triangles: Vec::new(), neighbours: Vec::new(), path: Path::native() }
+    }
+
+    /// The same, its pixels evaluated by `path`.
+    #[cfg(test)]
+    pub fn with_path(self, path: Path) -> OccluderRaster {
+        OccluderRaster { path, ..self }
     }
 
     /// Adds triangles of one winding; `neighbours[i][k]` is the index in `triangles` of the
@@ -215,53 +172,17 @@ impl OccluderRaster {
         span: impl Fn(usize) -> Option<(usize, usize)>,
         mut visit: impl FnMut(Lanes),
     ) {
-        let area = (t[1].x - t[0].x) * (t[2].y - t[0].y) - (t[2].x - t[0].x) * (t[1].y - t[0].y);
-        // Edge functions, positive inside whatever the winding; `reach` is how far from the line
-        // (in edge-function units) a widened square centred at a point may still meet it.
-        let s = area.signum();
-        let edges = [0, 1, 2].map(|k| Edge::new(t[k], t[(k + 1) % 3], s));
-        // Depth plane z = z0 + dzdx (x - x0) + dzdy (y - y0); its farthest over a pixel is at the
-        // centre plus `slope`, and never beyond the farthest corner.
-        let dzdx = ((t[1].z - t[0].z) * (t[2].y - t[0].y) - (t[2].z - t[0].z) * (t[1].y - t[0].y)) / area;
-        let dzdy = ((t[2].z - t[0].z) * (t[1].x - t[0].x) - (t[1].z - t[0].z) * (t[2].x - t[0].x)) / area;
-        let slope = 0.5 * (dzdx.abs() + dzdy.abs());
-        let zmax = Vec4::splat(t[0].z.max(t[1].z).max(t[2].z));
-        let centres = Vec4::new(0.5, 1.5, 2.5, 3.5);
-        let a = edges.each_ref().map(|e| Vec4::splat(e.a));
-        let reach = edges.each_ref().map(|e| Vec4::splat(-e.reach));
+        let setup = Setup::new(t);
         for y in y0..=y1 {
             let Some((from, to)) = span(y) else { continue };
-            let cy = y as f32 + 0.5;
-            let by = edges.map(|e| Vec4::splat(e.b * cy + e.c));
-            let z_row = Vec4::splat(t[0].z + dzdy * (cy - t[0].y) + slope);
-            // The edges whose box reaches this row (bit k).
-            let row_mask =
-                (0..3).fold(0u8, |m, k| m | (u8::from(edges[k].y_lo <= cy + 0.5 && edges[k].y_hi >= cy - 0.5) << k));
-            let row = (y - at.y0) * at.stride;
+            let row = setup.row(y);
+            let start = (y - at.y0) * at.stride;
             let mut x = x0 + (from - x0) / 4 * 4;
             while x <= to {
-                let cx = Vec4::splat(x as f32) + centres;
+                if let Some(l) = setup.four(self.path, &row, x) {
+                    visit(Lanes { i: start + x - at.x0, ..l });
+                }
                 x += 4;
-                let f = [0, 1, 2].map(|k| a[k] * cx + by[k]);
-                // Touches the (widened) square: no edge has the whole square outside.
-                let touch = f[0].cmpge(reach[0]) & f[1].cmpge(reach[1]) & f[2].cmpge(reach[2]);
-                if !touch.any() {
-                    continue;
-                }
-                let centre = f[0].cmpge(Vec4::ZERO) & f[1].cmpge(Vec4::ZERO) & f[2].cmpge(Vec4::ZERO);
-                // An edge touches the square where its line passes within reach of the centre and
-                // its box meets the square.
-                let mut edges_there = [BVec4A::FALSE; 3];
-                for k in (0..3).filter(|k| row_mask & (1 << k) != 0) {
-                    let e = &edges[k];
-                    edges_there[k] = touch
-                        & f[k].cmple(-reach[k])
-                        & cx.cmpge(Vec4::splat(e.x_lo - 0.5))
-                        & cx.cmple(Vec4::splat(e.x_hi + 0.5));
-                }
-                let z = z_row + Vec4::splat(dzdx) * (cx - Vec4::splat(t[0].x));
-                let z = Vec4::select(z.is_finite_mask(), z.min(zmax), zmax);
-                visit(Lanes { i: row + x - 4 - at.x0, centre, edges: edges_there, z });
             }
         }
     }
@@ -373,16 +294,20 @@ impl OccluderRaster {
             let outline = self.neighbours[t as usize].map(|n| n == NONE);
             let all = |_| Some((rect.x0, rect.x1));
             self.lanes(patch.at, &self.triangles[t as usize], rect, all, |l| {
-                let border = (0..3).filter(|&k| outline[k]).fold(BVec4A::FALSE, |m, k| m | l.edges[k]);
-                let far = &mut patch.far[l.i..l.i + 4];
-                Vec4::select(l.reached(), Vec4::from_slice(far).max(l.z), Vec4::from_slice(far)).write_to_slice(far);
+                let border = (0..3).filter(|&k| outline[k]).fold(0, |m, k| m | l.edges[k]);
+                let reached = l.reached();
+                for (j, far) in patch.far[l.i..l.i + 4].iter_mut().enumerate() {
+                    if reached & (1 << j) != 0 {
+                        *far = max_ps(*far, l.z[j]);
+                    }
+                }
                 let flags = &mut patch.flags[l.i..l.i + 4];
                 let old = u32::from_le_bytes([flags[0], flags[1], flags[2], flags[3]]);
-                let centre = bytes(l.centre.bitmask());
+                let centre = bytes(l.centre);
                 let new = old
                     | (centre * u32::from(CENTRE))
                     | ((centre & old) * u32::from(SECOND))
-                    | (bytes(border.bitmask()) * u32::from(BORDER));
+                    | (bytes(border) * u32::from(BORDER));
                 flags.copy_from_slice(&new.to_le_bytes());
             });
         }
@@ -403,12 +328,12 @@ impl OccluderRaster {
             // Only the fours that hold such pixels.
             let span = |y| patch.exact_span(y - at.y0, x0 - at.x0, x1 - at.x0).map(|(a, b)| (a + at.x0, b + at.x0));
             self.lanes(at, tri, rect, span, |l| {
-                let reached = l.reached().bitmask();
+                let reached = l.reached();
                 for j in (0..4).filter(|j| reached & (1 << j) != 0) {
                     let slot = patch.slot[l.i + j];
                     if slot != NONE {
-                        let edges = (0..3).fold(0u8, |m, k| m | (((l.edges[k].bitmask() >> j) & 1) as u8) << k);
-                        let centre = (l.centre.bitmask() >> j) & 1 != 0;
+                        let edges = (0..3).fold(0u8, |m, k| m | (((l.edges[k] >> j) & 1) as u8) << k);
+                        let centre = (l.centre >> j) & 1 != 0;
                         out.push(Fragment { slot, triangle: t, z: l.z[j], centre, edges });
                     }
                 }
@@ -445,6 +370,7 @@ impl OccluderMaps {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
 
     /// Fraction of a pixel covered by the union of triangles, by dense point sampling.
     fn coverage(tris: &[Triangle], x: usize, y: usize, n: usize) -> f32 {
@@ -473,6 +399,27 @@ mod tests {
         let c = Vec3::new(cx, cy, z);
         let tris = (0..k).map(|i| [c, p(i), p(i + 1)]).collect();
         let neighbours = (0..k).map(|i| [((i + k - 1) % k) as u32, NONE, ((i + 1) % k) as u32]).collect();
+        (tris, neighbours)
+    }
+
+    /// A ramp winding 1.5 times round a ring, one connected surface: its first half turn (near,
+    /// z about 0.2) lies over its last (far, z about 0.8) on screen.
+    fn ramp() -> (Vec<Triangle>, Vec<[u32; 3]>) {
+        let steps = 90;
+        let turn = 1.5 * std::f32::consts::TAU;
+        let at = |i: usize, r: f32| {
+            let a = turn * i as f32 / steps as f32;
+            Vec3::new(16.0 + r * a.cos(), 16.0 + r * a.sin(), 0.2 + 0.6 * i as f32 / steps as f32)
+        };
+        let (mut tris, mut neighbours) = (Vec::new(), Vec::new());
+        for i in 0..steps {
+            let (a, b, c, d) = (at(i, 6.0), at(i, 14.0), at(i + 1, 14.0), at(i + 1, 6.0));
+            let (t0, t1) = (2 * i as u32, 2 * i as u32 + 1);
+            tris.push([a, b, c]);
+            neighbours.push([if i == 0 { NONE } else { t0 - 1 }, NONE, t1]);
+            tris.push([a, c, d]);
+            neighbours.push([t0, if i + 1 == steps { NONE } else { t1 + 1 }, NONE]);
+        }
         (tris, neighbours)
     }
 
@@ -505,6 +452,37 @@ mod tests {
             }
         }
         assert!(total > 1000, "only {total} pixels covered in 30 fans");
+    }
+
+    /// The maps with depth as bits, to compare paths bit for bit.
+    fn bits(m: &OccluderMaps) -> (Vec<u8>, Vec<u32>) {
+        (m.covered.clone(), m.depth.iter().map(|d| d.to_bits()).collect())
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+        /// Random fans, squares and a ramp overlapping itself, some tilted steeply in depth.
+        #[test]
+        fn simd_and_scalar_rasters_agree_bit_for_bit(seed in 1u64..u64::MAX, tilt in 0.0f32..50.0) {
+            let mut rng = crate::rng::XorShift(seed);
+            let mut rand = || rng.unit();
+            let mut r = OccluderRaster::new(40, 36);
+            for _ in 0..6 {
+                let (mut tris, neighbours) = match (rand() * 3.0) as u32 {
+                    0 => fan(40.0 * rand(), 36.0 * rand(), 1.0 + 14.0 * rand(), 3 + (rand() * 30.0) as usize, rand()),
+                    1 => square(40.0 * rand(), 40.0 * rand(), rand()),
+                    _ => ramp(),
+                };
+                for t in &mut tris {
+                    t.iter_mut().for_each(|v| v.z += tilt * 1e-3 * v.x * v.y.sin());
+                }
+                r.add(&tris, &neighbours);
+            }
+            let simd = r.clone().with_path(Path::Simd).finish();
+            let scalar = r.with_path(Path::Scalar).finish();
+            proptest::prop_assert_eq!(bits(&simd), bits(&scalar));
+        }
     }
 
     #[test]
@@ -554,23 +532,7 @@ mod tests {
 
     #[test]
     fn a_surface_overlapping_itself_is_bounded_by_its_near_layer() {
-        // A ramp winding 1.5 times round a ring, one connected surface: its first half turn
-        // (near, z about 0.2) lies over its last (far, z about 0.8) on screen.
-        let steps = 90;
-        let turn = 1.5 * std::f32::consts::TAU;
-        let at = |i: usize, r: f32| {
-            let a = turn * i as f32 / steps as f32;
-            Vec3::new(16.0 + r * a.cos(), 16.0 + r * a.sin(), 0.2 + 0.6 * i as f32 / steps as f32)
-        };
-        let (mut tris, mut neighbours) = (Vec::new(), Vec::new());
-        for i in 0..steps {
-            let (a, b, c, d) = (at(i, 6.0), at(i, 14.0), at(i + 1, 14.0), at(i + 1, 6.0));
-            let (t0, t1) = (2 * i as u32, 2 * i as u32 + 1);
-            tris.push([a, b, c]);
-            neighbours.push([if i == 0 { NONE } else { t0 - 1 }, NONE, t1]);
-            tris.push([a, c, d]);
-            neighbours.push([t0, if i + 1 == steps { NONE } else { t1 + 1 }, NONE]);
-        }
+        let (tris, neighbours) = ramp();
         let mut r = OccluderRaster::new(32, 32);
         r.add(&tris, &neighbours);
         let maps = r.finish();
