@@ -3,7 +3,8 @@
 //! - Ranges are in indices (three per triangle) into each organ's index buffer, one list per organ
 //!   of the set; contiguous ranges are merged.
 //! - [`CullStats`] counts triangles (drawn, and culled by each cause), nodes tested and occluders
-//!   rasterised; `cull_ms` is the CPU time in milliseconds.
+//!   rasterised; `cull_ms` is the CPU time in milliseconds, `occluders_ms` the part of it spent
+//!   choosing and rasterising the occluders and building their maps.
 
 use super::selection::OccluderSource;
 use std::ops::Range;
@@ -59,6 +60,8 @@ pub struct CullStats {
     /// Where the occluders came from (`None` without occlusion culling or with occluders given).
     pub source: Option<OccluderSource>,
     pub cull_ms: f64,
+    /// Of `cull_ms`, choosing and rasterising the occluders and building their maps.
+    pub occluders_ms: f64,
 }
 
 impl CullStats {

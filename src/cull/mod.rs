@@ -282,8 +282,10 @@ fn cull_in_phases<'a>(
     let view_proj = input.camera.view_projection(input.aspect);
     let records = OrganRecord::of_frame(input);
     let mut stats = CullStats::default();
+    let started = std::time::Instant::now();
     let occ = (settings.mode == CullMode::Occlusion)
         .then(|| frame_occluders(input, &view_proj, settings, given, &records, phases, &mut stats));
+    stats.occluders_ms = started.elapsed().as_secs_f64() * 1000.0;
     if let Some(o) = &occ {
         (stats.occluder_leaves, stats.occluder_triangles) = (o.sets[0].leaves, o.sets[0].triangles);
         for s in &o.sets[1..] {

@@ -9,11 +9,11 @@ use super::depth_bound::DepthBound;
 use super::opacity_map::OpacityMap;
 use super::project::{first_pixel, last_pixel, project_point, ProjectedVertices};
 use super::raster::{OccluderMaps, OccluderRaster, Patches};
-use super::share::Tasks;
 use super::records::OrganRecord;
 use super::rect::PixelRect;
 use super::selection::LeafRef;
 use super::share::Phase;
+use super::share::Tasks;
 use super::sparse_depth::SparseDepth;
 use crate::bvh::{Bvh, Part, NONE, PART_TRIANGLES};
 use crate::clip::ModelPlane;
@@ -316,7 +316,8 @@ pub(super) fn rasterise_occluders<'a>(
     order.sort_by_key(|&i| std::cmp::Reverse(size(&sources[i])));
     let leaves = list.len()
         + solids.iter().map(|&s| set.solids[s].stand_in.as_ref().map_or(0, |st| st.bvh.leaves.len())).sum::<usize>();
-    let job = Sources { set, layout, view_proj: *view_proj, records: records.to_vec(), chosen, size: (w, h), sources, order };
+    let job =
+        Sources { set, layout, view_proj: *view_proj, records: records.to_vec(), chosen, size: (w, h), sources, order };
     let mut found: Vec<(usize, OccluderRaster)> = sources_phase.run(job).into_iter().flatten().collect();
     found.sort_unstable_by_key(|(at, _)| *at);
     let mut raster = OccluderRaster::new(w, h);

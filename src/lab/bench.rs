@@ -23,6 +23,8 @@ pub struct FrameRecord {
     pub mode: CullMode,
     pub frame: usize,
     pub cull_ms: f64,
+    /// Of `cull_ms`, choosing and rasterising the occluders ([`crate::cull::CullStats::occluders_ms`]).
+    pub occluders_ms: f64,
     pub frame_ms: f64,
     /// The frame's GPU time, where the adapter has timestamp queries.
     pub gpu_ms: Option<f64>,
@@ -208,6 +210,7 @@ pub fn run(
                 mode,
                 frame: i,
                 cull_ms: stats.cull_ms,
+                occluders_ms: stats.occluders_ms,
                 frame_ms,
                 gpu_ms,
                 triangles: stats.triangles,
@@ -268,6 +271,8 @@ fn hidden_leaves_culled(set: &OrganSet, layout: &Layout, draw: &DrawList, hidden
 pub struct Summary {
     pub median_frame_ms: f64,
     pub median_cull_ms: f64,
+    /// Median time of a frame's occluders (chosen, rasterised, their maps built), part of the cull.
+    pub median_occluders_ms: f64,
     /// Median GPU time of a frame, where the adapter has timestamp queries.
     pub median_gpu_ms: Option<f64>,
     /// Median triangles drawn in a frame.
@@ -313,6 +318,7 @@ pub fn summarise(records: &[FrameRecord], mode: CullMode) -> Summary {
     Summary {
         median_frame_ms: median(r.iter().map(|r| r.frame_ms).collect()),
         median_cull_ms: median(r.iter().map(|r| r.cull_ms).collect()),
+        median_occluders_ms: median(r.iter().map(|r| r.occluders_ms).collect()),
         median_gpu_ms: r
             .iter()
             .all(|r| r.gpu_ms.is_some())
@@ -353,6 +359,7 @@ mod tests {
         let summary = |cull: f64, drawn: f64| Summary {
             median_frame_ms: 10.0,
             median_cull_ms: cull,
+            median_occluders_ms: 0.0,
             median_gpu_ms: Some(4.0),
             median_triangles_drawn: drawn,
             mean_culled_percent: 0.0,

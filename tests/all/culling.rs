@@ -341,6 +341,14 @@ fn a_culler_kept_along_an_orbit_tests_less_and_culls_alike() {
         let (kept, b) = culler.cull(set, &layout, &camera, 1.0, &settings);
         same += usize::from(fresh == kept);
         (fresh_tests, kept_tests) = (fresh_tests + a.nodes_tested, kept_tests + b.nodes_tested);
+        for s in [a, b] {
+            assert!(
+                s.occluders_ms > 0.0 && s.occluders_ms <= s.cull_ms,
+                "occluders {} of {} ms",
+                s.occluders_ms,
+                s.cull_ms
+            );
+        }
     }
     eprintln!("kept culler: {same} of {frames} draw lists equal to a fresh culler's");
     assert!(

@@ -96,16 +96,17 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
             gpu.adapter_description()
         );
         println!(
-            "{:<10} {:>14} {:>13} {:>12} {:>11} {:>15}",
-            "mode", "median frame", "median cull", "mean culled", "max culled", "hidden culled"
+            "{:<10} {:>14} {:>13} {:>11} {:>12} {:>11} {:>15}",
+            "mode", "median frame", "median cull", "occluders", "mean culled", "max culled", "hidden culled"
         );
         for &m in modes {
             let s = bench::summarise(&records, m);
             println!(
-                "{:<10} {:>11.2} ms {:>10.3} ms {:>10.1} % {:>9.1} % {:>13.1} %",
+                "{:<10} {:>11.2} ms {:>10.3} ms {:>8.3} ms {:>10.1} % {:>9.1} % {:>13.1} %",
                 m.name(),
                 s.median_frame_ms,
                 s.median_cull_ms,
+                s.median_occluders_ms,
                 s.mean_culled_percent,
                 s.max_culled_percent,
                 s.hidden_leaves_culled_percent
@@ -129,14 +130,15 @@ pub fn run(set: &vbrain::organ_set::OrganSet, layout: &vbrain::layout::Layout, o
 }
 
 fn write_csv(records: &[FrameRecord], w: &mut dyn std::io::Write) -> std::io::Result<()> {
-    writeln!(w, "mode,frame,cull_ms,frame_ms,gpu_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,inside_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
+    writeln!(w, "mode,frame,cull_ms,occluders_ms,frame_ms,gpu_ms,triangles,triangles_drawn,culled_percent,occluder_source,occluder_leaves,occluder_triangles,nodes_tested,back_face_culled,clip_culled,inside_culled,exact_hidden_leaves,culled_hidden_leaves,exact_hidden_triangles")?;
     for r in records {
         writeln!(
             w,
-            "{},{},{:.4},{:.4},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{:.4},{:.4},{:.4},{},{},{},{:.3},{},{},{},{},{},{},{},{},{},{}",
             r.mode.name(),
             r.frame,
             r.cull_ms,
+            r.occluders_ms,
             r.frame_ms,
             r.gpu_ms.map_or(String::new(), |g| format!("{g:.4}")),
             r.triangles,
