@@ -3,6 +3,9 @@
 //! footprints, triangles and points against them.
 //!
 //! - Culling pixels (x right, y down); NDC depth (larger is farther).
+//! - A frame's occluder triangles are found source by source (each solid's stand-in, each organ's
+//!   chosen leaves) on the culler's threads and joined in source order, so the raster is the same
+//!   however the sources were shared.
 //! - Rectangles are inclusive.
 
 use super::depth_bound::DepthBound;
@@ -12,8 +15,7 @@ use super::raster::{OccluderMaps, OccluderRaster, Patches};
 use super::records::OrganRecord;
 use super::rect::PixelRect;
 use super::selection::LeafRef;
-use super::share::Phase;
-use super::share::Tasks;
+use super::share::{Phase, Tasks};
 use super::sparse_depth::SparseDepth;
 use crate::bvh::{Bvh, Part, NONE, PART_TRIANGLES};
 use crate::clip::ModelPlane;
@@ -279,7 +281,6 @@ impl Sources<'_> {
 /// structures: the triangles of each source found in the `sources` phase, rasterised in the
 /// `raster` phase. An organ's stand-in leaves occlude only while no plane cuts the organ (the
 /// caller chose a cut solid only where that hides what lies behind).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn rasterise_occluders<'a>(
     (set, layout): (&'a OrganSet, &'a Layout),
     view_proj: &Mat4,
@@ -305,7 +306,7 @@ pub(super) fn rasterise_occluders<'a>(
     }
     // The biggest first: a solid's stand-in whole, else the chosen leaves' triangles.
     let size = |source: &Source| -> usize {
-        let leaves = |bvh: &crate::bvh::Bvh, ls: &[u32]| ls.iter().map(|&l| bvh.leaf_range(l).len()).sum();
+        let leaves = |bvh: &Bvh, ls: &[u32]| ls.iter().map(|&l| bvh.leaf_range(l).len()).sum();
         match *source {
             Source::Solid(s) => set.solids[s].stand_in.as_ref().map_or(0, |st| st.mesh.indices.len()),
             Source::Own(o) => leaves(&set.organs[o].bvh, &chosen[o][0]),
