@@ -19,6 +19,8 @@ use glam::Mat4;
 #[serde(rename_all = "kebab-case")]
 pub enum OccluderSource {
     ProjectedSize,
+    /// The pre-computed minimum occluder set (with organs faded or hidden since, what is left of
+    /// it joined by occluders by projected size).
     Mos,
 }
 
@@ -157,9 +159,10 @@ fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3
 /// The occluders of this frame among the organs marked `occluding` (opaque and visible), those
 /// marked `cut` (by clip planes) with their own leaves only, never a stand-in's: the pre-computed
 /// set of the nearest viewpoint where `settings.selection` allows it (automatic: the database
-/// serves the layout, at least half of the set still occludes, and the camera is near a
-/// viewpoint), else projected size. Other or unknown organs never occlude, whatever the database
-/// says.
+/// serves the layout and the camera is near a viewpoint; with organs faded or hidden since, what
+/// is left of the set joined by the occluders by projected size, so that the opaque organs under
+/// faded ones occlude each other), else projected size. Other or unknown organs never occlude,
+/// whatever the database says.
 pub fn choose_occluders(
     set: &OrganSet,
     layout: &Layout,
@@ -180,10 +183,17 @@ pub fn choose_occluders(
         let valid = |r: &&LeafRef| r.exists_in(set) && occludes(r) && !(r.stand_in && is_cut(r));
         let limit = settings.occluder_leaves.unwrap_or(usize::MAX);
         let list: Vec<LeafRef> = viewpoint.occluders.iter().filter(valid).take(limit).copied().collect();
-        // With organs faded or hidden since, the set is used while at least half of it occludes.
-        if whole || 2 * list.len() >= viewpoint.occluders.len().min(limit) {
+        if whole {
             return (list, OccluderSource::Mos);
         }
+        // With organs faded or hidden since, what is left of the set, joined by the largest
+        // occluders left (the set was chosen for organs now faded, which no longer hide those
+        // beneath them).
+        let mut list = list;
+        let kept: std::collections::BTreeSet<LeafRef> = list.iter().copied().collect();
+        let more = by_projected_size(set, layout, camera, view_proj, settings, records);
+        list.extend(more.into_iter().filter(|r| !kept.contains(r)));
+        return (list, OccluderSource::Mos);
     }
     (by_projected_size(set, layout, camera, view_proj, settings, records), OccluderSource::ProjectedSize)
 }

@@ -71,8 +71,8 @@ impl Default for CullSettings {
 #[serde(rename_all = "kebab-case")]
 pub enum Selection {
     /// The pre-computed minimum occluder sets while the set has a fresh database that serves the
-    /// layout (nothing moved; organs faded since left out, while half of a set still occludes)
-    /// and the camera is near one of its viewpoints; projected size otherwise.
+    /// layout (nothing moved; organs faded since left out, and the largest occluders by projected
+    /// size added) and the camera is near one of its viewpoints; projected size otherwise.
     #[default]
     Auto,
     /// Projected size every frame.

@@ -112,9 +112,17 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     faded.organs[0].opacity = 0.5;
     let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db), &OrganRecord::unclipped(&faded));
     assert!(list.iter().all(|r| r.organ != 0));
-    // Automatic: with the wall faded too little of the set is left; a faded box leaves the wall.
+    // Automatic: with the wall faded, what is left of the set is joined by the occluders by
+    // projected size (the organs under the wall now hide each other); a faded box leaves the wall.
     let pick = |l: &Layout| choose_occluders(&set, l, &camera, &vp, &auto, Some(&db), &OrganRecord::unclipped(l));
-    assert_eq!(pick(&faded).1, OccluderSource::ProjectedSize);
+    let (list, source) = pick(&faded);
+    assert_eq!(source, OccluderSource::Mos);
+    let by_size = vbrain::cull::by_projected_size(&set, &faded, &camera, &vp, &auto, &OrganRecord::unclipped(&faded));
+    assert!(!by_size.is_empty() && by_size.iter().all(|r| list.contains(r)), "every occluder by projected size joins");
+    let left: Vec<_> = list_of(&db, &camera).into_iter().filter(|r| r.organ != 0).collect();
+    assert!(left.iter().all(|r| list.contains(r)), "what is left of the set stays");
+    assert!(list.len() <= left.len() + by_size.len(), "no occluder twice");
+    assert!(list.iter().all(|r| faded.organs[r.organ as usize].is_opaque()));
     let box_faded = {
         let mut l = layout.clone();
         let used = |o: usize| list_of(&db, &camera).iter().filter(|r| r.organ as usize == o).count();
