@@ -106,7 +106,6 @@ fn bytes(m: u32) -> u32 {
     (m & 1) | ((m & 2) << 7) | ((m & 4) << 14) | ((m & 8) << 21)
 }
 
-/// One triangle over one pixel left to the exact test.
 impl OccluderRaster {
     pub fn new(width: usize, height: usize) -> OccluderRaster {
         OccluderRaster { width, height, triangles: Vec::new(), neighbours: Vec::new(), path: Path::native() }
