@@ -172,12 +172,18 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
         return Err("a quiz needs at least one question".into());
     }
     let mut rng = XorShift::seeded(spec.seed);
+    // Per organ of the set, its supplier, found once (over every vertex) for those in scope of a
+    // supply quiz.
+    let mut artery_of: Vec<Option<usize>> = vec![None; set.organs.len()];
     let scope = match spec.mode {
         Mode::Supply => {
             if set.territories.is_none() {
                 return Err("the set has no arterial territories: a supply quiz needs them".into());
             }
-            let supplied: Vec<usize> = scope.iter().copied().filter(|&o| supplier(set, o).is_some()).collect();
+            for &o in &scope {
+                artery_of[o] = supplier(set, o);
+            }
+            let supplied: Vec<usize> = scope.iter().copied().filter(|&o| artery_of[o].is_some()).collect();
             if supplied.is_empty() {
                 return Err("no structure in scope lies mostly in one artery's territory".into());
             }
@@ -214,7 +220,7 @@ pub fn generate(set: &OrganSet, spec: &Spec) -> Result<Quiz, String> {
             },
             _ => None,
         };
-        let choices = match (kind, &set.territories, supplier(set, organ)) {
+        let choices = match (kind, &set.territories, artery_of[organ]) {
             (Kind::Supply, Some(t), Some(artery)) => t.choices(set.organs[organ].mesh(), artery, CHOICES, &mut rng),
             _ => choices(set, organ, &scope, &mut rng),
         };

@@ -296,15 +296,20 @@ mod tests {
         }
     }
 
-    #[test]
-    fn ids_name_a_side_and_points_take_the_nearest_voxel() {
-        // 2 x 1 x 1 voxels, 10 mm apart along x: x < 5 mm is voxel 0 (left ACA), above voxel 1.
-        let t = Territories::from_parts(
+    /// 2 x 1 x 1 voxels, 10 mm apart along x: x < 5 mm is voxel 0 (left ACA), above voxel 1
+    /// (right MCA).
+    fn aca_then_mca() -> Territories {
+        Territories::from_parts(
             vec![artery("aca"), artery("mca")],
             [2, 1, 1],
             Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0)),
             vec![1, 4],
-        );
+        )
+    }
+
+    #[test]
+    fn ids_name_a_side_and_points_take_the_nearest_voxel() {
+        let t = aca_then_mca();
         assert_eq!(t.at(Vec3::new(4.9, 0.0, 0.0)), 1);
         assert_eq!(t.at(Vec3::new(5.1, 0.2, -0.4)), 4);
         assert_eq!(t.at(Vec3::new(15.1, 0.0, 0.0)), 0, "outside the grid");
@@ -324,13 +329,8 @@ mod tests {
 
     #[test]
     fn a_ray_names_the_territory_of_the_first_kept_point_it_meets() {
-        // Left ACA for x < 5 mm, right MCA above; a square at z = 0 from x 0 to 10.
-        let t = Territories::from_parts(
-            vec![artery("aca"), artery("mca")],
-            [2, 1, 1],
-            Mat4::from_scale(Vec3::new(10.0, 1.0, 1.0)),
-            vec![1, 4],
-        );
+        // A square at z = 0 from x 0 to 10, half in each territory.
+        let t = aca_then_mca();
         let square = Mesh {
             positions: vec![[0.0, -1.0, 0.0], [10.0, -1.0, 0.0], [10.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
             normals: vec![[0.0, 0.0, 1.0]; 4],
