@@ -186,6 +186,15 @@ impl<'a> CullInput<'a> {
     pub fn new(set: &'a OrganSet, layout: &'a Layout, camera: &'a Camera, aspect: f32) -> CullInput<'a> {
         CullInput { set, layout, camera, aspect, section: &NO_SECTION, exact_cuts: false }
     }
+
+    /// Whether the renderer cuts triangles at the planes and the eye lies where every plane keeps
+    /// (by [`EYE_CLEAR_OF_PLANES_MM`]). What the planes keep is their half-spaces' intersection,
+    /// so a ray from the eye to a kept point stays kept: it never passes through a cut, and enters
+    /// any closed surface it then leaves through a drawn face.
+    fn eye_kept(&self) -> bool {
+        let planes = self.section.active_planes();
+        self.exact_cuts && planes.iter().all(|p| p.normal().dot(self.camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM)
+    }
 }
 
 /// How far (millimetres) inside every clip plane the eye must lie for the stand-ins of solids
@@ -325,7 +334,7 @@ fn frame_occluders<'a>(
     // solid through a drawn surface, never through a cut face (drawn at the depth of the faces
     // beyond it, behind the stand-in).
     let planes = section.active_planes();
-    let eye_kept = exact_cuts && planes.iter().all(|p| p.normal().dot(camera.eye) < p.d - EYE_CLEAR_OF_PLANES_MM);
+    let eye_kept = input.eye_kept();
     let solids = selection::solids(set, layout, view_proj, if eye_kept { &occluding } else { &whole });
     let (w, h) = (settings.width, settings.height);
     let phases = (&phases.sources, &phases.raster);
@@ -353,6 +362,12 @@ fn frame_occluders<'a>(
 /// unless the renderer draws them as cut faces, the planes that remove its nodes where the
 /// renderer cuts triangles, and (where occlusion is `testing`) the solids intact this frame, whose
 /// inside faces are hidden whatever the occluders.
+///
+/// - Where occlusion is tested and the eye lies where the planes keep ([`CullInput::eye_kept`]),
+///   no ray from it passes through a cut: a solid whose organs are all cut or whole (and all
+///   under the planes, so none is drawn beyond them) hides its inside faces as if intact, and an
+///   opaque closed organ the planes cut, wholly beyond the near plane (so the eye is outside it),
+///   hides its faces turned away (drawn as its cut face) behind those facing the eye.
 fn organ_views<'w>(
     input: &CullInput<'w>,
     view_proj: &glam::Mat4,
@@ -362,12 +377,22 @@ fn organ_views<'w>(
 ) -> Vec<Option<OrganView<'w>>> {
     let CullInput { set, layout, camera, section, .. } = *input;
     let whole = records::whole(records);
-    let intact = if testing { selection::intact_solids(set, layout, view_proj, &whole) } else { 0 };
+    let kept = testing && input.eye_kept();
+    let mut intact = if testing { selection::intact_solids(set, layout, view_proj, &whole) } else { 0 };
+    if kept {
+        let sealed: Vec<bool> = records.iter().enumerate().map(|(o, r)| r.occluding && section.applies_to(o)).collect();
+        intact |= selection::intact_solids(set, layout, view_proj, &sealed);
+    }
     let organs = set.organs.iter().zip(&layout.organs).zip(witnesses).zip(records);
     organs
         .map(|(((organ, state), witnesses), record)| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
-            let back_faces_culled = organ.closed() && !record.clip.capped;
+            let cut_faces_hidden =
+                kept && record.occluding
+                    && organ.bvh.nodes.first().is_some_and(|root| {
+                        project::wholly_ahead(&(*view_proj * state.transform.matrix()), &root.bounds)
+                    });
+            let back_faces_culled = organ.closed() && (!record.clip.capped || cut_faces_hidden);
             let removing = if record.cut { section.active_planes() } else { &[] };
             let model = state.transform.matrix();
             let inside = (&organ.inside, intact);
