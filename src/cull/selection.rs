@@ -144,6 +144,16 @@ pub fn by_projected_size(
     chosen
 }
 
+/// How many triangles of leaf `r` (of `set`) face the eye of `camera`.
+fn facing_triangles(set: &OrganSet, layout: &Layout, camera: &Camera, r: LeafRef) -> usize {
+    let (organ, state) = (&set.organs[r.organ as usize], &layout.organs[r.organ as usize]);
+    let eye = state.transform.matrix().inverse().transform_point3(camera.eye);
+    match (r.stand_in, organ.stand_in()) {
+        (true, Some(s)) => facing(&s.mesh, s.bvh.leaf_range(r.leaf), eye),
+        _ => facing(&organ.mesh, organ.bvh.leaf_range(r.leaf), eye),
+    }
+}
+
 /// How many triangles of an index range face `eye` (counter-clockwise seen from it; organ space).
 fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3) -> usize {
     let p = |i: u32| glam::Vec3::from(mesh.positions[mesh.indices[i as usize] as usize]);
@@ -161,7 +171,8 @@ fn facing(mesh: &crate::mesh::Mesh, range: std::ops::Range<u32>, eye: glam::Vec3
 /// set of the nearest viewpoint where `settings.selection` allows it (automatic: the database
 /// serves the layout and the camera is near a viewpoint; with organs faded or hidden since, what
 /// is left of the set joined by the occluders by projected size, so that the opaque organs under
-/// faded ones occlude each other), else projected size. Other or unknown organs never occlude,
+/// faded ones occlude each other, on the settings' budget plus the triangles of the set's leaves
+/// left out, facing the eye), else projected size. Other or unknown organs never occlude,
 /// whatever the database says.
 pub fn choose_occluders(
     set: &OrganSet,
@@ -188,10 +199,18 @@ pub fn choose_occluders(
         }
         // With organs faded or hidden since, what is left of the set, joined by the largest
         // occluders left (the set was chosen for organs now faded, which no longer hide those
-        // beneath them).
+        // beneath them), on the budget of the triangles left out, at least the settings'.
         let mut list = list;
         let kept: std::collections::BTreeSet<LeafRef> = list.iter().copied().collect();
-        let more = by_projected_size(set, layout, camera, view_proj, settings, records);
+        let left_out: usize = viewpoint
+            .occluders
+            .iter()
+            .filter(|r| r.exists_in(set) && !kept.contains(r))
+            .map(|r| facing_triangles(set, layout, camera, *r))
+            .sum();
+        let settings =
+            CullSettings { occluder_triangles: settings.occluder_triangles.saturating_add(left_out), ..*settings };
+        let more = by_projected_size(set, layout, camera, view_proj, &settings, records);
         list.extend(more.into_iter().filter(|r| !kept.contains(r)));
         return (list, OccluderSource::Mos);
     }

@@ -113,15 +113,35 @@ fn the_culler_uses_the_database_only_for_the_layout_it_was_made_for() {
     let (list, _) = choose_occluders(&set, &faded, &camera, &vp, &forced, Some(&db), &OrganRecord::unclipped(&faded));
     assert!(list.iter().all(|r| r.organ != 0));
     // Automatic: with the wall faded, what is left of the set is joined by the occluders by
-    // projected size (the organs under the wall now hide each other); a faded box leaves the wall.
+    // projected size (the organs under the wall now hide each other), on the settings' budget
+    // and that of the wall's triangles left out (those facing the eye); a faded box leaves the
+    // wall.
     let pick = |l: &Layout| choose_occluders(&set, l, &camera, &vp, &auto, Some(&db), &OrganRecord::unclipped(l));
-    let (list, source) = pick(&faded);
+    // On a budget too small for a box's leaf, by projected size alone takes none.
+    let tight = CullSettings { occluder_triangles: 8, ..auto };
+    let (list, source) =
+        choose_occluders(&set, &faded, &camera, &vp, &tight, Some(&db), &OrganRecord::unclipped(&faded));
     assert_eq!(source, OccluderSource::Mos);
-    let by_size = vbrain::cull::by_projected_size(&set, &faded, &camera, &vp, &auto, &OrganRecord::unclipped(&faded));
-    assert!(!by_size.is_empty() && by_size.iter().all(|r| list.contains(r)), "every occluder by projected size joins");
+    let wall = &set.organs[0];
+    let facing = |r: &vbrain::cull::LeafRef| {
+        let mesh = wall.mesh();
+        let p = |i: u32| Vec3::from(mesh.positions[mesh.indices[i as usize] as usize]);
+        let faces = |i: u32| (p(i + 1) - p(i)).cross(p(i + 2) - p(i)).dot(camera.eye - p(i)) > 0.0;
+        wall.bvh().leaf_range(r.leaf).step_by(3).filter(|&i| faces(i)).count()
+    };
+    let wall_leaves: Vec<_> = list_of(&db, &camera).into_iter().filter(|r| r.organ == 0).collect();
+    assert!(wall_leaves.iter().all(|r| !r.stand_in));
+    let left_out: usize = wall_leaves.iter().map(facing).sum();
+    assert!(left_out > 0, "the set has none of the wall's triangles");
+    let budget = CullSettings { occluder_triangles: tight.occluder_triangles + left_out, ..auto };
+    let by_size = vbrain::cull::by_projected_size(&set, &faded, &camera, &vp, &budget, &OrganRecord::unclipped(&faded));
+    let small = vbrain::cull::by_projected_size(&set, &faded, &camera, &vp, &tight, &OrganRecord::unclipped(&faded));
+    assert!(by_size.len() > small.len(), "the wall's budget takes no more occluders");
+    assert!(by_size.iter().all(|r| list.contains(r)), "every occluder by projected size joins");
     let left: Vec<_> = list_of(&db, &camera).into_iter().filter(|r| r.organ != 0).collect();
     assert!(left.iter().all(|r| list.contains(r)), "what is left of the set stays");
-    assert!(list.len() <= left.len() + by_size.len(), "no occluder twice");
+    let joined = by_size.iter().filter(|r| !left.contains(r)).count();
+    assert_eq!(list.len(), left.len() + joined, "no occluder twice, and no other");
     assert!(list.iter().all(|r| faded.organs[r.organ as usize].is_opaque()));
     let box_faded = {
         let mut l = layout.clone();
