@@ -199,7 +199,7 @@ pub fn choose_occluders(
         }
         // With organs faded or hidden since, what is left of the set, joined by the largest
         // occluders left (the set was chosen for organs now faded, which no longer hide those
-        // beneath them), on the budget of the triangles left out, at least the settings'.
+        // beneath them), on the settings' budget plus that of the set's triangles left out.
         let mut list = list;
         let kept: std::collections::BTreeSet<LeafRef> = list.iter().copied().collect();
         let left_out: usize = viewpoint

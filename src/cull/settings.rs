@@ -72,7 +72,8 @@ impl Default for CullSettings {
 pub enum Selection {
     /// The pre-computed minimum occluder sets while the set has a fresh database that serves the
     /// layout (nothing moved; organs faded since left out, and the largest occluders by projected
-    /// size added, on the budget plus the triangles left out) and the camera is near one of its viewpoints; projected size otherwise.
+    /// size added, on the budget plus the triangles left out) and the camera is near one of its
+    /// viewpoints; projected size otherwise.
     #[default]
     Auto,
     /// Projected size every frame.
