@@ -387,14 +387,16 @@ fn organ_views<'w>(
     organs
         .map(|(((organ, state), witnesses), record)| {
             let drawn = state.is_drawn() && !organ.bvh.nodes.is_empty();
-            let cut_faces_hidden =
-                kept && record.occluding
-                    && organ.bvh.nodes.first().is_some_and(|root| {
-                        project::wholly_ahead(&(*view_proj * state.transform.matrix()), &root.bounds)
-                    });
+            let model = state.transform.matrix();
+            let cut_faces_hidden = kept
+                && record.occluding
+                && organ
+                    .bvh
+                    .nodes
+                    .first()
+                    .is_some_and(|root| project::wholly_ahead(&(*view_proj * model), &root.bounds));
             let back_faces_culled = organ.closed() && (!record.clip.capped || cut_faces_hidden);
             let removing = if record.cut { section.active_planes() } else { &[] };
-            let model = state.transform.matrix();
             let inside = (&organ.inside, intact);
             drawn.then(|| OrganView::new(view_proj, &model, camera, witnesses, back_faces_culled, removing, inside))
         })

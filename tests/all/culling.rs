@@ -134,8 +134,8 @@ enum Poses {
     /// The set's own layout seen from outside on an orbit, cut by one plane through its middle
     /// (coronal, axial or sagittal, either side kept), with solid cut faces: the eye lies on
     /// the kept side in about half the poses (then the faces inside the cut solids, and the cut
-    /// organs' faces turned away, are culled untested); in half the poses the left cerebellum (where the set
-    /// has one) moved into the left hemisphere.
+    /// organs' faces turned away, are culled untested); in half the poses the left cerebellum
+    /// (where the set has one) moved into the left hemisphere.
     CutOrbit,
     /// The set's own layout, uncut, from random cameras (outside and inside it): its solids
     /// intact, the faces inside them culled untested, in the first half of the poses; in the
