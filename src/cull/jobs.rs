@@ -5,7 +5,7 @@
 //!   to `SUBTREE_TRIANGLES` triangles in all, and gives its organs' ranges, counts and reached
 //!   nodes.
 
-use super::occluders::FrameOccluders;
+use super::occluders::Occluders;
 use super::settings::CullSettings;
 use super::share::Tasks;
 use super::traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -17,7 +17,7 @@ use std::ops::Range;
 pub(super) struct Subtrees<'a> {
     pub set: &'a OrganSet,
     pub views: Vec<Option<OrganView<'a>>>,
-    pub occ: Option<FrameOccluders>,
+    pub occ: Option<Occluders>,
     pub settings: CullSettings,
     pub starts: Vec<Start>,
     /// (triangles, starts) per task.
@@ -62,7 +62,7 @@ impl Tasks for Subtrees<'_> {
             if let Some((_, walk)) = done.last_mut() {
                 let organ = &self.set.organs[o];
                 let start = Start { organ: o, node, test, started };
-                traverse_below(organ, view, self.occ.as_ref().map(|f| f.of(o)), &self.settings, start, (walk, None));
+                traverse_below(organ, view, self.occ.as_ref(), &self.settings, start, (walk, None));
             }
         }
     }

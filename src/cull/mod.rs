@@ -12,8 +12,7 @@
 //!    [`database`] while the layout is unchanged (§3.1-3.2); and the set's solids whose organs are
 //!    all opaque, unmoved relative to each other and clear of the clip planes (beyond the thesis:
 //!    one stand-in inside a union of organs, with no seams between them; cut at the clip planes
-//!    while the eye lies on the side they keep, and else for the organs of no solid behind them,
-//!    each organ then tested against its own set of occluders, `occluders::FrameOccluders`);
+//!    while the eye lies on the side they keep);
 //! 2. [`raster`]: their front triangles rasterised conservatively into coverage and depth (§3.3);
 //! 3. maps: the [`opacity_map`] (summed-area table) and the [`sparse_depth`] map (§3.4), held with
 //!    the tests of boxes, footprints, triangles and points by [`occluders`] ([`depth_bound`]: a
@@ -56,7 +55,7 @@ use crate::layout::Layout;
 use crate::organ_set::OrganSet;
 use cut::Cut;
 use jobs::Subtrees;
-use occluders::{rasterise_occluders, rasterise_stand_in, FrameOccluders};
+use occluders::{rasterise_occluders, Occluders};
 use share::Phase;
 use sparse_depth::SparseDepth;
 use traversal::{traverse_below, OrganView, Start, Walk, SUBTREE_TRIANGLES};
@@ -115,12 +114,12 @@ impl Culler {
     /// Culls one frame, cut by its section. Organs the planes cut (or come near) occlude only where
     /// the renderer cuts triangles at the planes, with what the planes keep of their own
     /// triangles, and their solids' stand-ins cut there (while the eye is on the side the planes
-    /// keep, for every organ; else for the organs of no solid behind them); their back-facing
-    /// runs are not culled while cut faces are drawn (the renderer draws those runs again as the
-    /// cut faces). What the planes remove is culled only where the renderer cuts triangles at the
-    /// planes ([`CullInput::exact_cuts`]): where the shaders discard removed samples instead, a
-    /// sample of a removed triangle seen at a grazing angle may pass (its position is
-    /// interpolated off the triangle), so culling it would change that sample.
+    /// keep); their back-facing runs are not culled while cut faces are drawn (the renderer draws
+    /// those runs again as the cut faces). What the planes remove is culled only where the
+    /// renderer cuts triangles at the planes ([`CullInput::exact_cuts`]): where the shaders
+    /// discard removed samples instead, a sample of a removed triangle seen at a grazing angle
+    /// may pass (its position is interpolated off the triangle), so culling it would change that
+    /// sample.
     pub fn cull_frame(&mut self, input: &CullInput, settings: &CullSettings) -> (DrawList, CullStats) {
         self.cull_with(input, settings, None)
     }
@@ -201,68 +200,6 @@ impl<'a> CullInput<'a> {
 /// the planes cut to occlude.
 const EYE_CLEAR_OF_PLANES_MM: f32 = 1.0;
 
-/// The solids whose stand-ins, cut at the clip planes, hide what lies behind them from any side,
-/// but only from organs of none of them (indices into the set's solids, at most 64, leaving out
-/// `shared`: those every organ is tested against). Such a solid's organs are all `occluding`, move
-/// as one, lie beyond the near plane, and each is drawn as a closed whole (the planes keep it,
-/// `sides`), as a cut organ with its cut faces (`capped`), or not at all (the planes remove it).
-/// Then a ray from a kept point of the stand-in, inside the solid, on to a point of another organ
-/// drawn where the planes keep (so the ray stays there) and unmoved relative to the solid (so,
-/// the solid's organs filling it, outside it) leaves the solid through a drawn surface first: a
-/// cut organ's faces beyond are drawn as its cut face, and a whole organ's back face is behind a
-/// front face it entered by, itself behind the stand-in or in front of it (then hiding both).
-/// The solid's own organs are not hidden: through a cut, the stand-in lies in front of the faces
-/// their cut faces are drawn from.
-fn behind_solids(
-    set: &OrganSet,
-    layout: &Layout,
-    view_proj: &glam::Mat4,
-    records: &[OrganRecord],
-    shared: &[usize],
-) -> Vec<usize> {
-    use crate::clip::Side;
-    let sealed: Vec<bool> = records
-        .iter()
-        .map(|r| r.occluding && ((r.cut && r.clip.capped) || matches!(r.clip.side, Side::Kept | Side::Removed)))
-        .collect();
-    selection::solids(set, layout, view_proj, &sealed).into_iter().filter(|s| !shared.contains(s)).take(64).collect()
-}
-
-/// `shared`, and for each drawn organ that solids of `behind` ([`behind_solids`]) may hide (of
-/// none of them, unmoved relative to the solid, cut by the planes where they cut anything), those
-/// solids' stand-ins cut at the planes (each record's planes) as well; and how many of `behind`
-/// hide an organ.
-fn with_solids_behind(
-    input: &CullInput,
-    view_proj: &glam::Mat4,
-    records: &[OrganRecord],
-    behind: Vec<usize>,
-    shared: occluders::Occluders,
-    (w, h): (usize, usize),
-) -> (FrameOccluders, usize) {
-    let CullInput { set, layout, section, .. } = *input;
-    let model = |o: usize| layout.organs[o].transform.matrix();
-    let hides = |s: usize, o: usize| {
-        let solid = &set.solids[s];
-        layout.organs[o].is_drawn()
-            && solid.organs.binary_search(&o).is_err()
-            && section.applies_to(o)
-            && model(o) == model(solid.organs[0])
-    };
-    let behind: Vec<usize> = behind.into_iter().filter(|&s| (0..set.organs.len()).any(|o| hides(s, o))).collect();
-    if behind.is_empty() {
-        return (FrameOccluders::shared(shared), 0);
-    }
-    // The raster's phase has run: these are rasterised on this thread.
-    let stand_ins: Vec<occluders::Occluders> =
-        behind.iter().map(|&s| rasterise_stand_in(set, layout, view_proj, s, records, (w, h))).collect();
-    // Per organ, bit i for behind[i].
-    let behind_of: Vec<u64> = (0..set.organs.len())
-        .map(|o| behind.iter().enumerate().filter(|&(_, &s)| hides(s, o)).fold(0, |m, (i, _)| m | 1 << i))
-        .collect();
-    (FrameOccluders::with_stand_ins(shared, &stand_ins, &behind_of), behind.len())
-}
-
 /// Where a frame's occluders come from: given by the caller, or chosen with the database.
 #[derive(Clone, Copy)]
 enum Given<'a> {
@@ -296,11 +233,7 @@ fn cull_in_phases<'a>(
         .then(|| frame_occluders(input, &view_proj, settings, given, &records, phases, &mut stats));
     stats.occluders_ms = started.elapsed().as_secs_f64() * 1000.0;
     if let Some(o) = &occ {
-        (stats.occluder_leaves, stats.occluder_triangles) = (o.sets[0].leaves, o.sets[0].triangles);
-        for s in &o.sets[1..] {
-            stats.occluder_leaves = stats.occluder_leaves.max(s.leaves);
-            stats.occluder_triangles = stats.occluder_triangles.max(s.triangles);
-        }
+        (stats.occluder_leaves, stats.occluder_triangles) = (o.leaves, o.triangles);
     }
     let views = organ_views(input, &view_proj, &records, witnesses, occ.is_some());
     let list = traverse(input.set, settings, (views, occ), (cuts, phases), &mut stats);
@@ -308,8 +241,7 @@ fn cull_in_phases<'a>(
     (list, stats)
 }
 
-/// The occluders of a frame: chosen (or given), rasterised with the solids' stand-ins, and per
-/// organ the set it is tested against.
+/// The occluders of a frame: chosen (or given), rasterised with the solids' stand-ins.
 fn frame_occluders<'a>(
     input: &CullInput<'a>,
     view_proj: &glam::Mat4,
@@ -318,8 +250,8 @@ fn frame_occluders<'a>(
     records: &[OrganRecord],
     phases: &Phases<'a>,
     stats: &mut CullStats,
-) -> FrameOccluders {
-    let CullInput { set, layout, camera, section, exact_cuts, .. } = *input;
+) -> Occluders {
+    let CullInput { set, layout, camera, .. } = *input;
     let (occluding, whole) = (records::occluding(records), records::whole(records));
     let list = match given {
         Given::Occluders(list) => list.to_vec(),
@@ -329,31 +261,22 @@ fn frame_occluders<'a>(
             list
         }
     };
-    // A solid the planes cut occludes with its stand-in cut at them while the eye lies where
+    // A solid the planes cut occludes with its stand-in cut at them only while the eye lies where
     // every plane keeps: no ray from it to a kept point then passes a plane, so each enters the
     // solid through a drawn surface, never through a cut face (drawn at the depth of the faces
-    // beyond it, behind the stand-in).
-    let planes = section.active_planes();
-    let eye_kept = input.eye_kept();
-    let solids = selection::solids(set, layout, view_proj, if eye_kept { &occluding } else { &whole });
+    // beyond it, behind the stand-in). Seen through a cut, it hides nothing: organs that touch
+    // its organs (a cortex on its white matter) have faces on, or just inside, the surfaces drawn
+    // as cut faces, which may show through them.
+    let solids = selection::solids(set, layout, view_proj, if input.eye_kept() { &occluding } else { &whole });
     let (w, h) = (settings.width, settings.height);
     let phases = (&phases.sources, &phases.raster);
-    let shared = rasterise_occluders((set, layout), view_proj, (&solids, &list), records, (w, h), phases);
-    // Seen from the side a plane removes, a cut solid's stand-in still hides the organs of no
-    // valid solid behind it (see `behind_solids`).
-    let behind = match eye_kept || !exact_cuts || planes.is_empty() {
-        true => Vec::new(),
-        false => behind_solids(set, layout, view_proj, records, &solids),
-    };
-    let (mut occ, behind) = with_solids_behind(input, view_proj, records, behind, shared, (w, h));
-    stats.solids = solids.len() + behind;
+    let mut occ = rasterise_occluders((set, layout), view_proj, (&solids, &list), records, (w, h), phases);
+    stats.solids = solids.len();
     if settings.hole_tolerance.is_some() {
-        for o in &mut occ.sets {
-            let depth: Vec<f32> =
-                o.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
-            let sparse = SparseDepth::new(&depth, w, h);
-            o.approximate = Some((depth, sparse));
-        }
+        let depth: Vec<f32> =
+            occ.maps.depth.iter().map(|&d| if d.is_finite() { d } else { f32::NEG_INFINITY }).collect();
+        let sparse = SparseDepth::new(&depth, w, h);
+        occ.approximate = Some((depth, sparse));
     }
     occ
 }
@@ -408,7 +331,7 @@ fn organ_views<'w>(
 fn traverse<'a>(
     set: &'a OrganSet,
     settings: &CullSettings,
-    (views, occ): (Vec<Option<OrganView<'a>>>, Option<FrameOccluders>),
+    (views, occ): (Vec<Option<OrganView<'a>>>, Option<Occluders>),
     (cuts, phases): (&mut [Cut], &Phases<'a>),
     stats: &mut CullStats,
 ) -> DrawList {
@@ -435,7 +358,7 @@ fn traverse<'a>(
             let mut split = Vec::new();
             let start = Start { organ: o, node, test: testing, started: true };
             let here = (&mut walks[o], Some(&mut split));
-            traverse_below(organ, view, occ.as_ref().map(|f| f.of(o)), settings, start, here);
+            traverse_below(organ, view, occ.as_ref(), settings, start, here);
             for (node, test) in split {
                 let count = organ.bvh.nodes[node as usize].count;
                 job.add(Start { organ: o, node, test, started: false }, count, false);

@@ -252,7 +252,7 @@ impl Sources<'_> {
         let planes = |o: usize| self.records.get(o).map_or(&[][..], |r| r.planes.as_slice());
         match source {
             Source::Solid(s) => {
-                add_stand_in(&mut raster, &set.solids[s], layout, &self.view_proj, &self.records, &[false]);
+                add_stand_in(&mut raster, &set.solids[s], layout, &self.view_proj, &self.records);
             }
             Source::Own(o) => {
                 let (organ, mvp) = organ(o);
@@ -338,91 +338,23 @@ impl Occluders {
     }
 }
 
-/// A frame's occluders, per organ: the ones every organ is tested against (the first set), and,
-/// for organs that other solids' stand-ins may hide too, those with the stand-ins added.
-pub(super) struct FrameOccluders {
-    pub sets: Vec<Occluders>,
-    /// Per organ, its set.
-    of_organ: Vec<u32>,
-}
-
-impl FrameOccluders {
-    /// The same occluders for every organ.
-    pub(super) fn shared(occ: Occluders) -> FrameOccluders {
-        FrameOccluders { sets: vec![occ], of_organ: Vec::new() }
-    }
-
-    /// `shared`'s occluders, and per organ whose bit `i` of `behind_of[o]` is set, stand-in `i` of
-    /// `stand_ins` ([`rasterise_stand_in`]) as well; organs with the same bits share a set.
-    pub(super) fn with_stand_ins(shared: Occluders, stand_ins: &[Occluders], behind_of: &[u64]) -> FrameOccluders {
-        let mut sets = vec![shared];
-        let mut masks = vec![0u64];
-        let mut of_organ = Vec::with_capacity(behind_of.len());
-        for &mask in behind_of {
-            let i = match masks.iter().position(|&m| m == mask) {
-                Some(i) => i,
-                None => {
-                    let (mut leaves, mut triangles) = (sets[0].leaves, sets[0].triangles);
-                    let mut maps = sets[0].maps.clone();
-                    for (_, s) in stand_ins.iter().enumerate().filter(|(i, _)| mask & (1 << i) != 0) {
-                        maps = maps.merge(s.maps.clone());
-                        (leaves, triangles) = (leaves + s.leaves, triangles + s.triangles);
-                    }
-                    sets.push(Occluders::over(maps, leaves, triangles));
-                    masks.push(mask);
-                    sets.len() - 1
-                }
-            };
-            of_organ.push(i as u32);
-        }
-        FrameOccluders { sets, of_organ }
-    }
-
-    /// The occluders organ `o` is tested against.
-    pub(super) fn of(&self, o: usize) -> &Occluders {
-        &self.sets[self.of_organ.get(o).map_or(0, |&i| i as usize)]
-    }
-}
-
-/// The stand-in of solid `solid` alone, cut where `planes` cut its organs (as
-/// [`rasterise_occluders`] takes them), its faces turned away too (through a cut, every point of
-/// it hides what lies behind), as occluders of their own (rasterised on the calling thread).
-pub(super) fn rasterise_stand_in(
-    set: &OrganSet,
-    layout: &Layout,
-    view_proj: &Mat4,
-    solid: usize,
-    records: &[OrganRecord],
-    (w, h): (usize, usize),
-) -> Occluders {
-    let mut raster = OccluderRaster::new(w, h);
-    let (leaves, triangles) = add_stand_in(&mut raster, &set.solids[solid], layout, view_proj, records, &[false, true]);
-    Occluders::over(raster.finish_on(&Phase::default()), leaves, triangles)
-}
-
-/// Adds `solid`'s stand-in (all its leaves) to the raster, cut where `planes` (per organ, in its
-/// space) cut any of its organs, with the faces facing the eye and, per `away`, those facing away;
-/// returns its leaves and the triangles added.
+/// Adds the faces facing the eye of `solid`'s stand-in (all its leaves) to the raster, cut where
+/// `planes` (per organ, in its space) cut any of its organs.
 fn add_stand_in(
     raster: &mut OccluderRaster,
     solid: &Solid,
     layout: &Layout,
     view_proj: &Mat4,
     records: &[OrganRecord],
-    away: &[bool],
-) -> (usize, usize) {
-    let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { return (0, 0) };
+) {
+    let (Some(s), Some(&first)) = (&solid.stand_in, solid.organs.first()) else { return };
     let mvp = *view_proj * layout.organs[first].transform.matrix();
     let all: Vec<u32> = (0..s.bvh.leaves.len() as u32).collect();
     // Its organs move as one, so the planes cutting any of them are the same in its space.
     let planes = solid.organs.iter().find_map(|&o| records.get(o).map(|r| &r.planes).filter(|p| !p.is_empty()));
     let planes = planes.map_or(&[][..], Vec::as_slice);
     let size = (raster.width, raster.height);
-    let triangles = away
-        .iter()
-        .map(|&away| rasterise_organ(raster, (&s.mesh, &s.bvh, &all), &mvp, size, STAND_IN_DEPTH_BIAS, planes, away))
-        .sum();
-    (all.len(), triangles)
+    rasterise_organ(raster, (&s.mesh, &s.bvh, &all), &mvp, size, STAND_IN_DEPTH_BIAS, planes, false);
 }
 
 /// NDC depth added to occluder stand-ins' triangles, far above float rounding (about 1e-7).
@@ -438,8 +370,9 @@ const FACING_MARGIN_NDC: f32 = 1e-4;
 /// Adds the camera-facing triangles of the chosen leaves of one organ to the raster (with `away`,
 /// those facing away instead, their corners reversed), each with its neighbours among them, pushed
 /// back by `bias` in NDC depth. With clip planes in `keep` (organ space), a triangle they cut gives
-/// the part they keep by [`crate::clip::SIDE_MARGIN_MM`], as a fan whose edges on the triangle's
-/// own are outlines (the renderer cuts it at the planes the same way). Returns how many.
+/// the part they keep by [`crate::clip::SIDE_MARGIN_MM`], as a fan (the renderer cuts it at the
+/// planes the same way), linked to its neighbours across the parts of its own edges it keeps
+/// ([`Pieces`]). Returns how many.
 fn rasterise_organ(
     raster: &mut OccluderRaster,
     (mesh, bvh, leaves): (&Mesh, &Bvh, &[u32]),
@@ -472,9 +405,9 @@ fn rasterise_organ(
     let mut offset: Vec<Option<u32>> = vec![None; bvh.leaves.len()];
     let chosen = leaves.iter().map(|&l| bvh.leaf_range(l).len() / 3).sum();
     let mut slot: Vec<u32> = Vec::with_capacity(chosen);
-    // Per occluder triangle, the mesh triangle it is (`Ok`), or the neighbours of a piece of one
-    // the planes cut (`Err`, already indices among the occluder triangles).
+    // Per occluder triangle, the mesh triangle it is, whole or a piece of it.
     let (mut triangles, mut ids) = (Vec::with_capacity(chosen), Vec::with_capacity(chosen));
+    let mut pieces = Pieces::default();
     let projected = ProjectedVertices::of_leaves(mesh, bvh, leaves, mvp, w, h);
     for &l in leaves {
         let node = &bvh.nodes[bvh.leaves[l as usize] as usize];
@@ -486,7 +419,7 @@ fn rasterise_organ(
                 Some(tri) => {
                     slot.push(triangles.len() as u32);
                     triangles.push(oriented(tri));
-                    ids.push(Ok(t));
+                    ids.push(Id::Whole(t));
                 }
                 None => slot.push(NONE),
             }
@@ -498,28 +431,20 @@ fn rasterise_organ(
                 polygon.iter().map(|p| super::project::project_point(p.to_array(), mvp, w, h)).collect();
             let Some(points) = points else { continue };
             // The fan from the first corner; a piece links to the pieces beside it that are kept.
-            let pieces: Vec<Option<[Vec3; 3]>> = (1..points.len().saturating_sub(1))
-                .map(|i| Some([points[0], points[i], points[i + 1]]).filter(faces))
+            let fan: Vec<usize> = (1..points.len().saturating_sub(1))
+                .filter(|&i| faces(&[points[0], points[i], points[i + 1]]))
                 .collect();
-            let (first, mut n) = (triangles.len() as u32, 0);
-            let index: Vec<u32> = pieces
-                .iter()
-                .map(|p| {
-                    n += u32::from(p.is_some());
-                    if p.is_some() {
-                        first + n - 1
-                    } else {
-                        NONE
-                    }
-                })
-                .collect();
-            for (i, piece) in pieces.iter().enumerate() {
-                let Some(piece) = piece else { continue };
-                let before = if i > 0 { index[i - 1] } else { NONE };
-                let after = index.get(i + 1).copied().unwrap_or(NONE);
-                triangles.push(oriented(*piece));
-                ids.push(Err(linked([before, NONE, after])));
+            let first = triangles.len() as u32;
+            for (n, &i) in fan.iter().enumerate() {
+                let before = if n > 0 && fan[n - 1] == i - 1 { first + n as u32 - 1 } else { NONE };
+                let after = if fan.get(n + 1) == Some(&(i + 1)) { first + n as u32 + 1 } else { NONE };
+                triangles.push(oriented([points[0], points[i], points[i + 1]]));
+                let model = [polygon[0], polygon[i], polygon[i + 1]];
+                // Edges 0 and 2 are the polygon's own only at the fan's ends.
+                let own = [i == 1, true, i + 2 == points.len()];
+                ids.push(Id::Piece { t, fan: [before, after], model, own });
             }
+            pieces.add(t, first..triangles.len() as u32);
         }
     }
     let index = |t: u32| -> u32 {
@@ -528,13 +453,86 @@ fn rasterise_organ(
     };
     let neighbours: Vec<[u32; 3]> = ids
         .iter()
-        .map(|id| match *id {
-            Ok(t) => linked(bvh.neighbours[t as usize].map(index)),
-            Err(links) => links,
+        .map(|id| {
+            linked(match *id {
+                Id::Whole(t) => {
+                    let across = bvh.neighbours[t as usize];
+                    let edge = |k: usize| [corners(t)[k], corners(t)[(k + 1) % 3]];
+                    [0, 1, 2].map(|k| match index(across[k]) {
+                        NONE => pieces.across(across[k], edge(k), &ids),
+                        j => j,
+                    })
+                }
+                Id::Piece { t, fan: [before, after], model, own } => [0, 1, 2].map(|k| match (k, own[k]) {
+                    (0, false) => before,
+                    (2, false) => after,
+                    _ => {
+                        // A polygon edge: on the neighbour across one of the triangle's edges.
+                        let edge = [model[k], model[(k + 1) % 3]];
+                        let beside = |u: u32| match index(u) {
+                            NONE => pieces.across(u, edge, &ids),
+                            j if has_edge(&ids, j, edge, &corners) => j,
+                            _ => NONE,
+                        };
+                        bvh.neighbours[t as usize].into_iter().map(beside).find(|&j| j != NONE).unwrap_or(NONE)
+                    }
+                }),
+            })
         })
         .collect();
     raster.add(&triangles, &neighbours);
     triangles.len()
+}
+
+/// What an occluder triangle of [`rasterise_organ`] is: mesh triangle `t` whole, or a piece of
+/// the fan of what the planes keep of it, with the pieces beside it in the fan (edges 0 and 2,
+/// NONE where none), its corners in organ space (in the mesh's winding) and which of its edges
+/// lie on the kept polygon's boundary.
+#[derive(Clone, Copy)]
+enum Id {
+    Whole(u32),
+    Piece { t: u32, fan: [u32; 2], model: [Vec3; 3], own: [bool; 3] },
+}
+
+/// The pieces of the mesh triangles the planes cut, by mesh triangle. Where the planes cut two
+/// neighbours, what each keeps of their shared edge is the same segment to the bit (kept corners
+/// are copied, and [`crate::clip::crossing`] computes a crossing from the lesser end), so a piece
+/// links to the triangle or piece beside it that has its edge reversed, exactly; a whole
+/// neighbour's edge is whole in the piece's polygon only where the planes keep both its corners.
+#[derive(Default)]
+struct Pieces {
+    of: std::collections::HashMap<u32, std::ops::Range<u32>>,
+}
+
+impl Pieces {
+    fn add(&mut self, t: u32, pieces: std::ops::Range<u32>) {
+        if !pieces.is_empty() {
+            self.of.insert(t, pieces);
+        }
+    }
+
+    /// The piece of mesh triangle `u` with edge `[a, b]` (organ space) reversed, or NONE.
+    fn across(&self, u: u32, [a, b]: [Vec3; 2], ids: &[Id]) -> u32 {
+        let Some(range) = self.of.get(&u) else { return NONE };
+        range
+            .clone()
+            .find(|&j| match ids[j as usize] {
+                Id::Piece { model, own, .. } => (0..3).any(|k| own[k] && model[k] == b && model[(k + 1) % 3] == a),
+                Id::Whole(_) => false,
+            })
+            .unwrap_or(NONE)
+    }
+}
+
+/// Whether whole occluder triangle `j` has edge `[a, b]` reversed.
+fn has_edge(ids: &[Id], j: u32, [a, b]: [Vec3; 2], corners: &impl Fn(u32) -> [Vec3; 3]) -> bool {
+    match ids[j as usize] {
+        Id::Whole(u) => {
+            let c = corners(u);
+            (0..3).any(|k| c[k] == b && c[(k + 1) % 3] == a)
+        }
+        Id::Piece { .. } => false,
+    }
 }
 
 #[cfg(test)]
@@ -626,5 +624,46 @@ mod tests {
                 },
             }
         }
+    }
+
+    #[test]
+    fn a_surface_cut_by_a_plane_covers_across_the_triangles_it_cuts() {
+        // An 8 x 8 grid of squares (two triangles each) on z = 0 from -1 to 1, seen head on; a
+        // plane removes x > 0.1, cutting the column of triangles from 0 to 0.25.
+        let n = 8u32;
+        let at = |k: u32| -1.0 + 2.0 * k as f32 / n as f32;
+        let positions = (0..=n).flat_map(|j| (0..=n).map(move |i| [at(i), at(j), 0.0])).collect();
+        let v = |i: u32, j: u32| j * (n + 1) + i;
+        let indices = (0..n * n)
+            .flat_map(|c| {
+                let (i, j) = (c % n, c / n);
+                let (a, b, c, d) = (v(i, j), v(i + 1, j), v(i, j + 1), v(i + 1, j + 1));
+                [a, b, d, a, d, c]
+            })
+            .collect();
+        let mut mesh = Mesh { positions, normals: vec![], indices };
+        mesh.compute_normals();
+        let organ = Organ::new("grid".into(), "Grid".into(), [1.0; 3], mesh);
+        let camera = Camera {
+            eye: Vec3::new(0.0, 0.0, 3.0),
+            target: Vec3::ZERO,
+            up: Vec3::Y,
+            fov_y: 45.0,
+            near: 1.0,
+            far: 10.0,
+        };
+        let (mvp, (w, h)) = (camera.view_projection(1.0), (64, 64));
+        let leaves: Vec<u32> = (0..organ.bvh.leaves.len() as u32).collect();
+        let mut raster = OccluderRaster::new(w, h);
+        let keep = [(Vec3::X, 0.1)];
+        rasterise_organ(&mut raster, (&organ.mesh, &organ.bvh, &leaves), &mvp, (w, h), 0.0, &keep, false);
+        let maps = raster.finish_on(&Phase::default());
+        // Every pixel wholly between the grid's left edge and the plane is covered, those on the
+        // cut column's edge at x = 0 too: its pieces join the triangles beside them.
+        let pixel = |x: f32, y: f32| project_point([x, y, 0.0], &mvp, w, h).unwrap_or_default();
+        let (from, to) = (pixel(-1.0, 0.0).x.floor() as usize + 1, pixel(0.1, 0.0).x.ceil() as usize - 1);
+        let y = pixel(0.0, 0.3).y.floor() as usize;
+        let gaps: Vec<usize> = (from..to).filter(|&i| maps.covered[y * w + i] == 0).collect();
+        assert!(to > from + 20 && gaps.is_empty(), "uncovered columns {gaps:?} of {from}..{to} in row {y}");
     }
 }
