@@ -456,10 +456,9 @@ fn rasterise_organ(
         .map(|id| {
             linked(match *id {
                 Id::Whole(t) => {
-                    let across = bvh.neighbours[t as usize];
-                    let edge = |k: usize| [corners(t)[k], corners(t)[(k + 1) % 3]];
+                    let (across, c) = (bvh.neighbours[t as usize], corners(t));
                     [0, 1, 2].map(|k| match index(across[k]) {
-                        NONE => pieces.across(across[k], edge(k), &ids),
+                        NONE => pieces.across(across[k], [c[k], c[(k + 1) % 3]], &ids, &corners),
                         j => j,
                     })
                 }
@@ -470,8 +469,8 @@ fn rasterise_organ(
                         // A polygon edge: on the neighbour across one of the triangle's edges.
                         let edge = [model[k], model[(k + 1) % 3]];
                         let beside = |u: u32| match index(u) {
-                            NONE => pieces.across(u, edge, &ids),
-                            j if has_edge(&ids, j, edge, &corners) => j,
+                            NONE => pieces.across(u, edge, &ids, &corners),
+                            j if ids[j as usize].reverses(edge, &corners) => j,
                             _ => NONE,
                         };
                         bvh.neighbours[t as usize].into_iter().map(beside).find(|&j| j != NONE).unwrap_or(NONE)
@@ -494,6 +493,18 @@ enum Id {
     Piece { t: u32, fan: [u32; 2], model: [Vec3; 3], own: [bool; 3] },
 }
 
+impl Id {
+    /// Whether it has edge `[a, b]` (organ space) reversed: one of its mesh triangle's edges
+    /// (given by `corners`) where whole, one on its polygon's boundary where a piece.
+    fn reverses(&self, [a, b]: [Vec3; 2], corners: &impl Fn(u32) -> [Vec3; 3]) -> bool {
+        let (c, own) = match *self {
+            Id::Whole(t) => (corners(t), [true; 3]),
+            Id::Piece { model, own, .. } => (model, own),
+        };
+        (0..3).any(|k| own[k] && c[k] == b && c[(k + 1) % 3] == a)
+    }
+}
+
 /// The pieces of the mesh triangles the planes cut, by mesh triangle. Where the planes cut two
 /// neighbours, what each keeps of their shared edge is the same segment to the bit (kept corners
 /// are copied, and [`crate::clip::crossing`] computes a crossing from the lesser end), so a piece
@@ -511,27 +522,10 @@ impl Pieces {
         }
     }
 
-    /// The piece of mesh triangle `u` with edge `[a, b]` (organ space) reversed, or NONE.
-    fn across(&self, u: u32, [a, b]: [Vec3; 2], ids: &[Id]) -> u32 {
+    /// The piece of mesh triangle `u` with edge `edge` (organ space) reversed, or NONE.
+    fn across(&self, u: u32, edge: [Vec3; 2], ids: &[Id], corners: &impl Fn(u32) -> [Vec3; 3]) -> u32 {
         let Some(range) = self.of.get(&u) else { return NONE };
-        range
-            .clone()
-            .find(|&j| match ids[j as usize] {
-                Id::Piece { model, own, .. } => (0..3).any(|k| own[k] && model[k] == b && model[(k + 1) % 3] == a),
-                Id::Whole(_) => false,
-            })
-            .unwrap_or(NONE)
-    }
-}
-
-/// Whether whole occluder triangle `j` has edge `[a, b]` reversed.
-fn has_edge(ids: &[Id], j: u32, [a, b]: [Vec3; 2], corners: &impl Fn(u32) -> [Vec3; 3]) -> bool {
-    match ids[j as usize] {
-        Id::Whole(u) => {
-            let c = corners(u);
-            (0..3).any(|k| c[k] == b && c[(k + 1) % 3] == a)
-        }
-        Id::Piece { .. } => false,
+        range.clone().find(|&j| ids[j as usize].reverses(edge, corners)).unwrap_or(NONE)
     }
 }
 
